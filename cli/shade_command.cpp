@@ -1,0 +1,9 @@
+// Placeholder so the build links while the subcommand is being written; replaced in this session.
+#include "cli/commands.hpp"
+#include <stdexcept>
+namespace pleat::cli {
+void register_shade_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("shade", "(being written)");
+  cmd->callback([] { throw std::runtime_error("pleat shade: not built yet"); });
+}
+}  // namespace pleat::cli

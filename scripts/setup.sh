@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs the Debian packages pleat needs (only those missing) and builds pleat in Release under build/.
+# Usage: scripts/setup.sh            (as root, or with sudo available)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(cmake make g++ pkg-config
+          libopenmesh-dev libglm-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
+          libtinygltf-dev nlohmann-json3-dev libtbb-dev libembree-dev libstb-dev libcli11-dev
+          libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "pleat setup: installing ${missing[*]}" >&2
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+jobs=$(nproc 2>/dev/null || echo 2)
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j "$jobs"

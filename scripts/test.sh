@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Set up (packages, Release build) and run the whole test suite with ctest.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+cd build
+ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)" --timeout 900

@@ -1,0 +1,31 @@
+// The one error type for bad input: it names the file and the place (line, byte offset, accessor, frame).
+//
+// sim_io never prints and never aborts: it throws InputError at the boundary where input enters, and the
+// CLI turns it into one line on stderr and a non-zero exit.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace pleat {
+
+class InputError : public std::runtime_error {
+ public:
+  /// `place` is human-readable, e.g. "line 12", "byte 4096", "accessor 3", "frame 17"; may be empty.
+  InputError(std::string file, std::string place, const std::string& what)
+      : std::runtime_error(format(file, place, what)), m_file(std::move(file)), m_place(std::move(place)) {}
+
+  const std::string& file() const { return m_file; }
+  const std::string& place() const { return m_place; }
+
+ private:
+  static std::string format(const std::string& file, const std::string& place, const std::string& what) {
+    std::string s = file;
+    if (!place.empty()) s += ":" + place;
+    return s + ": " + what;
+  }
+  std::string m_file;
+  std::string m_place;
+};
+
+}  // namespace pleat

@@ -1,0 +1,35 @@
+// The cloth model every module shares: fixed connectivity over welded vertices, and per-frame positions.
+//
+// Connectivity and geometry are kept apart (geometry-central style): a MeshTopology is fixed for a whole
+// sequence, a Frame holds one instant's positions. Algorithms take (const MeshTopology&, const Frame&).
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace pleat {
+
+using Index = std::uint32_t;
+using Triangle = std::array<Index, 3>;
+
+/// Triangles over welded vertices 0..num_vertices-1, in the input's winding.
+struct MeshTopology {
+  Index num_vertices = 0;
+  std::vector<Triangle> triangles;
+};
+
+/// One instant of the sequence: a position per welded vertex.
+struct Frame {
+  double time = 0.0;
+  std::vector<glm::dvec3> positions;
+};
+
+/// Which side of the surface: Front is the side of +n(v) (area-weighted vertex normal), Back of -n(v).
+enum class Side : int { Front = 0, Back = 1 };
+inline constexpr std::array<Side, 2> kBothSides = {Side::Front, Side::Back};
+inline constexpr double side_sign(Side s) { return s == Side::Front ? 1.0 : -1.0; }
+
+}  // namespace pleat

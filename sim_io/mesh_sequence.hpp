@@ -1,0 +1,54 @@
+// MeshSequence: one animated cloth as pleat holds it — fixed connectivity over welded vertices, frames read
+// on demand (a sequence larger than memory streams), frame times, and the map back to the input's order.
+#pragma once
+
+#include "sim_io/mesh.hpp"
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pleat {
+
+/// A source of per-frame positions in the input's vertex order (one implementation per file format).
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  virtual std::size_t num_frames() const = 0;
+  virtual double frame_time(std::size_t i) const = 0;  ///< seconds
+  /// Positions of frame i in input order; throws InputError naming the file and the frame on bad data.
+  virtual std::vector<glm::dvec3> read_frame(std::size_t i) const = 0;
+};
+
+class MeshSequence {
+ public:
+  /// Welds input vertices whose positions coincide in every frame (glTF exporters split them at UV seams).
+  MeshSequence(std::string name, std::vector<Triangle> input_triangles, Index num_input_vertices,
+               std::unique_ptr<FrameSource> frames);
+  /// An in-memory sequence (generators, tests): no welding.
+  MeshSequence(std::string name, MeshTopology topology, std::vector<Frame> frames);
+
+  const std::string& name() const;
+  const MeshTopology& topology() const;
+  std::size_t num_frames() const;
+  double frame_rate() const;        ///< frames per second; 0 for a single frame
+  Frame frame(std::size_t i) const; ///< welded positions of frame i
+
+  Index num_input_vertices() const;
+  const std::vector<Index>& welded_of_input() const;  ///< input vertex -> welded vertex
+  std::size_t welded_duplicates() const;              ///< input vertices merged into another
+
+ private:
+  struct Impl;
+  std::shared_ptr<const Impl> m_impl;  // private: cheap copies of an immutable model
+};
+
+/// Opens INPUT as pleat understands it:
+///   .obj (+ optional cache .pc2 / .mdd), a numbered OBJ sequence (printf pattern like "frames/f_%04d.obj",
+///   or a directory of .obj files in name order), .gltf / .glb (static, morph-target weights animation, or
+///   a scene with one node per frame).
+/// Throws InputError on anything malformed.
+MeshSequence load_sequence(const std::filesystem::path& input, const std::filesystem::path& cache = {});
+
+}  // namespace pleat

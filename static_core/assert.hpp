@@ -1,0 +1,26 @@
+// PLEAT_ASSERT: internal invariants. A violation is a bug: it throws pleat::InvariantError with file:line
+// in Debug builds and tests (PLEAT_CHECK_INVARIANTS), and compiles away in Release.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace pleat {
+class InvariantError : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+}  // namespace pleat
+
+#if !defined(NDEBUG) || defined(PLEAT_CHECK_INVARIANTS)
+#define PLEAT_ASSERT(cond, msg)                                                                    \
+  do {                                                                                             \
+    if (!(cond))                                                                                   \
+      throw ::pleat::InvariantError(std::string(__FILE__) + ":" + std::to_string(__LINE__) + ": " + \
+                                    #cond + ": " + (msg));                                         \
+  } while (false)
+#else
+#define PLEAT_ASSERT(cond, msg) \
+  do {                          \
+  } while (false)
+#endif

@@ -1,0 +1,61 @@
+// Slicing plans (Stewart 1999 §2.1, §2.3.3; DESIGN.md §2.1): which planes cut the cloth.
+//
+// A plan is a plain value computed once (usually from frame 0) and reused for every frame: the kinetic
+// layer keeps the planes fixed in space while the cloth moves through them.
+#pragma once
+
+#include "sim_io/mesh.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <vector>
+
+namespace pleat {
+
+/// The plane {x : dot(normal, x) == offset}; (u, w, normal) is a right-handed orthonormal frame, and a
+/// slice point x has 2D coordinates (dot(u, x), dot(w, x)).
+struct SlicingPlane {
+  glm::dvec3 normal{0, 0, 1};
+  double offset = 0.0;
+  glm::dvec3 u{1, 0, 0};
+  glm::dvec3 w{0, 1, 0};
+  int orientation = 0;  ///< index into SlicingPlan::orientations (cones are grouped and filled per orientation)
+};
+
+struct SlicingPlan {
+  std::vector<glm::dvec3> orientations;  ///< unit normals, one per family of planes
+  std::vector<SlicingPlane> planes;
+};
+
+/// The plane through `point` with unit normal `normal` and a deterministic in-plane frame.
+SlicingPlane make_plane(const glm::dvec3& normal, double offset, int orientation);
+
+struct DiffusePlanParams {
+  int orientations = 6;        ///< 6: the paper's (1,0,0),(0,1,0),(0,0,1),(1,1,0),(1,0,1),(0,1,1); else spread
+  double spacing = 0.0;        ///< distance between parallel planes; 0: the average edge length
+  int planes_per_orientation = 0;  ///< if > 0, overrides spacing
+};
+/// Uniform diffuse light: parallel families of planes over the frame's extent.
+SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame, const DiffusePlanParams& params);
+
+struct AdaptivePlanParams {
+  int orientations = 6;
+  double max_missing_fraction = 0.05;  ///< stop when at most this fraction of vertices lacks a cone
+};
+/// The paper's §2.3.3 placement: per orientation, a plane through the median vertex, then recursively
+/// through the medians of the vertices above and below that still lack a cone.
+SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame, const AdaptivePlanParams& params);
+
+/// Point light: a pencil of planes through one line through the light (spacing ~ average edge length at
+/// the cloth's distance).
+SlicingPlan make_point_light_plan(const MeshTopology& topology, const Frame& frame, const glm::dvec3& light,
+                                  double spacing = 0.0);
+
+/// Polygonal area light: planes rotating about lines joining opposite points of the light's convex hull.
+SlicingPlan make_area_light_plan(const MeshTopology& topology, const Frame& frame,
+                                 const std::vector<glm::dvec3>& light_polygon, double spacing = 0.0);
+
+/// Average length of the mesh's edges in this frame.
+double average_edge_length(const MeshTopology& topology, const Frame& frame);
+
+}  // namespace pleat

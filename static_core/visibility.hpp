@@ -1,0 +1,28 @@
+// compute_visibility: Stewart's algorithm for one frame, from slices to 3D visibility cones.
+//
+// A. J. Stewart, "Computing visibility from folded surfaces", Computers & Graphics 23 (1999).
+// For every plane of the plan: slice the mesh (symbolic perturbation for vertices on the plane), build the
+// convex hull and a constrained triangulation of the chains (CGAL, exact predicates), flood-fill visibility
+// polygons, grow funnel shortest-path trees from each window endpoint, read 2D cones off the first path
+// segments (holes subtracted), store them on the nearer mesh vertex, fill vertices that got none, and
+// merge each vertex's 2D cones into 3D cones per side. Cost: O(sum over slices of n log n) in practice.
+// Precondition: the surface does not self-intersect (crossing chains are detected, counted and handled).
+#pragma once
+
+#include "sim_io/mesh.hpp"
+#include "static_core/slicing_plan.hpp"
+#include "static_core/visibility_cone.hpp"
+
+namespace pleat {
+
+struct VisibilityParams {
+  bool parallel = true;  ///< TBB-parallel over slices
+};
+
+FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
+                                   const VisibilityParams& params = {});
+
+/// Area-weighted unit vertex normals (DESIGN.md §1); isolated vertices get (0,0,1).
+std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame& frame);
+
+}  // namespace pleat

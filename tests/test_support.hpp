@@ -1,0 +1,34 @@
+// Helpers shared by the tests: a fresh temporary directory per test, and running the `pleat` executable.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace pleat::test {
+
+/// The repository root (for data/ and golden files).
+std::filesystem::path source_dir();
+
+/// A new empty directory under the system temp dir, removed when the object dies.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return m_path; }
+  std::filesystem::path operator/(const std::string& name) const { return m_path / name; }
+
+ private:
+  std::filesystem::path m_path;
+};
+
+struct CommandResult {
+  int exit_code = 0;
+  std::string output;  ///< stdout and stderr together
+};
+
+/// Runs `pleat ARGS` (args are passed to the shell as written) and captures its output.
+CommandResult run_pleat(const std::string& args);
+
+}  // namespace pleat::test
