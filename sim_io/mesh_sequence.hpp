@@ -11,6 +11,10 @@
 
 namespace pleat {
 
+/// Scene rate used to turn frame numbers into seconds where a format stores no time (PC2 frames, numbered
+/// OBJ sequences): Blender's default.
+inline constexpr double kDefaultSceneFps = 24.0;
+
 /// A source of per-frame positions in the input's vertex order (one implementation per file format).
 class FrameSource {
  public:
@@ -39,6 +43,17 @@ class MeshSequence {
   const std::vector<Index>& welded_of_input() const;  ///< input vertex -> welded vertex
   std::size_t welded_duplicates() const;              ///< input vertices merged into another
 
+  double frame_time(std::size_t i) const;  ///< seconds, strictly increasing
+  double duration() const;                 ///< last frame time - first frame time
+  /// Positions of frame i in the input's vertex order (before welding).
+  std::vector<glm::dvec3> input_positions(std::size_t i) const;
+  /// The input's triangles over input vertices (after polygon triangulation, before welding).
+  const std::vector<Triangle>& input_triangles() const;
+  /// Input triangles left out of topology(): those with a repeated corner after welding, and repeats of an
+  /// earlier triangle on the same three welded vertices in either winding (e.g. the reversed back-side
+  /// copies of a double-sided export). topology().triangles keeps the others in input order.
+  std::size_t removed_faces() const;
+
  private:
   struct Impl;
   std::shared_ptr<const Impl> m_impl;  // private: cheap copies of an immutable model
@@ -48,7 +63,14 @@ class MeshSequence {
 ///   .obj (+ optional cache .pc2 / .mdd), a numbered OBJ sequence (printf pattern like "frames/f_%04d.obj",
 ///   or a directory of .obj files in name order), .gltf / .glb (static, morph-target weights animation, or
 ///   a scene with one node per frame).
-/// Throws InputError on anything malformed.
+/// Throws InputError on anything malformed. Loading validates every frame once (one streaming pass, which
+/// also finds the welding); frames are then re-read on demand.
 MeshSequence load_sequence(const std::filesystem::path& input, const std::filesystem::path& cache = {});
+
+struct LoadOptions {
+  double scene_fps = kDefaultSceneFps;  ///< seconds per frame for formats that store frame numbers only
+};
+MeshSequence load_sequence(const std::filesystem::path& input, const std::filesystem::path& cache,
+                           const LoadOptions& options);
 
 }  // namespace pleat
