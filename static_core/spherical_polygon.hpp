@@ -8,6 +8,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstddef>
 #include <vector>
 
 namespace pleat {
@@ -16,7 +17,61 @@ using SphericalPolygon = std::vector<glm::dvec3>;
 
 /// The part of `poly` in the closed hemisphere {w : n.w >= 0}; arcs along the horizon are inserted
 /// (subdivided so that no arc reaches pi). n must be a unit vector.
+/// When the part has several components (a polygon that dips in and out of the hemisphere more than
+/// once), they are joined into one polygon by pairs of opposite bridge arcs along the horizon: zero area,
+/// exact for every integral below. Use HemisphereClipper to get the components separately.
 SphericalPolygon clip_to_hemisphere(const SphericalPolygon& poly, const glm::dvec3& n);
+
+/// A reusable list of spherical polygons: the first `size` entries are valid, and storage is kept between
+/// uses so that hot loops do not allocate once warmed up.
+struct SphericalPolygonList {
+  std::vector<SphericalPolygon> polygons;
+  std::size_t size = 0;
+
+  void clear() { size = 0; }
+  /// A new empty polygon at the end (reusing old storage).
+  SphericalPolygon& push() {
+    if (size == polygons.size()) polygons.emplace_back();
+    SphericalPolygon& p = polygons[size++];
+    p.clear();
+    return p;
+  }
+  const SphericalPolygon& operator[](std::size_t i) const { return polygons[i]; }
+  SphericalPolygon& operator[](std::size_t i) { return polygons[i]; }
+};
+
+/// Great-circle Sutherland–Hodgman with horizon stitching (Weiler–Atherton pairing: each exit joins the
+/// next entry counter-clockwise about n along the horizon), giving each component of poly ∩ {n.w >= 0}
+/// as its own simple counter-clockwise polygon. Keeps scratch storage between calls; not thread-safe
+/// (one clipper per thread). O(#vertices + k^2) for k horizon crossings (k is 2 in nearly all cases).
+class HemisphereClipper {
+ public:
+  /// Appends the components of poly ∩ {n.w >= 0} to `out`; returns how many were appended.
+  /// A polygon whose boundary lies below the horizon but which contains n yields the whole hemisphere; one
+  /// whose boundary stays in the hemisphere but which holds -n yields one weakly simple polygon (the horizon,
+  /// a bridge along a meridian, the polygon's boundary reversed in sense, the bridge back).
+  std::size_t clip(const SphericalPolygon& poly, const glm::dvec3& n, SphericalPolygonList& out);
+
+ private:
+  struct Node {
+    glm::dvec3 p;
+    int kind;        // 0 vertex, 1 entry crossing, 2 exit crossing
+    double azimuth;  // about n, for crossings
+    int partner;     // exit -> index of its entry node
+  };
+  std::vector<double> m_dots;
+  std::vector<Node> m_nodes;
+  std::vector<int> m_entries;
+  std::vector<char> m_used;
+};
+
+/// Whether direction w (unit) lies inside the simple counter-clockwise polygon (interior on the left).
+/// Exact winding count: the fan of signed Van Oosterom–Strackee triangles from -w sums to
+/// area - 4 pi * winding(w), so any polygon, also larger than a hemisphere, is handled. O(#vertices).
+bool contains_direction(const SphericalPolygon& poly, const glm::dvec3& w);
+
+/// The horizon of n as a spherical polygon (four quarter arcs, counter-clockwise about n): the hemisphere.
+SphericalPolygon hemisphere_polygon(const glm::dvec3& n);
 
 /// Lambert's formula, without clipping: 1/2 sum theta_i (n . Gamma_i).
 double projected_solid_angle(const SphericalPolygon& poly, const glm::dvec3& n);
