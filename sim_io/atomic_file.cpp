@@ -1,15 +1,13 @@
 #include "sim_io/atomic_file.hpp"
 
+#include <atomic>
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <fcntl.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 namespace pleat {
@@ -20,44 +18,60 @@ std::runtime_error write_error(const std::filesystem::path& path, const std::str
   return std::runtime_error(path.string() + ": cannot write: " + what);
 }
 
-// Creates a unique temporary file next to `path` and returns its name (the file exists, empty).
+// Creates a unique temporary file next to `path` (mode 0666 less the umask, like any new output) and
+// returns its name; the file exists, empty.
 std::filesystem::path make_temporary_sibling(const std::filesystem::path& path) {
+  static std::atomic<unsigned> counter{0};
   const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-  std::string pattern = (dir / ("." + path.filename().string() + ".tmp.XXXXXX")).string();
-  std::vector<char> buffer(pattern.begin(), pattern.end());
-  buffer.push_back('\0');
-  const int fd = ::mkstemp(buffer.data());
-  if (fd < 0) throw write_error(path, std::string("cannot create a temporary file: ") + std::strerror(errno));
-  ::close(fd);
-  return std::filesystem::path(buffer.data());
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const std::filesystem::path candidate =
+        dir / ("." + path.filename().string() + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++));
+    const int fd = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      ::close(fd);
+      return candidate;
+    }
+    if (errno != EEXIST) throw write_error(path, "cannot create a temporary file: " + std::string(std::strerror(errno)));
+  }
+  throw write_error(path, "cannot create a temporary file: too many name collisions");
 }
 
 }  // namespace
 
-void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
-  const std::filesystem::path temporary = make_temporary_sibling(path);
-  try {
-    {
-      std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-      if (!out) throw write_error(path, "cannot open the temporary file " + temporary.string());
-      write(out);
-      out.flush();
-      if (!out) throw write_error(path, "I/O error while writing");
-      out.close();
-      if (out.fail()) throw write_error(path, "I/O error while closing");
-    }
-    // mkstemp creates files with mode 0600; give the output the usual permissions (umask applies).
-    const mode_t mask = ::umask(0);
-    ::umask(mask);
-    ::chmod(temporary.c_str(), 0666 & ~mask);
-    std::error_code ec;
-    std::filesystem::rename(temporary, path, ec);
-    if (ec) throw write_error(path, "cannot rename the temporary file into place: " + ec.message());
-  } catch (...) {
+AtomicFile::AtomicFile(std::filesystem::path path) : m_path(std::move(path)) {
+  if (m_path.empty() || m_path.filename().empty()) throw write_error(m_path, "no file name");
+  m_temporary = make_temporary_sibling(m_path);
+  m_out.open(m_temporary, std::ios::binary | std::ios::trunc);
+  if (!m_out) {
     std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
+    std::filesystem::remove(m_temporary, ignored);
+    throw write_error(m_path, "cannot open the temporary file " + m_temporary.string());
   }
+}
+
+AtomicFile::~AtomicFile() {
+  if (m_committed) return;
+  m_out.close();
+  std::error_code ignored;
+  std::filesystem::remove(m_temporary, ignored);
+}
+
+void AtomicFile::commit() {
+  if (m_committed) throw std::logic_error("AtomicFile::commit called twice");
+  m_out.flush();
+  if (!m_out) throw write_error(m_path, "I/O error while writing");
+  m_out.close();
+  if (m_out.fail()) throw write_error(m_path, "I/O error while closing");
+  std::error_code ec;
+  std::filesystem::rename(m_temporary, m_path, ec);
+  if (ec) throw write_error(m_path, "cannot rename the temporary file into place: " + ec.message());
+  m_committed = true;
+}
+
+void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
+  AtomicFile file(path);
+  write(file.stream());
+  file.commit();
 }
 
 void write_file_atomically(const std::filesystem::path& path, const std::string& content) {

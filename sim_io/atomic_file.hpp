@@ -2,19 +2,40 @@
 // only when the whole content was written and flushed, so a failed run never leaves a partial output.
 //
 // The rename is atomic on POSIX file systems when source and target share a directory. If the writer
-// callback throws, or any I/O step fails, the temporary file is removed and the target is left as it was.
+// throws before commit(), or any I/O step fails, the temporary file is removed and the target is left as
+// it was (an existing file is not touched).
 #pragma once
 
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <ostream>
 #include <string>
 
 namespace pleat {
 
-/// Writes `path` atomically with the bytes `write` puts on the (binary) stream. Rethrows whatever `write`
-/// throws; throws std::runtime_error naming the path when the temporary file cannot be created, written or
-/// renamed. The parent directory must exist.
+/// A streaming atomic output file: write to stream(), then commit(). Destroyed without commit(), it
+/// removes its temporary file. Throws std::runtime_error naming the path on any I/O failure.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::filesystem::path path);  ///< creates the temporary file (parent must exist)
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  std::ostream& stream() { return m_out; }
+  const std::filesystem::path& path() const { return m_path; }
+  /// Flushes, closes and renames the temporary file into place. Called once.
+  void commit();
+
+ private:
+  std::filesystem::path m_path;
+  std::filesystem::path m_temporary;
+  std::ofstream m_out;
+  bool m_committed = false;
+};
+
+/// Writes `path` atomically with the bytes `write` puts on the (binary) stream; rethrows what `write` throws.
 void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
 
 /// Convenience: writes a whole byte/text buffer atomically.

@@ -1,4 +1,4 @@
-#include "sim_io/text_file.hpp"
+#include "sim_io/input_file.hpp"
 
 #include "sim_io/input_error.hpp"
 
@@ -18,6 +18,29 @@ std::string read_whole_file(const std::filesystem::path& path) {
   if (!in) throw InputError(path.string(), "", std::string("cannot open: ") + std::strerror(errno));
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw InputError(path.string(), "", "read error");
+  return bytes;
+}
+
+std::uint64_t file_size_or_throw(const std::filesystem::path& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) throw InputError(path.string(), "", "no such file");
+  if (!std::filesystem::is_regular_file(status)) throw InputError(path.string(), "", "not a regular file");
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(path.string(), "", "cannot read its size: " + ec.message());
+  return size;
+}
+
+std::string read_file_bytes(const std::filesystem::path& path, std::uint64_t offset, std::uint64_t count) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), "", std::string("cannot open: ") + std::strerror(errno));
+  std::string bytes(count, '\0');
+  in.seekg(std::streamoff(offset));
+  in.read(bytes.data(), std::streamsize(count));
+  const auto got = std::uint64_t(in.gcount());
+  if (got != count)
+    throw InputError(path.string(), "byte " + std::to_string(offset + got),
+                     "truncated: expected " + std::to_string(count) + " bytes from byte " + std::to_string(offset));
   return bytes;
 }
 

@@ -1,7 +1,8 @@
-// Reading a whole input file into memory, with the InputError every reader gives for a missing,
-// unreadable or non-regular file.
+// Reading input files, with the InputError every reader gives for a missing, unreadable or truncated file:
+// the whole file (text formats), its size, or a byte range (binary caches read frame by frame).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -9,5 +10,12 @@ namespace pleat {
 
 /// The bytes of `path`. Throws InputError(path, "", ...) when it is missing, a directory, or unreadable.
 std::string read_whole_file(const std::filesystem::path& path);
+
+/// The size of the regular file `path`. Throws InputError(path, "", ...) when missing or not a file.
+std::uint64_t file_size_or_throw(const std::filesystem::path& path);
+
+/// `count` bytes from `offset`. Throws InputError(path, "byte N") naming where the data ends when the file
+/// is shorter, InputError(path, "") when it cannot be opened.
+std::string read_file_bytes(const std::filesystem::path& path, std::uint64_t offset, std::uint64_t count);
 
 }  // namespace pleat

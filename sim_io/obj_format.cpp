@@ -2,7 +2,7 @@
 
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/input_error.hpp"
-#include "sim_io/text_file.hpp"
+#include "sim_io/input_file.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -2,6 +2,7 @@
 
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/byte_order.hpp"
+#include "sim_io/input_file.hpp"
 #include "sim_io/input_error.hpp"
 
 #include <cerrno>
@@ -20,30 +21,6 @@ constexpr std::uint64_t kHeaderBytes = 32;
 
 std::string at_byte(std::uint64_t offset) { return "byte " + std::to_string(offset); }
 
-std::uint64_t file_size_or_throw(const std::filesystem::path& path) {
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(status)) throw InputError(path.string(), "", "no such file");
-  if (!std::filesystem::is_regular_file(status)) throw InputError(path.string(), "", "not a regular file");
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError(path.string(), "", "cannot read its size: " + ec.message());
-  return size;
-}
-
-// Reads `count` bytes at `offset`, or throws InputError naming the offset where the data ends.
-std::string read_bytes(const std::filesystem::path& path, std::uint64_t offset, std::uint64_t count) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), "", std::string("cannot open: ") + std::strerror(errno));
-  std::string bytes(count, '\0');
-  in.seekg(std::streamoff(offset));
-  in.read(bytes.data(), std::streamsize(count));
-  const auto got = std::uint64_t(in.gcount());
-  if (got != count)
-    throw InputError(path.string(), at_byte(offset + got),
-                     "truncated: expected " + std::to_string(count) + " bytes from byte " + std::to_string(offset));
-  return bytes;
-}
-
 class Pc2Source : public FrameSource {
  public:
   Pc2Source(std::filesystem::path path, Pc2Header header, double scene_fps)
@@ -56,7 +33,7 @@ class Pc2Source : public FrameSource {
   std::vector<glm::dvec3> read_frame(std::size_t i) const override {
     const auto points = std::uint64_t(m_header.num_points);
     const std::uint64_t offset = kHeaderBytes + std::uint64_t(i) * points * 12;
-    const std::string bytes = read_bytes(m_path, offset, points * 12);
+    const std::string bytes = read_file_bytes(m_path, offset, points * 12);
     const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
     std::vector<glm::dvec3> positions(points);
     for (std::uint64_t v = 0; v < points; ++v) {
@@ -84,7 +61,7 @@ Pc2Header read_pc2_header(const std::filesystem::path& path) {
   const std::uint64_t size = file_size_or_throw(path);
   if (size < kHeaderBytes)
     throw InputError(file, at_byte(size), "truncated: the PC2 header needs 32 bytes, the file has " + std::to_string(size));
-  const std::string head = read_bytes(path, 0, kHeaderBytes);
+  const std::string head = read_file_bytes(path, 0, kHeaderBytes);
   const auto* p = reinterpret_cast<const unsigned char*>(head.data());
   if (std::memcmp(head.data(), kMagic, sizeof kMagic) != 0)
     throw InputError(file, at_byte(0), "wrong magic: not a PC2 file (expected \"POINTCACHE2\")");

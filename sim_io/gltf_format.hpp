@@ -1,0 +1,81 @@
+// glTF 2.0 (.gltf / .glb): reading cloth sequences through tinygltf, and writing the shaded sequence as a
+// flipbook .glb that plays in three.js and imports into Blender.
+//
+// Reading accepts three layouts of the default scene (node transforms applied, parents included):
+//  1. Morph-target animation: the first animation with a `weights` channel on a mesh node with morph targets
+//     gives one frame per keyframe of that channel (times from its input accessor; LINEAR, STEP and
+//     CUBICSPLINE all sample to the keyframe values). positions = base + sum_k w_k * target_k. Other mesh
+//     nodes are ignored; node transform animations are not applied.
+//  2. Flipbook: two or more mesh nodes with the same connectivity (vertex count and triangles) are frames
+//     shown one at a time. When every such node has a `scale` channel, frames are ordered by the first
+//     keyframe at which the node's scale is non-zero, that keyframe is the frame's time and that non-zero
+//     scale replaces the node's static one; otherwise frames follow the scene order at `scene_fps`.
+//  3. Static: every mesh node merged into one mesh, one frame at time 0.
+// Primitives of a mesh that share a POSITION accessor share vertices; primitive modes TRIANGLES,
+// TRIANGLE_STRIP and TRIANGLE_FAN are triangulated. Primitives marked `"extras": {"pleat_side": "back"}`
+// (the back-side copies written below) are skipped. Errors throw InputError naming the file and the
+// accessor, mesh, node or frame: sparse accessors, accessors without a buffer view, quantized or draco
+// compressed data (KHR_draco_mesh_compression, KHR_mesh_quantization, EXT_meshopt_compression, any other
+// required extension that changes geometry), skins, POINTS/LINES primitives, out-of-range indices or
+// accessor ranges, NaN/Inf positions, no mesh at all.
+//
+// Writing (write_shaded_glb / ShadedGlbWriter) uses a flipbook, not COLOR_0 morph targets: Blender's glTF
+// importer does not import COLOR_0 morph targets, and three.js would need custom shader work for them. Each
+// frame is one node + mesh with its own POSITION and COLOR_0; a STEP `scale` channel per node switches it
+// between 0 and 1 so exactly one frame is visible at a time, which both three.js and Blender play natively
+// (node 0 has static scale 1, the others 0, so static viewers show the first frame). Both cloth sides are
+// shaded: each frame mesh has a front primitive (the triangles in input winding, front colours) and a back
+// primitive (the same triangles reversed, back colours, same POSITION accessor) under one single-sided
+// material, so back-face culling shows each side its own shading; a doubleSided material could only show
+// one colour on both sides. The material is KHR_materials_unlit (the colours are already lit) with a
+// rough, non-metallic white fallback. COLOR_0 holds linear float RGB converted from the given sRGB.
+// The reader above accepts this layout, so a written glb reads back as the same sequence (float32 positions).
+#pragma once
+
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/mesh_sequence.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <filesystem>
+#include <vector>
+
+namespace pleat {
+
+/// Loads a .gltf or .glb (see above); welds vertices that coincide in every frame.
+MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps = kDefaultSceneFps);
+
+/// Streams a shaded flipbook .glb: the constructor reads the chosen frames' positions once (for the
+/// accessor bounds) and writes the JSON; add_frame() then appends one frame's data in order; finish() commits
+/// the file atomically. Destroyed before finish(), nothing is left on disk. Frame j plays at time j / fps.
+class ShadedGlbWriter {
+ public:
+  ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence, std::vector<std::size_t> frames,
+                  double fps);
+  ~ShadedGlbWriter();
+  ShadedGlbWriter(const ShadedGlbWriter&) = delete;
+  ShadedGlbWriter& operator=(const ShadedGlbWriter&) = delete;
+
+  /// Colours of the next frame, one sRGB colour (components in [0,1], clamped) per welded vertex and side.
+  void add_frame(const std::vector<glm::vec3>& front_srgb, const std::vector<glm::vec3>& back_srgb);
+  void finish();
+
+ private:
+  const MeshSequence& m_sequence;
+  std::vector<std::size_t> m_frames;
+  std::size_t m_next = 0;
+  std::size_t m_tail_bytes = 0;  // animation data written by finish()
+  std::vector<unsigned char> m_tail;
+  AtomicFile m_file;
+};
+
+/// One-shot form: front_srgb[j] / back_srgb[j] colour frames[j] (per welded vertex).
+void write_shaded_glb(const std::filesystem::path& path, const MeshSequence& sequence,
+                      const std::vector<std::size_t>& frames, const std::vector<std::vector<glm::vec3>>& front_srgb,
+                      const std::vector<std::vector<glm::vec3>>& back_srgb, double fps);
+
+/// sRGB-encoded component in [0,1] to linear (the glTF COLOR_0 encoding); clamps, NaN gives 0.
+float srgb_to_linear(float c);
+
+}  // namespace pleat

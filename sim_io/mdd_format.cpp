@@ -1,0 +1,119 @@
+#include "sim_io/mdd_format.hpp"
+
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/input_file.hpp"
+#include "sim_io/byte_order.hpp"
+#include "sim_io/input_error.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace pleat {
+
+namespace {
+
+std::string at_byte(std::uint64_t offset) { return "byte " + std::to_string(offset); }
+
+class MddSource : public FrameSource {
+ public:
+  MddSource(std::filesystem::path path, MddHeader header) : m_path(std::move(path)), m_header(std::move(header)) {}
+
+  std::size_t num_frames() const override { return std::size_t(m_header.num_frames); }
+  double frame_time(std::size_t i) const override { return m_header.times.at(i); }
+  std::vector<glm::dvec3> read_frame(std::size_t i) const override {
+    const auto points = std::uint64_t(m_header.num_points);
+    const std::uint64_t offset = 8 + 4 * std::uint64_t(m_header.num_frames) + std::uint64_t(i) * points * 12;
+    const std::string bytes = read_file_bytes(m_path, offset, points * 12);
+    const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
+    std::vector<glm::dvec3> positions(points);
+    for (std::uint64_t v = 0; v < points; ++v) {
+      for (int k = 0; k < 3; ++k) {
+        const float c = bytes::load_f32_be(p + 12 * v + 4 * k);
+        if (!std::isfinite(c))
+          throw InputError(m_path.string(), "frame " + std::to_string(i) + ", vertex " + std::to_string(v),
+                           "non-finite coordinate (byte " + std::to_string(offset + 12 * v + 4 * k) + ")");
+        positions[v][k] = double(c);
+      }
+    }
+    return positions;
+  }
+
+ private:
+  std::filesystem::path m_path;
+  MddHeader m_header;
+};
+
+}  // namespace
+
+MddHeader read_mdd_header(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  const std::uint64_t size = file_size_or_throw(path);
+  if (size < 8) throw InputError(file, at_byte(size), "truncated: the MDD header needs 8 bytes, the file has " + std::to_string(size));
+  const std::string head = read_file_bytes(path, 0, 8);
+  const auto* p = reinterpret_cast<const unsigned char*>(head.data());
+  MddHeader header;
+  header.num_frames = bytes::load_i32_be(p);
+  header.num_points = bytes::load_i32_be(p + 4);
+  if (header.num_frames <= 0)
+    throw InputError(file, at_byte(0), "frameCount is " + std::to_string(header.num_frames) + ", must be positive (is this an MDD file?)");
+  if (header.num_points <= 0)
+    throw InputError(file, at_byte(4), "vertCount is " + std::to_string(header.num_points) + ", must be positive");
+  const auto frames = std::uint64_t(header.num_frames);
+  const std::uint64_t expected = 8 + 4 * frames + frames * std::uint64_t(header.num_points) * 12;
+  if (size < expected)
+    throw InputError(file, at_byte(size),
+                     "truncated: " + std::to_string(frames) + " frames of " + std::to_string(header.num_points) +
+                         " points need " + std::to_string(expected) + " bytes, the file has " + std::to_string(size));
+  if (size > expected)
+    throw InputError(file, at_byte(expected),
+                     std::to_string(size - expected) + " unexpected bytes after the last frame (header says " +
+                         std::to_string(frames) + " frames of " + std::to_string(header.num_points) + " points)");
+  const std::string time_bytes = read_file_bytes(path, 8, 4 * frames);
+  const auto* t = reinterpret_cast<const unsigned char*>(time_bytes.data());
+  header.times.resize(frames);
+  for (std::uint64_t i = 0; i < frames; ++i) {
+    const float time = bytes::load_f32_be(t + 4 * i);
+    if (!std::isfinite(time)) throw InputError(file, at_byte(8 + 4 * i), "time of frame " + std::to_string(i) + " is not finite");
+    if (i > 0 && !(double(time) > header.times[i - 1]))
+      throw InputError(file, at_byte(8 + 4 * i), "time of frame " + std::to_string(i) + " does not increase");
+    header.times[i] = double(time);
+  }
+  return header;
+}
+
+std::unique_ptr<FrameSource> open_mdd(const std::filesystem::path& path) {
+  return std::make_unique<MddSource>(path, read_mdd_header(path));
+}
+
+void write_mdd(const std::filesystem::path& path, const std::vector<std::vector<glm::dvec3>>& frames,
+               const std::vector<double>& times) {
+  if (frames.empty()) throw std::invalid_argument("write_mdd: no frames");
+  if (times.size() != frames.size()) throw std::invalid_argument("write_mdd: one time per frame");
+  const std::size_t points = frames.front().size();
+  if (points == 0) throw std::invalid_argument("write_mdd: no points");
+  for (const auto& f : frames)
+    if (f.size() != points) throw std::invalid_argument("write_mdd: frames differ in their number of points");
+  if (points > std::size_t(INT32_MAX) || frames.size() > std::size_t(INT32_MAX))
+    throw std::invalid_argument("write_mdd: too many points or frames for MDD's int32 counts");
+  write_file_atomically(path, [&](std::ostream& out) {
+    std::string header;
+    bytes::append_i32_be(header, std::int32_t(frames.size()));
+    bytes::append_i32_be(header, std::int32_t(points));
+    for (double t : times) bytes::append_f32_be(header, float(t));
+    out.write(header.data(), std::streamsize(header.size()));
+    std::string frame;
+    frame.reserve(points * 12);
+    for (const auto& f : frames) {
+      frame.clear();
+      for (const glm::dvec3& p : f) {
+        bytes::append_f32_be(frame, float(p.x));
+        bytes::append_f32_be(frame, float(p.y));
+        bytes::append_f32_be(frame, float(p.z));
+      }
+      out.write(frame.data(), std::streamsize(frame.size()));
+    }
+  });
+}
+
+}  // namespace pleat

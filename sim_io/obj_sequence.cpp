@@ -1,0 +1,215 @@
+#include "sim_io/obj_sequence.hpp"
+
+#include "sim_io/input_error.hpp"
+#include "sim_io/obj_format.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <map>
+#include <optional>
+
+namespace pleat {
+
+namespace {
+
+// A filename pattern with one integer conversion: prefix, then the number (zero-padded or space-padded to
+// `width`), then suffix.
+struct FramePattern {
+  std::string prefix;
+  std::string suffix;
+  int width = 0;
+  bool zero_pad = false;
+
+  std::string format(long long n) const {
+    std::string digits = std::to_string(n);
+    if (int(digits.size()) < width) digits.insert(0, std::size_t(width) - digits.size(), zero_pad ? '0' : ' ');
+    return prefix + digits + suffix;
+  }
+};
+
+// Replaces "%%" by "%" in a literal part; returns nullopt if a lone '%' remains.
+std::optional<std::string> unescape(const std::string& s) {
+  std::string out;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] != '%') {
+      out += s[i];
+    } else if (i + 1 < s.size() && s[i + 1] == '%') {
+      out += '%';
+      ++i;
+    } else {
+      return std::nullopt;
+    }
+  }
+  return out;
+}
+
+std::optional<FramePattern> parse_pattern(const std::string& s) {
+  std::optional<FramePattern> found;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] != '%') continue;
+    if (i + 1 < s.size() && s[i + 1] == '%') {
+      ++i;
+      continue;
+    }
+    if (found) return std::nullopt;  // a second conversion
+    std::size_t j = i + 1;
+    FramePattern p;
+    if (j < s.size() && s[j] == '0') {
+      p.zero_pad = true;
+      ++j;
+    }
+    while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) p.width = p.width * 10 + (s[j++] - '0');
+    if (j >= s.size() || (s[j] != 'd' && s[j] != 'i') || p.width > 32) return std::nullopt;
+    auto prefix = unescape(s.substr(0, i));
+    auto suffix = unescape(s.substr(j + 1));
+    if (!prefix || !suffix) return std::nullopt;
+    p.prefix = *prefix;
+    p.suffix = *suffix;
+    found = p;
+    i = j;
+  }
+  return found;
+}
+
+// Natural order: runs of digits compare as numbers, everything else byte by byte.
+bool natural_less(const std::string& a, const std::string& b) {
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    const bool da = std::isdigit(static_cast<unsigned char>(a[i])), db = std::isdigit(static_cast<unsigned char>(b[j]));
+    if (da && db) {
+      std::size_t ie = i, je = j;
+      while (ie < a.size() && std::isdigit(static_cast<unsigned char>(a[ie]))) ++ie;
+      while (je < b.size() && std::isdigit(static_cast<unsigned char>(b[je]))) ++je;
+      std::string_view na(a.data() + i, ie - i), nb(b.data() + j, je - j);
+      while (na.size() > 1 && na.front() == '0') na.remove_prefix(1);
+      while (nb.size() > 1 && nb.front() == '0') nb.remove_prefix(1);
+      if (na.size() != nb.size()) return na.size() < nb.size();
+      if (na != nb) return na < nb;
+      i = ie;
+      j = je;
+    } else {
+      if (a[i] != b[j]) return a[i] < b[j];
+      ++i;
+      ++j;
+    }
+  }
+  return a.size() - i < b.size() - j;
+}
+
+class ObjSequenceSource : public FrameSource {
+ public:
+  ObjSequenceSource(std::vector<std::filesystem::path> files, std::vector<Triangle> triangles, std::size_t num_vertices,
+                    double scene_fps)
+      : m_files(std::move(files)), m_triangles(std::move(triangles)), m_num_vertices(num_vertices), m_scene_fps(scene_fps) {}
+
+  std::size_t num_frames() const override { return m_files.size(); }
+  double frame_time(std::size_t i) const override { return double(i) / m_scene_fps; }
+  std::vector<glm::dvec3> read_frame(std::size_t i) const override {
+    ObjMesh mesh = read_obj(m_files.at(i));
+    const std::string file = m_files[i].string();
+    const std::string first = m_files.front().string();
+    if (mesh.positions.size() != m_num_vertices)
+      throw InputError(file, "frame " + std::to_string(i),
+                       "vertex-count mismatch: " + std::to_string(mesh.positions.size()) + " vertices, the first frame (" +
+                           first + ") has " + std::to_string(m_num_vertices));
+    if (mesh.triangles.size() != m_triangles.size())
+      throw InputError(file, "frame " + std::to_string(i),
+                       "connectivity differs from the first frame (" + first + "): " +
+                           std::to_string(mesh.triangles.size()) + " triangles instead of " +
+                           std::to_string(m_triangles.size()));
+    const auto mismatch = std::mismatch(mesh.triangles.begin(), mesh.triangles.end(), m_triangles.begin());
+    if (mismatch.first != mesh.triangles.end())
+      throw InputError(file, "frame " + std::to_string(i),
+                       "connectivity differs from the first frame (" + first + ") at triangle " +
+                           std::to_string(mismatch.first - mesh.triangles.begin()));
+    return std::move(mesh.positions);
+  }
+
+ private:
+  std::vector<std::filesystem::path> m_files;
+  std::vector<Triangle> m_triangles;
+  std::size_t m_num_vertices;
+  double m_scene_fps;
+};
+
+}  // namespace
+
+bool is_frame_pattern(const std::string& input) { return parse_pattern(input).has_value(); }
+
+std::vector<std::filesystem::path> expand_frame_pattern(const std::string& pattern) {
+  const std::filesystem::path as_path(pattern);
+  const std::string filename = as_path.filename().string();
+  const auto parsed = parse_pattern(filename);
+  if (!parsed || as_path.parent_path().string().find('%') != std::string::npos)
+    throw InputError(pattern, "", "a frame pattern needs exactly one %d (or %0Nd) conversion, in the file name");
+  const std::filesystem::path dir = as_path.has_parent_path() ? as_path.parent_path() : std::filesystem::path(".");
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) throw InputError(pattern, "", "no such directory: " + dir.string());
+  std::map<long long, std::filesystem::path> numbered;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= parsed->prefix.size() + parsed->suffix.size()) continue;
+    if (name.compare(0, parsed->prefix.size(), parsed->prefix) != 0) continue;
+    if (name.compare(name.size() - parsed->suffix.size(), parsed->suffix.size(), parsed->suffix) != 0) continue;
+    std::string middle = name.substr(parsed->prefix.size(), name.size() - parsed->prefix.size() - parsed->suffix.size());
+    const auto first_digit = middle.find_first_not_of(' ');
+    if (first_digit == std::string::npos) continue;
+    long long n = 0;
+    const char* begin = middle.data() + first_digit;
+    const char* end = middle.data() + middle.size();
+    const auto [stop, error] = std::from_chars(begin, end, n);
+    if (error != std::errc() || stop != end || n < 0) continue;
+    if (parsed->format(n) != name) continue;  // e.g. f_12.obj does not match f_%04d.obj
+    numbered.emplace(n, entry.path());
+  }
+  if (ec) throw InputError(pattern, "", "cannot list " + dir.string() + ": " + ec.message());
+  if (numbered.empty()) throw InputError(pattern, "", "no file matches the pattern");
+  std::vector<std::filesystem::path> files;
+  long long expected = numbered.begin()->first;
+  for (const auto& [n, path] : numbered) {
+    if (n != expected)
+      throw InputError((dir / parsed->format(expected)).string(), "",
+                       "missing frame in the numbered sequence " + pattern + " (found up to " +
+                           std::to_string(expected - 1) + ", then " + std::to_string(n) + ")");
+    files.push_back(path);
+    ++expected;
+  }
+  return files;
+}
+
+std::vector<std::filesystem::path> list_obj_directory(const std::filesystem::path& directory) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(directory, ec)) {
+    std::string extension = entry.path().extension().string();
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (extension == ".obj" && !entry.is_directory()) names.push_back(entry.path().filename().string());
+  }
+  if (ec) throw InputError(directory.string(), "", "cannot list the directory: " + ec.message());
+  if (names.empty()) throw InputError(directory.string(), "", "no .obj files in the directory");
+  std::sort(names.begin(), names.end(), natural_less);
+  std::vector<std::filesystem::path> files;
+  for (const auto& n : names) files.push_back(directory / n);
+  return files;
+}
+
+MeshSequence load_obj_sequence(const std::string& name, const std::vector<std::filesystem::path>& files, double scene_fps) {
+  if (files.empty()) throw InputError(name, "", "no frames");
+  ObjMesh first = read_obj(files.front());
+  const auto num_vertices = Index(first.positions.size());
+  std::vector<Triangle> triangles = first.triangles;
+  auto source = std::make_unique<ObjSequenceSource>(files, std::move(first.triangles), num_vertices, scene_fps);
+  return MeshSequence(name, std::move(triangles), num_vertices, std::move(source));
+}
+
+void write_obj_sequence(const std::string& pattern, const MeshSequence& sequence, int first_number) {
+  const std::filesystem::path as_path(pattern);
+  const auto parsed = parse_pattern(as_path.filename().string());
+  if (!parsed) throw std::invalid_argument("write_obj_sequence: the pattern needs exactly one %d conversion");
+  for (std::size_t i = 0; i < sequence.num_frames(); ++i)
+    write_obj(as_path.parent_path() / parsed->format(first_number + (long long)i), sequence.topology(),
+              sequence.frame(i).positions);
+}
+
+}  // namespace pleat
