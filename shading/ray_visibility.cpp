@@ -1,0 +1,210 @@
+// Ray-cast sky visibility: stratified cosine sampling, one-ring side test, Embree ray streams.
+#include "shading/ray_visibility.hpp"
+
+#include <glm/glm.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace pleat {
+
+namespace {
+
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+double to_unit(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1.0p-53; }
+
+double radical_inverse_base2(std::uint32_t i) {
+  i = (i << 16) | (i >> 16);
+  i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
+  i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
+  i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
+  i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
+  return static_cast<double>(i) * 0x1.0p-32;
+}
+
+/// Shirley–Chiu concentric map of [0,1)² onto the unit disk, lifted to the cosine-distributed hemisphere.
+glm::dvec3 cosine_direction(double u1, double u2) {
+  const double a = 2.0 * u1 - 1.0, b = 2.0 * u2 - 1.0;
+  double r = 0.0, phi = 0.0;
+  if (a == 0.0 && b == 0.0) return {0.0, 0.0, 1.0};
+  constexpr double kQuarterPi = std::numbers::pi / 4.0;
+  if (std::abs(a) > std::abs(b)) {
+    r = a;
+    phi = kQuarterPi * (b / a);
+  } else {
+    r = b;
+    phi = 2.0 * kQuarterPi - kQuarterPi * (a / b);
+  }
+  const double x = r * std::cos(phi), y = r * std::sin(phi);
+  return {x, y, std::sqrt(std::max(0.0, 1.0 - x * x - y * y))};
+}
+
+/// Orthonormal t1, t2 with t1 × t2 = m (Frisvad's construction, Duff et al.'s branchless variant).
+void tangent_frame(const glm::dvec3& m, glm::dvec3& t1, glm::dvec3& t2) {
+  const double sign = std::copysign(1.0, m.z);
+  const double a = -1.0 / (sign + m.z);
+  const double b = m.x * m.y * a;
+  t1 = {1.0 + sign * m.x * m.x * a, sign * b, -sign * m.x};
+  t2 = {b, sign + m.y * m.y * a, -m.y};
+}
+
+/// One incident triangle seen from its corner v: edge vectors in winding order and the face normal.
+struct FanTriangle {
+  glm::dvec3 ea, eb;   // other corners minus v, so that ea × eb is the face normal in the input winding
+  glm::dvec3 normal;   // ea × eb
+  double inv_length;   // 1 / |normal|
+  double projected;    // normal · n(v): sign of the sector's orientation in the projection along n(v)
+};
+
+/// Which side of the local surface (the one-ring fan) direction w leaves on: +1 front, -1 back, 0 free
+/// (its projection lies over no triangle: past a boundary). See the header, "Self-hits", step 3.
+int local_side(const std::vector<FanTriangle>& fan, const glm::dvec3& n, const glm::dvec3& w) {
+  double nearest = std::numeric_limits<double>::infinity();
+  int side = 0;
+  for (const FanTriangle& f : fan) {
+    const double s1 = glm::dot(glm::cross(f.ea, w), n);
+    const double s2 = glm::dot(glm::cross(w, f.eb), n);
+    const bool inside = f.projected > 0.0 ? (s1 >= 0.0 && s2 >= 0.0) : (s1 <= 0.0 && s2 <= 0.0);
+    if (!inside) continue;
+    const double d = glm::dot(w, f.normal) * f.inv_length;
+    if (std::abs(d) < nearest) {
+      nearest = std::abs(d);
+      side = d > 0.0 ? 1 : (d < 0.0 ? -1 : 0);
+    }
+  }
+  return side;
+}
+
+void build_fan(const MeshTopology& topology, const Frame& frame, std::span<const Index> ring, Index v,
+               const glm::dvec3& n, std::vector<FanTriangle>& fan) {
+  fan.clear();
+  const glm::dvec3& p = frame.positions[v];
+  for (Index t : ring) {
+    const Triangle& tri = topology.triangles[t];
+    const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    FanTriangle f;
+    f.ea = frame.positions[tri[(k + 1) % 3]] - p;
+    f.eb = frame.positions[tri[(k + 2) % 3]] - p;
+    f.normal = glm::cross(f.ea, f.eb);
+    const double length = glm::length(f.normal);
+    if (!(length > 0.0)) continue;  // degenerate: no plane, no side
+    f.inv_length = 1.0 / length;
+    f.projected = glm::dot(f.normal, n);
+    if (f.projected == 0.0) continue;  // seen edge-on along n: its sector is empty
+    fan.push_back(f);
+  }
+}
+
+std::uint64_t stream_key(std::uint64_t seed, Index vertex, Side side) {
+  return splitmix64(splitmix64(seed) ^ (static_cast<std::uint64_t>(vertex) << 1 | static_cast<std::uint64_t>(side)));
+}
+
+}  // namespace
+
+void cosine_hemisphere_directions(int count, std::uint64_t seed, Index vertex, Side side,
+                                  std::vector<glm::dvec3>& out) {
+  out.resize(static_cast<std::size_t>(std::max(count, 0)));
+  const std::uint64_t key = stream_key(seed, vertex, side);
+  const double shift1 = to_unit(splitmix64(key));
+  const double shift2 = to_unit(splitmix64(key + 1));
+  for (int i = 0; i < count; ++i) {
+    double u1 = (i + 0.5) / count + shift1;
+    double u2 = radical_inverse_base2(static_cast<std::uint32_t>(i)) + shift2;
+    u1 -= std::floor(u1);
+    u2 -= std::floor(u2);
+    out[static_cast<std::size_t>(i)] = cosine_direction(u1, u2);
+  }
+}
+
+RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
+                                  const std::vector<glm::dvec3>& normals, const RayVisibilityParams& params) {
+  if (params.rays_per_vertex < 1) throw std::invalid_argument("ray_cast_visibility: rays_per_vertex must be >= 1");
+  if (frame.positions.size() != topology.num_vertices || normals.size() != topology.num_vertices)
+    throw std::invalid_argument("ray_cast_visibility: frame has " + std::to_string(frame.positions.size()) +
+                                " positions and " + std::to_string(normals.size()) + " normals for " +
+                                std::to_string(topology.num_vertices) + " vertices");
+  if (scene.topology().num_vertices != topology.num_vertices ||
+      scene.topology().triangles.size() != topology.triangles.size())
+    throw std::invalid_argument("ray_cast_visibility: the Embree scene was built for another topology");
+  scene.update(frame);
+
+  const Index n_vertices = topology.num_vertices;
+  const int k = params.rays_per_vertex;
+  const double tnear = 1e-6 * scene.scene_diameter();
+  RayVisibility out;
+  for (int s = 0; s < 2; ++s) {
+    out.sky_visibility[s].assign(n_vertices, 0.0);
+    out.bent_normals[s].assign(n_vertices, glm::dvec3(0.0));
+  }
+  std::vector<std::uint64_t> cast(n_vertices, 0);
+
+  auto work = [&](Index begin, Index end) {
+    std::vector<FanTriangle> fan;
+    std::vector<glm::dvec3> local;
+    std::vector<glm::dvec3> world;
+    std::vector<glm::vec3> to_cast;
+    std::vector<std::uint8_t> escaped;
+    world.reserve(static_cast<std::size_t>(k));
+    to_cast.reserve(static_cast<std::size_t>(k));
+    for (Index v = begin; v < end; ++v) {
+      const glm::dvec3 n = glm::length(normals[v]) > 0.0 ? normals[v] : glm::dvec3(0.0, 0.0, 1.0);
+      build_fan(topology, frame, scene.incident_triangles(v), v, n, fan);
+      for (Side side : kBothSides) {
+        const int si = static_cast<int>(side);
+        const glm::dvec3 axis = side_sign(side) * n;
+        glm::dvec3 t1, t2;
+        tangent_frame(axis, t1, t2);
+        cosine_hemisphere_directions(k, params.seed, v, side, local);
+        world.clear();
+        to_cast.clear();
+        for (const glm::dvec3& l : local) {
+          const glm::dvec3 w = l.x * t1 + l.y * t2 + l.z * axis;
+          if (local_side(fan, n, w) == -static_cast<int>(side_sign(side))) continue;  // enters the cloth at v
+          world.push_back(w);
+          to_cast.emplace_back(w);
+        }
+        escaped.resize(to_cast.size());
+        scene.escaping_rays(frame.positions[v], to_cast, tnear, scene.incident_triangles(v), escaped);
+        std::size_t count = 0;
+        glm::dvec3 sum(0.0);
+        for (std::size_t i = 0; i < escaped.size(); ++i)
+          if (escaped[i] != 0) {
+            ++count;
+            sum += world[i];
+          }
+        out.sky_visibility[si][v] = static_cast<double>(count) / k;
+        const double length = glm::length(sum);
+        out.bent_normals[si][v] = length > 0.0 ? sum / length : axis;
+        cast[v] += to_cast.size();
+      }
+    }
+  };
+
+  if (params.parallel) {
+    tbb::parallel_for(tbb::blocked_range<Index>(0, n_vertices, 16),
+                      [&](const tbb::blocked_range<Index>& r) { work(r.begin(), r.end()); });
+  } else {
+    work(0, n_vertices);
+  }
+  for (std::uint64_t c : cast) out.rays_cast += c;
+  return out;
+}
+
+std::array<std::vector<double>, 2> ray_cast_sky_visibility(EmbreeScene& scene, const MeshTopology& topology,
+                                                           const Frame& frame, const std::vector<glm::dvec3>& normals,
+                                                           const RayVisibilityParams& params) {
+  return std::move(ray_cast_visibility(scene, topology, frame, normals, params).sky_visibility);
+}
+
+}  // namespace pleat
