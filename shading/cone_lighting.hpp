@@ -1,0 +1,70 @@
+// ConeLighting: the direct irradiance reaching one (vertex, side) through its visibility cone, under every
+// light of a Lighting (DESIGN.md §4; Stewart 1999 §4: once the cones exist, any lighting is a cheap pass).
+//
+// Per call: the cone's pieces are clipped to the hemisphere of the side axis m = side * n(v) (great-circle
+// Sutherland–Hodgman with horizon stitching, static_core/spherical_polygon.hpp), then each light adds
+//   uniform sky L            E = L * sum_k proj(piece_k, m)                        (Lambert's formula)
+//   cloudy sky L about up    E = L * sum_k proj(piece_k cap hemisphere(up), m)
+//   directional E0 along d   E = E0 * (m.l) if l = -d is inside a piece (m.l > 0)
+//   point I at p             E = I * (m.l) / |p - x|^2 if l = (p - x)/|p - x| is inside a piece
+//   area polygon, L          E = L * sum proj(piece_k cap light, m): the light as seen from x is a convex
+//                            spherical polygon; each (possibly non-convex) piece is clipped by the great
+//                            circles of its edges in turn (Sutherland–Hodgman is exact for a convex clipper)
+//   environment map          E = scale * sum_k integral_{piece_k} L(w) (m.w) dw (environment_map.hpp)
+// and the sky visibility A = sum_k proj(piece_k, m) / pi (DESIGN.md §1).
+// Inside-cone test: the exact winding count of contains_direction (a Van Oosterom–Strackee fan from the
+// antipode of the direction), valid for any simple piece, star-shaped or not, even beyond a hemisphere.
+// Limitation: a cone says which directions escape to infinity; a point or area light closer than an
+// occluder in that direction is still treated as blocked (use light-specific slicing plans for that).
+// Cost: O(cone edges x (#lights + light edges)); environment maps add O(map columns spanned by the edges).
+// Allocation: none once each scratch list has grown to its working size. One instance per thread.
+#pragma once
+
+#include "shading/lights.hpp"
+#include "static_core/spherical_polygon.hpp"
+#include "static_core/visibility_cone.hpp"
+
+#include <glm/vec3.hpp>
+
+namespace pleat {
+
+struct ConeIrradiance {
+  glm::dvec3 irradiance{0.0};   ///< direct irradiance from all lights, linear RGB
+  double sky_visibility = 0.0;  ///< A: cosine-weighted visible fraction of the hemisphere about the axis
+};
+
+class ConeLighting {
+ public:
+  /// `lighting` must outlive this object.
+  explicit ConeLighting(const Lighting& lighting) : m_lighting(&lighting) {}
+
+  /// All lights through `cone` at `position`, for the side axis `axis` (unit, side * n(v)).
+  ConeIrradiance evaluate(const VisibilityCone& cone, const glm::dvec3& position, const glm::dvec3& axis);
+
+  // The steps of evaluate(), usable one by one (tests, tools): clip first, then any light.
+  /// Clips the cone to the hemisphere of `axis` (a copy: the cone need not outlive the call); returns A.
+  /// The per-light functions below use that clip.
+  double set_cone(const VisibilityCone& cone, const glm::dvec3& axis);
+  const SphericalPolygonList& clipped() const { return m_clipped; }
+
+  glm::dvec3 uniform_sky(const UniformSkyLight& light) const;
+  glm::dvec3 hemisphere_sky(const HemisphereSkyLight& light);
+  glm::dvec3 directional(const DirectionalLight& light) const;
+  glm::dvec3 point(const PointLight& light, const glm::dvec3& position) const;
+  glm::dvec3 area(const AreaLight& light, const glm::dvec3& position);
+  glm::dvec3 environment(const EnvironmentLight& light) const;
+
+ private:
+  /// Whether unit direction l (with axis.l > 0) lies in one of the cone's pieces.
+  bool sees(const glm::dvec3& l) const;
+
+  const Lighting* m_lighting;
+  glm::dvec3 m_axis{0.0, 0.0, 1.0};
+  double m_projected = 0.0;  // sum of proj(piece_k, axis)
+  HemisphereClipper m_clipper;
+  SphericalPolygonList m_clipped;
+  SphericalPolygonList m_work_a, m_work_b;
+  SphericalPolygon m_light;
+};
+
+}  // namespace pleat

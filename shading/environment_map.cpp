@@ -1,0 +1,244 @@
+// EnvironmentMap: loading, lookup, and the Green's-theorem integral over spherical polygons (see header).
+#include "shading/environment_map.hpp"
+
+#include "sim_io/input_error.hpp"
+
+#include <glm/geometric.hpp>
+#include <stb/stb_image.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace pleat {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kTwoPi = 2.0 * kPi;
+
+// 3-point Gauss–Legendre on [-1, 1].
+constexpr double kGaussX[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
+constexpr double kGaussW[3] = {0.5555555555555556, 0.8888888888888888, 0.5555555555555556};
+
+/// integral_0^t sin^2 and integral_0^t sin cos.
+double integral_sin2(double t) { return 0.5 * t - 0.25 * std::sin(2.0 * t); }
+double integral_sincos(double t) {
+  const double s = std::sin(t);
+  return 0.5 * s * s;
+}
+
+float srgb_to_linear_component(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/// Halves both dimensions, averaging 2x2 blocks weighted by their rows' solid angles.
+void halve(int& width, int& height, std::vector<glm::vec3>& texels) {
+  const int w = width / 2, h = height / 2;
+  std::vector<glm::vec3> out(static_cast<std::size_t>(w) * h);
+  auto row_weight = [&](int r) { return std::cos(kPi * r / height) - std::cos(kPi * (r + 1) / height); };
+  for (int r = 0; r < h; ++r) {
+    const double w0 = row_weight(2 * r), w1 = row_weight(2 * r + 1);
+    for (int c = 0; c < w; ++c) {
+      const auto at = [&](int rr, int cc) { return glm::dvec3(texels[static_cast<std::size_t>(rr) * width + cc]); };
+      const glm::dvec3 sum = w0 * (at(2 * r, 2 * c) + at(2 * r, 2 * c + 1)) +
+                             w1 * (at(2 * r + 1, 2 * c) + at(2 * r + 1, 2 * c + 1));
+      out[static_cast<std::size_t>(r) * w + c] = glm::vec3(sum / (2.0 * (w0 + w1)));
+    }
+  }
+  width = w;
+  height = h;
+  texels = std::move(out);
+}
+
+}  // namespace
+
+EnvironmentMap::EnvironmentMap(int width, int height, std::vector<glm::vec3> texels,
+                               const EnvironmentOrientation& orientation)
+    : m_width(width), m_height(height), m_orientation(orientation), m_texels(std::move(texels)) {
+  if (width <= 0 || height <= 0 || m_texels.size() != static_cast<std::size_t>(width) * height)
+    throw std::invalid_argument("EnvironmentMap: texel count does not match " + std::to_string(width) + "x" +
+                                std::to_string(height));
+  const double len = glm::length(orientation.up);
+  if (!(len > 0.0) || !std::isfinite(len)) throw std::invalid_argument("EnvironmentMap: zero or invalid up axis");
+  m_u = orientation.up / len;
+  const glm::dvec3 ref = std::abs(m_u.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  m_x = glm::normalize(ref - glm::dot(ref, m_u) * m_u);
+  m_y = glm::cross(m_u, m_x);
+  m_rotation = orientation.rotation_degrees * kPi / 180.0;
+  build_tables();
+}
+
+EnvironmentMap EnvironmentMap::load(const std::filesystem::path& path, const EnvironmentOrientation& orientation,
+                                    int max_width) {
+  const std::string name = path.string();
+  int w = 0, h = 0, channels = 0;
+  std::vector<glm::vec3> texels;
+  if (stbi_is_hdr(name.c_str())) {
+    float* data = stbi_loadf(name.c_str(), &w, &h, &channels, 3);
+    if (data == nullptr) throw InputError(name, "", std::string("cannot read HDR image: ") + stbi_failure_reason());
+    texels.resize(static_cast<std::size_t>(w) * h);
+    for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = glm::vec3(data[3 * i], data[3 * i + 1], data[3 * i + 2]);
+    stbi_image_free(data);
+  } else {
+    unsigned char* data = stbi_load(name.c_str(), &w, &h, &channels, 3);
+    if (data == nullptr) throw InputError(name, "", std::string("cannot read image: ") + stbi_failure_reason());
+    float table[256];
+    for (int i = 0; i < 256; ++i) table[i] = srgb_to_linear_component(i / 255.0f);
+    texels.resize(static_cast<std::size_t>(w) * h);
+    for (std::size_t i = 0; i < texels.size(); ++i)
+      texels[i] = glm::vec3(table[data[3 * i]], table[data[3 * i + 1]], table[data[3 * i + 2]]);
+    stbi_image_free(data);
+  }
+  for (std::size_t i = 0; i < texels.size(); ++i) {
+    const glm::vec3& t = texels[i];
+    if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z) || t.x < 0 || t.y < 0 || t.z < 0)
+      throw InputError(name, "pixel " + std::to_string(i), "radiance must be finite and non-negative");
+  }
+  while (max_width > 0 && w > max_width && w % 2 == 0 && h % 2 == 0) halve(w, h, texels);
+  return EnvironmentMap(w, h, std::move(texels), orientation);
+}
+
+void EnvironmentMap::build_tables() {
+  const std::size_t stride = static_cast<std::size_t>(m_height) + 1;
+  m_prefix_s2.assign(stride * m_width, glm::vec3(0.0f));
+  m_prefix_sc.assign(stride * m_width, glm::vec3(0.0f));
+  glm::dvec3 local_moment[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+  for (int c = 0; c < m_width; ++c) {
+    glm::dvec3 s2(0.0), sc(0.0);
+    const double psi_hi = m_rotation - kTwoPi * c / m_width;
+    const double psi_lo = m_rotation - kTwoPi * (c + 1) / m_width;
+    const double int_cos = std::sin(psi_hi) - std::sin(psi_lo);
+    const double int_sin = std::cos(psi_lo) - std::cos(psi_hi);
+    const double dpsi = psi_hi - psi_lo;
+    for (int r = 0; r < m_height; ++r) {
+      const double t0 = kPi * r / m_height, t1 = kPi * (r + 1) / m_height;
+      const glm::dvec3 L(m_texels[static_cast<std::size_t>(r) * m_width + c]);
+      const double a2 = integral_sin2(t1) - integral_sin2(t0);
+      const double asc = integral_sincos(t1) - integral_sincos(t0);
+      s2 += L * a2;
+      sc += L * asc;
+      m_prefix_s2[c * stride + r + 1] = glm::vec3(s2);
+      m_prefix_sc[c * stride + r + 1] = glm::vec3(sc);
+      local_moment[0] += L * (int_cos * a2);
+      local_moment[1] += L * (int_sin * a2);
+      local_moment[2] += L * (dpsi * asc);
+    }
+  }
+  // World moments: integral L w_k dw = sum_j (local axis j)_k * local_moment[j].
+  const glm::dvec3 axes[3] = {m_x, m_y, m_u};
+  for (int k = 0; k < 3; ++k) {
+    m_sphere_moment[k] = glm::dvec3(0.0);
+    for (int j = 0; j < 3; ++j) m_sphere_moment[k] += axes[j][k] * local_moment[j];
+  }
+}
+
+glm::dvec3 EnvironmentMap::to_local(const glm::dvec3& w) const {
+  return {glm::dot(w, m_x), glm::dot(w, m_y), glm::dot(w, m_u)};
+}
+
+int EnvironmentMap::column_of_psi(double psi) const {
+  double u = (m_rotation - psi) / kTwoPi;
+  u -= std::floor(u);
+  return std::min(m_width - 1, static_cast<int>(u * m_width));
+}
+
+void EnvironmentMap::texel_of(const glm::dvec3& w, int& column, int& row) const {
+  const glm::dvec3 l = to_local(w);
+  const double theta = std::acos(std::clamp(l.z / glm::length(l), -1.0, 1.0));
+  row = std::min(m_height - 1, static_cast<int>(theta / kPi * m_height));
+  column = column_of_psi(std::atan2(l.y, l.x));
+}
+
+glm::dvec3 EnvironmentMap::radiance(const glm::dvec3& w) const {
+  if (empty()) return glm::dvec3(0.0);
+  int c = 0, r = 0;
+  texel_of(w, c, r);
+  return glm::dvec3(m_texels[static_cast<std::size_t>(r) * m_width + c]);
+}
+
+glm::dvec3 EnvironmentMap::edge_integral(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& nl) const {
+  const glm::dvec3 g = glm::cross(a, b);
+  if (g.z == 0.0) return glm::dvec3(0.0);  // on a meridian: psi does not change (a pole crossing adds 0)
+  // Travel direction about U from the orientation of the arc, not from a principal value: robust for arcs
+  // that pass close to a pole (|delta psi| near pi).
+  const bool a_pole = a.x == 0.0 && a.y == 0.0, b_pole = b.x == 0.0 && b.y == 0.0;
+  if (a_pole || b_pole) return glm::dvec3(0.0);
+  const double psi_a = std::atan2(a.y, a.x), psi_b = std::atan2(b.y, b.x);
+  double ccw = std::fmod(psi_b - psi_a, kTwoPi);
+  if (ccw < 0.0) ccw += kTwoPi;
+  const double delta = g.z > 0.0 ? ccw : (ccw == 0.0 ? 0.0 : ccw - kTwoPi);
+  if (delta == 0.0) return glm::dvec3(0.0);
+
+  const double sign_gz = g.z >= 0.0 ? 1.0 : -1.0;
+  const double abs_gz = std::abs(g.z);
+  auto theta_at = [&](double psi) {
+    const double h = g.x * std::cos(psi) + g.y * std::sin(psi);
+    return std::atan2(abs_gz, -h * sign_gz);
+  };
+  const std::size_t stride = static_cast<std::size_t>(m_height) + 1;
+  const double row_height = kPi / m_height;
+  auto contour = [&](int c, double psi, double theta) {
+    const int r = std::min(m_height - 1, static_cast<int>(theta / row_height));
+    const double t0 = r * row_height;
+    const glm::dvec3 L(m_texels[static_cast<std::size_t>(r) * m_width + c]);
+    const glm::dvec3 s2 = glm::dvec3(m_prefix_s2[c * stride + r]) + L * (integral_sin2(theta) - integral_sin2(t0));
+    const glm::dvec3 sc =
+        glm::dvec3(m_prefix_sc[c * stride + r]) + L * (integral_sincos(theta) - integral_sincos(t0));
+    return (nl.x * std::cos(psi) + nl.y * std::sin(psi)) * s2 + nl.z * sc;
+  };
+
+  // Walk in u = (rotation - psi) / 2 pi (unwrapped), cutting at column boundaries k / width.
+  glm::dvec3 sum(0.0);
+  const double u0 = (m_rotation - psi_a) / kTwoPi;
+  const double u1 = u0 - delta / kTwoPi;
+  const double step = u1 > u0 ? 1.0 : -1.0;
+  double u = u0;
+  double theta_prev = theta_at(psi_a);
+  while (u != u1) {
+    // Next column boundary in the direction of travel.
+    double next = step > 0 ? (std::floor(u * m_width) + 1.0) / m_width : (std::ceil(u * m_width) - 1.0) / m_width;
+    if (next == u)  // u * width rounded to just below/above a boundary that u sits on: skip to the next
+      next = step > 0 ? (std::floor(u * m_width) + 2.0) / m_width : (std::ceil(u * m_width) - 2.0) / m_width;
+    if ((step > 0 && next > u1) || (step < 0 && next < u1)) next = u1;
+    const double mid = 0.5 * (u + next);
+    int c = static_cast<int>(std::floor(mid * m_width)) % m_width;
+    if (c < 0) c += m_width;
+    const double psi0 = m_rotation - kTwoPi * u;
+    const double psi1 = m_rotation - kTwoPi * next;
+    const double theta_end = theta_at(psi1);
+    const int pieces = std::max(1, static_cast<int>(std::ceil(std::abs(theta_end - theta_prev) / row_height)));
+    const double h = (psi1 - psi0) / pieces;
+    for (int p = 0; p < pieces; ++p) {
+      const double centre = psi0 + h * (p + 0.5);
+      for (int q = 0; q < 3; ++q) {
+        const double psi = centre + 0.5 * h * kGaussX[q];
+        sum += (0.5 * h * kGaussW[q]) * contour(c, psi, theta_at(psi));
+      }
+    }
+    theta_prev = theta_end;
+    u = next;
+  }
+  return sum;
+}
+
+glm::dvec3 EnvironmentMap::integrate_cosine(const SphericalPolygon& poly, const glm::dvec3& n) const {
+  if (empty() || poly.size() < 3) return glm::dvec3(0.0);
+  const glm::dvec3 nl = to_local(n);
+  glm::dvec3 sum(0.0);
+  const std::size_t count = poly.size();
+  glm::dvec3 a = to_local(poly[0]);
+  for (std::size_t i = 0; i < count; ++i) {
+    const glm::dvec3 b = to_local(poly[(i + 1) % count]);
+    sum += edge_integral(a, b, nl);
+    a = b;
+  }
+  // The contour integral counts the region swept from the top pole; a polygon holding the bottom pole
+  // (-U) is missing the whole sphere's integral once (see header).
+  if (contains_direction(poly, -m_u))
+    sum += n.x * m_sphere_moment[0] + n.y * m_sphere_moment[1] + n.z * m_sphere_moment[2];
+  return sum;
+}
+
+}  // namespace pleat
