@@ -1,0 +1,306 @@
+// Ray-cast sky visibility (shading/ray_visibility) against closed forms: a flat sheet (A = 1 on both sides),
+// a closed sphere (inside 0, outside ≈ 1), and a V-fold (A = sin α at the bottom of the fold, sin² α on its
+// faces); determinism for a fixed seed; refit vs rebuild; the EmbreeScene queries themselves.
+#include "shading/embree_scene.hpp"
+#include "shading/ray_visibility.hpp"
+#include "static_core/visibility.hpp"
+
+#include <glm/glm.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <numbers>
+
+namespace pleat {
+namespace {
+
+struct Mesh {
+  MeshTopology topology;
+  Frame frame;
+};
+
+/// Regular grid of n × n vertices on [0, size]² in the plane z = 0, wound so that n = +z.
+Mesh flat_sheet(int n, double size) {
+  Mesh m;
+  m.topology.num_vertices = static_cast<Index>(n * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) m.frame.positions.push_back({size * i / (n - 1), size * j / (n - 1), 0.0});
+  auto v = [n](int i, int j) { return static_cast<Index>(j * n + i); };
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      m.topology.triangles.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
+      m.topology.triangles.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
+    }
+  return m;
+}
+
+/// Unit icosphere: an icosahedron subdivided `levels` times, wound with outward normals.
+Mesh icosphere(int levels) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<glm::dvec3> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Triangle> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                             {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                             {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (auto& q : p) q = glm::normalize(q);
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<Index, Index>, Index> mid;
+    auto midpoint = [&](Index a, Index b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      p.push_back(glm::normalize(p[a] + p[b]));
+      return mid[key] = static_cast<Index>(p.size() - 1);
+    };
+    std::vector<Triangle> g;
+    for (const Triangle& tri : f) {
+      const Index a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
+      g.push_back({tri[0], a, c});
+      g.push_back({tri[1], b, a});
+      g.push_back({tri[2], c, b});
+      g.push_back({a, b, c});
+    }
+    f = std::move(g);
+  }
+  Mesh m;
+  m.topology.num_vertices = static_cast<Index>(p.size());
+  m.topology.triangles = f;
+  m.frame.positions = p;
+  return m;
+}
+
+/// A V-fold: two planar half-strips meeting along the z axis at angle 2α, opening towards +y, wound so the
+/// front (+n) is the inside of the V. Columns lie at distances `offsets` (ascending, offsets[0] = 0 is the
+/// crease) from the crease on each side, rows at heights `rows` along z. Mirror-symmetric (the left half is
+/// the mirror image of the right half, winding reversed), so the crease normal is exactly the bisector +y.
+struct VFold {
+  Mesh mesh;
+  int columns = 0;  // per row: 2 * offsets.size() - 1
+  Index vertex(int column, int row) const { return static_cast<Index>(row * columns + column); }
+};
+
+VFold v_fold(double alpha, const std::vector<double>& offsets, const std::vector<double>& rows) {
+  VFold fold;
+  const int half = static_cast<int>(offsets.size());
+  fold.columns = 2 * half - 1;
+  const glm::dvec3 right(std::sin(alpha), std::cos(alpha), 0.0);
+  for (double z : rows)
+    for (int c = 0; c < fold.columns; ++c) {
+      const int k = c - (half - 1);  // -(half-1) .. half-1, 0 on the crease
+      const double s = offsets[static_cast<std::size_t>(std::abs(k))];
+      const glm::dvec3 d = k < 0 ? glm::dvec3(-right.x, right.y, 0.0) : right;
+      fold.mesh.frame.positions.push_back(s * d + glm::dvec3(0.0, 0.0, z));
+    }
+  fold.mesh.topology.num_vertices = static_cast<Index>(fold.mesh.frame.positions.size());
+  for (int r = 0; r + 1 < static_cast<int>(rows.size()); ++r)
+    for (int c = half - 1; c + 1 < fold.columns; ++c) {
+      // Right half: cell (c, r) with corners a b / d c; inside normal is (-cos α, sin α, 0).
+      const Index a = fold.vertex(c, r), b = fold.vertex(c + 1, r), cc = fold.vertex(c + 1, r + 1),
+                  d = fold.vertex(c, r + 1);
+      fold.mesh.topology.triangles.push_back({a, cc, b});
+      fold.mesh.topology.triangles.push_back({a, d, cc});
+      // Its mirror image on the left half, winding reversed.
+      const int mc = fold.columns - 1 - c;
+      const Index ma = fold.vertex(mc, r), mb = fold.vertex(mc - 1, r), mcc = fold.vertex(mc - 1, r + 1),
+                  md = fold.vertex(mc, r + 1);
+      fold.mesh.topology.triangles.push_back({ma, mb, mcc});
+      fold.mesh.topology.triangles.push_back({ma, mcc, md});
+    }
+  return fold;
+}
+
+/// 3σ of the iid Monte-Carlo estimate of A with K rays (the stratified estimator does better).
+double three_sigma(double a, int k) { return 3.0 * std::sqrt(std::max(a * (1.0 - a), 1e-4) / k); }
+
+RayVisibility run(const Mesh& m, const RayVisibilityParams& params, EmbreeSceneParams scene_params = {}) {
+  EmbreeScene scene(m.topology, m.frame, scene_params);
+  return ray_cast_visibility(scene, m.topology, m.frame, vertex_normals(m.topology, m.frame), params);
+}
+
+TEST(RayVisibility, FlatSheetSeesTheWholeSkyOnBothSides) {
+  const Mesh sheet = flat_sheet(20, 2.0);
+  RayVisibilityParams params;
+  params.rays_per_vertex = 256;
+  const RayVisibility r = run(sheet, params);
+  for (Index v = 0; v < sheet.topology.num_vertices; ++v) {
+    ASSERT_EQ(r.sky_visibility[0][v], 1.0) << "front, vertex " << v;
+    ASSERT_EQ(r.sky_visibility[1][v], 1.0) << "back, vertex " << v;
+    // The mean of stratified cosine samples is close to the axis.
+    EXPECT_GT(r.bent_normals[0][v].z, 0.99);
+    EXPECT_LT(r.bent_normals[1][v].z, -0.99);
+  }
+}
+
+TEST(RayVisibility, FlatSheetFarFromTheOriginAndTurnedStaysOpen) {
+  // A rigid motion far from the origin: float round-off in Embree must not create self-hits.
+  Mesh sheet = flat_sheet(16, 1.0);
+  const glm::dvec3 axis = glm::normalize(glm::dvec3(0.3, -0.5, 0.8));
+  const double angle = 0.7;
+  for (glm::dvec3& p : sheet.frame.positions) {
+    p = p * std::cos(angle) + glm::cross(axis, p) * std::sin(angle) + axis * glm::dot(axis, p) * (1 - std::cos(angle));
+    p += glm::dvec3(1000.0, -500.0, 250.0);
+  }
+  RayVisibilityParams params;
+  params.rays_per_vertex = 512;
+  const RayVisibility r = run(sheet, params);
+  for (int s = 0; s < 2; ++s)
+    for (Index v = 0; v < sheet.topology.num_vertices; ++v) EXPECT_EQ(r.sky_visibility[s][v], 1.0) << s << " " << v;
+}
+
+TEST(RayVisibility, ClosedSphereIsDarkInsideAndOpenOutside) {
+  const Mesh sphere = icosphere(3);
+  const auto normals = vertex_normals(sphere.topology, sphere.frame);
+  for (Index v = 0; v < sphere.topology.num_vertices; ++v)
+    ASSERT_GT(glm::dot(normals[v], sphere.frame.positions[v]), 0.99);  // outward
+  RayVisibilityParams params;
+  params.rays_per_vertex = 512;
+  const RayVisibility r = run(sphere, params);
+  for (Index v = 0; v < sphere.topology.num_vertices; ++v) {
+    ASSERT_EQ(r.sky_visibility[1][v], 0.0) << "inside, vertex " << v;
+    // Outside: only directions below the faces around v are lost. With faces tilted by at most β below the
+    // tangent plane, the cosine-weighted measure of that band is at most sin² β; β < 0.1 rad here.
+    EXPECT_GE(r.sky_visibility[0][v], 1.0 - std::pow(std::sin(0.1), 2)) << "outside, vertex " << v;
+    EXPECT_LE(r.sky_visibility[0][v], 1.0);
+  }
+}
+
+// The V-fold's closed form. Let the crease be the z axis and the planes make angles ±α with the bisector
+// n = +y. From a point on the crease, a direction ω = (sin θ sin ψ, sin θ cos ψ, cos θ) (θ from the crease,
+// ψ the angle of its projection from n) sees the sky iff |ψ| < α (the lune between the planes); so
+//   A = (1/π) ∫_{-α}^{α} ∫_0^π (sin θ cos ψ) sin θ dθ dψ = (1/π) · 2 sin α · π/2 = sin α.
+// From a point on one face at distance d from the crease (normal = that face's inside normal N), the other
+// face, infinite, hides the directions whose projection lies between the way back to the crease and the
+// direction of the other face; the visible ones make angles ψ' ∈ [0, 2α] with the first face, so
+//   A = (1/π) ∫_0^{2α} sin ψ' dψ' · π/2 = (1 − cos 2α)/2 = sin² α,  independently of d.
+// Finite planes: the mesh reaches 1000 d along both faces and along the crease; the directions that would
+// meet the infinite plane beyond it carry a cosine-weighted measure below ~2e-3.
+TEST(RayVisibility, VFoldMatchesTheClosedForm) {
+  const std::vector<double> offsets = {0.0, 1.0, 2.0, 10.0, 100.0, 1000.0};
+  const std::vector<double> rows = {-1000.0, -100.0, -10.0, -2.0, -1.0, 0.0, 1.0, 2.0, 10.0, 100.0, 1000.0};
+  RayVisibilityParams params;
+  params.rays_per_vertex = 4096;
+  params.seed = 7;
+  for (double degrees : {30.0, 45.0, 60.0}) {
+    SCOPED_TRACE(degrees);
+    const double alpha = degrees * std::numbers::pi / 180.0;
+    const VFold fold = v_fold(alpha, offsets, rows);
+    const auto normals = vertex_normals(fold.mesh.topology, fold.mesh.frame);
+    const int crease_column = static_cast<int>(offsets.size()) - 1;
+    const Index bottom = fold.vertex(crease_column, 5);
+    const Index face = fold.vertex(crease_column + 1, 5);  // distance 1 from the crease, right face
+    ASSERT_NEAR(normals[bottom].y, 1.0, 1e-12);
+    ASSERT_NEAR(normals[face].x, -std::cos(alpha), 1e-12);
+
+    EmbreeScene scene(fold.mesh.topology, fold.mesh.frame);
+    const RayVisibility r = ray_cast_visibility(scene, fold.mesh.topology, fold.mesh.frame, normals, params);
+    const double bias = 2e-3;
+    const double a_bottom = std::sin(alpha), a_face = std::pow(std::sin(alpha), 2);
+    EXPECT_NEAR(r.sky_visibility[0][bottom], a_bottom, three_sigma(a_bottom, params.rays_per_vertex));
+    EXPECT_NEAR(r.sky_visibility[0][face], a_face, three_sigma(a_face, params.rays_per_vertex) + bias);
+    // The outside of the V, from its bottom: the whole lower half-space.
+    EXPECT_EQ(r.sky_visibility[1][bottom], 1.0);
+    // Bent normal at the bottom: by symmetry, along the bisector.
+    EXPECT_NEAR(r.bent_normals[0][bottom].y, 1.0, 1e-3);
+  }
+}
+
+TEST(RayVisibility, SameSeedSameBitsSerialOrParallel) {
+  const VFold fold = v_fold(0.5, {0.0, 0.5, 1.0, 3.0}, {-3.0, -1.0, -0.5, 0.0, 0.5, 1.0, 3.0});
+  RayVisibilityParams params;
+  params.rays_per_vertex = 128;
+  params.seed = 42;
+  const RayVisibility a = run(fold.mesh, params);
+  params.parallel = false;
+  const RayVisibility b = run(fold.mesh, params);
+  params.seed = 43;
+  const RayVisibility c = run(fold.mesh, params);
+  bool any_difference = false;
+  for (int s = 0; s < 2; ++s) {
+    EXPECT_EQ(a.sky_visibility[s], b.sky_visibility[s]);
+    for (Index v = 0; v < fold.mesh.topology.num_vertices; ++v) {
+      EXPECT_EQ(a.bent_normals[s][v], b.bent_normals[s][v]);
+      any_difference |= a.sky_visibility[s][v] != c.sky_visibility[s][v];
+    }
+  }
+  EXPECT_EQ(a.rays_cast, b.rays_cast);
+  EXPECT_TRUE(any_difference) << "another seed should move some estimate";
+}
+
+TEST(RayVisibility, RefitAgreesWithRebuild) {
+  // Same topology, two shapes: refit the BVH of the first to the second, and compare with a fresh build.
+  const std::vector<double> offsets = {0.0, 0.5, 1.0, 3.0};
+  const std::vector<double> rows = {-3.0, -1.0, 0.0, 1.0, 3.0};
+  const VFold wide = v_fold(1.2, offsets, rows), narrow = v_fold(0.4, offsets, rows);
+  RayVisibilityParams params;
+  params.rays_per_vertex = 256;
+  EmbreeScene refitted(wide.mesh.topology, wide.mesh.frame);
+  const auto normals = vertex_normals(narrow.mesh.topology, narrow.mesh.frame);
+  const auto a = ray_cast_sky_visibility(refitted, narrow.mesh.topology, narrow.mesh.frame, normals, params);
+  EXPECT_EQ(refitted.refits(), 1u);
+  EmbreeSceneParams rebuild;
+  rebuild.mode = EmbreeSceneParams::BuildMode::Rebuild;
+  EmbreeScene fresh(narrow.mesh.topology, narrow.mesh.frame, rebuild);
+  const auto b = ray_cast_sky_visibility(fresh, narrow.mesh.topology, narrow.mesh.frame, normals, params);
+  EXPECT_EQ(a, b);
+  // A second update to the same frame is free.
+  refitted.update(narrow.mesh.frame);
+  EXPECT_EQ(refitted.refits(), 1u);
+}
+
+TEST(RayVisibility, CosineSamplesAreUnitAndCosineDistributed) {
+  std::vector<glm::dvec3> d;
+  cosine_hemisphere_directions(4096, 3, 17, Side::Back, d);
+  double mean_z = 0.0, mean_z2 = 0.0;
+  for (const glm::dvec3& w : d) {
+    ASSERT_NEAR(glm::length(w), 1.0, 1e-12);
+    ASSERT_GE(w.z, 0.0);
+    mean_z += w.z / d.size();
+    mean_z2 += w.z * w.z / d.size();
+  }
+  EXPECT_NEAR(mean_z, 2.0 / 3.0, 2e-3);   // E[cos θ] under cos θ / π
+  EXPECT_NEAR(mean_z2, 0.5, 2e-3);        // E[cos² θ]
+}
+
+TEST(RayVisibility, RejectsBadInput) {
+  const Mesh sheet = flat_sheet(4, 1.0);
+  EmbreeScene scene(sheet.topology, sheet.frame);
+  const auto normals = vertex_normals(sheet.topology, sheet.frame);
+  RayVisibilityParams params;
+  params.rays_per_vertex = 0;
+  EXPECT_THROW(ray_cast_visibility(scene, sheet.topology, sheet.frame, normals, params), std::invalid_argument);
+  params.rays_per_vertex = 8;
+  EXPECT_THROW(ray_cast_visibility(scene, sheet.topology, sheet.frame, {}, params), std::invalid_argument);
+  Frame bad = sheet.frame;
+  bad.positions[3].x = std::nan("");
+  EXPECT_THROW(EmbreeScene(sheet.topology, bad), std::invalid_argument);
+  MeshTopology out_of_range = sheet.topology;
+  out_of_range.triangles[0][1] = 999;
+  EXPECT_THROW(EmbreeScene(out_of_range, sheet.frame), std::invalid_argument);
+}
+
+TEST(EmbreeScene, IntersectReportsTriangleDistanceAndBarycentrics) {
+  const Mesh sheet = flat_sheet(2, 1.0);  // two triangles on the unit square
+  const EmbreeScene scene(sheet.topology, sheet.frame);
+  RayQuery ray;
+  ray.origin = {0.75, 0.25, 2.0};
+  ray.direction = {0.0, 0.0, -1.0};
+  const RayHit hit = scene.intersect(ray);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_NEAR(hit.t, 2.0, 1e-6);
+  const Triangle& t = sheet.topology.triangles[hit.triangle];
+  const glm::dvec3 p = (1 - hit.u - hit.v) * sheet.frame.positions[t[0]] + hit.u * sheet.frame.positions[t[1]] +
+                       hit.v * sheet.frame.positions[t[2]];
+  EXPECT_NEAR(p.x, 0.75, 1e-6);
+  EXPECT_NEAR(p.y, 0.25, 1e-6);
+  EXPECT_TRUE(scene.occluded(ray));
+  // Ignoring the hit triangle lets the ray through.
+  const Index ignore[] = {hit.triangle};
+  EXPECT_FALSE(scene.occluded(ray, ignore));
+  EXPECT_FALSE(scene.intersect(ray, ignore).hit);
+  ray.tfar = 1.5;  // stops short of the sheet
+  EXPECT_FALSE(scene.occluded(ray));
+}
+
+}  // namespace
+}  // namespace pleat
