@@ -15,15 +15,6 @@ namespace pleat {
 
 namespace {
 
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-
-double to_unit(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1.0p-53; }
-
 double radical_inverse_base2(std::uint32_t i) {
   i = (i << 16) | (i >> 16);
   i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
@@ -31,6 +22,10 @@ double radical_inverse_base2(std::uint32_t i) {
   i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
   i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
   return static_cast<double>(i) * 0x1.0p-32;
+}
+
+std::uint64_t stream_key(std::uint64_t seed, Index vertex, Side side) {
+  return splitmix64(splitmix64(seed) ^ (static_cast<std::uint64_t>(vertex) << 1 | static_cast<std::uint64_t>(side)));
 }
 
 /// sin and cos of x in [-π/4, π/4] by their Taylor series to x^11 / x^10 (error < 2e-9): no libm call,
@@ -41,8 +36,9 @@ void small_sincos(double x, double& s, double& c) {
   c = 1.0 + x2 * (-1.0 / 2 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800)))));
 }
 
-/// Shirley–Chiu concentric map of [0,1)² onto the unit disk, lifted to the cosine-distributed hemisphere.
-glm::dvec3 cosine_direction(double u1, double u2) {
+}  // namespace
+
+glm::dvec3 cosine_hemisphere_direction(double u1, double u2) {
   const double a = 2.0 * u1 - 1.0, b = 2.0 * u2 - 1.0;
   if (a == 0.0 && b == 0.0) return {0.0, 0.0, 1.0};
   // Branch-free (the two cases alternate at random): with |den| >= |num|,
@@ -57,8 +53,7 @@ glm::dvec3 cosine_direction(double u1, double u2) {
   return {x, y, std::sqrt(std::max(0.0, 1.0 - x * x - y * y))};
 }
 
-/// Orthonormal t1, t2 with t1 × t2 = m (Frisvad's construction, Duff et al.'s branchless variant).
-void tangent_frame(const glm::dvec3& m, glm::dvec3& t1, glm::dvec3& t2) {
+void tangent_basis(const glm::dvec3& m, glm::dvec3& t1, glm::dvec3& t2) {
   const double sign = std::copysign(1.0, m.z);
   const double a = -1.0 / (sign + m.z);
   const double b = m.x * m.y * a;
@@ -66,22 +61,28 @@ void tangent_frame(const glm::dvec3& m, glm::dvec3& t1, glm::dvec3& t2) {
   t2 = {b, sign + m.y * m.y * a, -m.y};
 }
 
-/// One incident triangle of v, prepared for local_side: with ea, eb its other corners minus v (in winding
-/// order, so N = ea × eb is its normal in the input winding), a direction w projects along n(v) into the
-/// triangle's angular sector iff w·sector_a and w·sector_b both have the sign of N·n(v).
-struct FanTriangle {
-  glm::dvec3 sector_a;  // n × ea: w·(n × ea) = (ea × w)·n
-  glm::dvec3 sector_b;  // eb × n: w·(eb × n) = (w × eb)·n
-  glm::dvec3 unit_normal;
-  bool flipped;         // N·n(v) < 0: the triangle faces away from n(v) in the projection
-};
+void VertexFan::build(const MeshTopology& topology, const Frame& frame, std::span<const Index> ring, Index v,
+                      const glm::dvec3& n) {
+  m_wedges.clear();
+  const glm::dvec3& p = frame.positions[v];
+  for (Index t : ring) {
+    const Triangle& tri = topology.triangles[t];
+    const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    const glm::dvec3 ea = frame.positions[tri[(k + 1) % 3]] - p;
+    const glm::dvec3 eb = frame.positions[tri[(k + 2) % 3]] - p;
+    const glm::dvec3 normal = glm::cross(ea, eb);
+    const double length = glm::length(normal);
+    if (!(length > 0.0)) continue;  // degenerate: no plane, no side
+    const double projected = glm::dot(normal, n);
+    if (projected == 0.0) continue;  // seen edge-on along n: its sector is empty
+    m_wedges.push_back({glm::cross(n, ea), glm::cross(eb, n), normal / length, projected < 0.0});
+  }
+}
 
-/// Which side of the local surface (the one-ring fan) direction w leaves on: +1 front, -1 back, 0 free
-/// (its projection lies over no triangle: past a boundary). See the header, "Self-hits", step 3.
-int local_side(const std::vector<FanTriangle>& fan, const glm::dvec3& w) {
+int VertexFan::side_of(const glm::dvec3& w) const {
   double nearest = std::numeric_limits<double>::infinity();
   int side = 0;
-  for (const FanTriangle& f : fan) {
+  for (const Wedge& f : m_wedges) {
     const double s1 = glm::dot(w, f.sector_a);
     const double s2 = glm::dot(w, f.sector_b);
     const bool inside = f.flipped ? (s1 <= 0.0 && s2 <= 0.0) : (s1 >= 0.0 && s2 >= 0.0);
@@ -95,52 +96,28 @@ int local_side(const std::vector<FanTriangle>& fan, const glm::dvec3& w) {
   return side;
 }
 
-/// True if w leaves v on the side opposite to `sign` (+1 front, -1 back), i.e. enters the cloth at v.
-/// Fast path: a direction on the wanted side of every ring triangle's plane cannot be blocked.
-bool enters_cloth(const std::vector<FanTriangle>& fan, const glm::dvec3& w, double sign) {
+bool VertexFan::enters_cloth(const glm::dvec3& w, Side side) const {
+  const double sign = side_sign(side);
+  // Fast path: a direction on the wanted side of every ring triangle's plane cannot be blocked.
   bool all_on_side = true;
-  for (const FanTriangle& f : fan) all_on_side &= sign * glm::dot(w, f.unit_normal) >= 0.0;
+  for (const Wedge& f : m_wedges) all_on_side &= sign * glm::dot(w, f.unit_normal) >= 0.0;
   if (all_on_side) return false;
-  return local_side(fan, w) == -static_cast<int>(sign);
+  return side_of(w) == -static_cast<int>(sign);
 }
-
-void build_fan(const MeshTopology& topology, const Frame& frame, std::span<const Index> ring, Index v,
-               const glm::dvec3& n, std::vector<FanTriangle>& fan) {
-  fan.clear();
-  const glm::dvec3& p = frame.positions[v];
-  for (Index t : ring) {
-    const Triangle& tri = topology.triangles[t];
-    const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
-    const glm::dvec3 ea = frame.positions[tri[(k + 1) % 3]] - p;
-    const glm::dvec3 eb = frame.positions[tri[(k + 2) % 3]] - p;
-    const glm::dvec3 normal = glm::cross(ea, eb);
-    const double length = glm::length(normal);
-    if (!(length > 0.0)) continue;  // degenerate: no plane, no side
-    const double projected = glm::dot(normal, n);
-    if (projected == 0.0) continue;  // seen edge-on along n: its sector is empty
-    fan.push_back({glm::cross(n, ea), glm::cross(eb, n), normal / length, projected < 0.0});
-  }
-}
-
-std::uint64_t stream_key(std::uint64_t seed, Index vertex, Side side) {
-  return splitmix64(splitmix64(seed) ^ (static_cast<std::uint64_t>(vertex) << 1 | static_cast<std::uint64_t>(side)));
-}
-
-}  // namespace
 
 void cosine_hemisphere_directions(int count, std::uint64_t seed, Index vertex, Side side,
                                   std::vector<glm::dvec3>& out) {
   out.resize(static_cast<std::size_t>(std::max(count, 0)));
   const std::uint64_t key = stream_key(seed, vertex, side);
-  const double shift1 = to_unit(splitmix64(key));
-  const double shift2 = to_unit(splitmix64(key + 1));
+  const double shift1 = unit_double(splitmix64(key));
+  const double shift2 = unit_double(splitmix64(key + 1));
   const double step = 1.0 / count;
   for (int i = 0; i < count; ++i) {
     double u1 = (i + 0.5) * step + shift1;  // both in [0, 2): wrap once
     double u2 = radical_inverse_base2(static_cast<std::uint32_t>(i)) + shift2;
     u1 -= u1 >= 1.0 ? 1.0 : 0.0;
     u2 -= u2 >= 1.0 ? 1.0 : 0.0;
-    out[static_cast<std::size_t>(i)] = cosine_direction(u1, u2);
+    out[static_cast<std::size_t>(i)] = cosine_hemisphere_direction(u1, u2);
   }
 }
 
@@ -167,7 +144,7 @@ RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topolo
   std::vector<std::uint64_t> cast(n_vertices, 0);
 
   auto work = [&](Index begin, Index end) {
-    std::vector<FanTriangle> fan;
+    VertexFan fan;
     std::vector<glm::dvec3> local;
     std::vector<glm::dvec3> world;
     std::vector<glm::vec3> to_cast;
@@ -176,18 +153,18 @@ RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topolo
     to_cast.reserve(static_cast<std::size_t>(k));
     for (Index v = begin; v < end; ++v) {
       const glm::dvec3 n = glm::length(normals[v]) > 0.0 ? normals[v] : glm::dvec3(0.0, 0.0, 1.0);
-      build_fan(topology, frame, scene.incident_triangles(v), v, n, fan);
+      fan.build(topology, frame, scene.incident_triangles(v), v, n);
       for (Side side : kBothSides) {
         const int si = static_cast<int>(side);
         const glm::dvec3 axis = side_sign(side) * n;
         glm::dvec3 t1, t2;
-        tangent_frame(axis, t1, t2);
+        tangent_basis(axis, t1, t2);
         cosine_hemisphere_directions(k, params.seed, v, side, local);
         world.clear();
         to_cast.clear();
         for (const glm::dvec3& l : local) {
           const glm::dvec3 w = l.x * t1 + l.y * t2 + l.z * axis;
-          if (enters_cloth(fan, w, side_sign(side))) continue;  // crosses the cloth at its origin
+          if (fan.enters_cloth(w, side)) continue;  // crosses the cloth at its origin
           world.push_back(w);
           to_cast.emplace_back(w);
         }

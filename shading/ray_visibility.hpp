@@ -39,6 +39,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace pleat {
@@ -66,6 +67,47 @@ RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topolo
 std::array<std::vector<double>, 2> ray_cast_sky_visibility(EmbreeScene& scene, const MeshTopology& topology,
                                                            const Frame& frame, const std::vector<glm::dvec3>& normals,
                                                            const RayVisibilityParams& params = {});
+
+/// The one-ring of a vertex, prepared to tell on which side of the cloth a direction leaves the vertex
+/// ("Self-hits", step 3 above). build() once per vertex (reuses its buffer), then O(ring size) per query.
+class VertexFan {
+ public:
+  /// `ring`: the triangles incident to v (EmbreeScene::incident_triangles); `n`: the unit normal n(v).
+  void build(const MeshTopology& topology, const Frame& frame, std::span<const Index> ring, Index v,
+             const glm::dvec3& n);
+  /// +1 if w leaves v on the front, -1 on the back, 0 if it passes over no ring triangle (past a boundary).
+  int side_of(const glm::dvec3& w) const;
+  /// True if a ray from v along w, wanted on `side`, crosses the cloth at its origin.
+  bool enters_cloth(const glm::dvec3& w, Side side) const;
+
+ private:
+  struct Wedge {
+    glm::dvec3 sector_a;     // n × ea: w·(n × ea) = (ea × w)·n  (ea, eb: other corners − v, in winding order)
+    glm::dvec3 sector_b;     // eb × n: w·(eb × n) = (w × eb)·n
+    glm::dvec3 unit_normal;  // (ea × eb) normalized: the input winding's front
+    bool flipped;            // (ea × eb)·n < 0: w's projection is in the sector iff both dots are <= 0
+  };
+  std::vector<Wedge> m_wedges;
+};
+
+// ---- Sampling helpers shared by the Monte-Carlo integrators (ray visibility, path tracer). ----
+
+/// SplitMix64's finaliser: a strong 64-bit mix, the basis of every seeded stream in pleat's samplers.
+constexpr std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+/// The top 53 bits as a double in [0, 1).
+constexpr double unit_double(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1.0p-53; }
+
+/// (u1, u2) in [0,1)² to a cosine-distributed direction about +z (Shirley–Chiu concentric disk map,
+/// lifted; libm-free, so the same bits on every platform). Unit to 1e-8.
+glm::dvec3 cosine_hemisphere_direction(double u1, double u2);
+
+/// Orthonormal t1, t2 with t1 × t2 = axis, for a unit axis (Frisvad; Duff et al.'s branch-free variant).
+void tangent_basis(const glm::dvec3& axis, glm::dvec3& t1, glm::dvec3& t2);
 
 /// The K stratified, cosine-distributed directions in the local frame (z = axis) that vertex `vertex`,
 /// side `side` uses for `seed`; exposed for tests and for other Monte-Carlo integrators of the same cone.
