@@ -3,6 +3,7 @@
 #include "sim_io/input_error.hpp"
 #include "sim_io/input_file.hpp"
 
+#include <glm/common.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>

@@ -1,0 +1,107 @@
+#include "sim_io/visibility_csv.hpp"
+
+#include "sim_io/input_error.hpp"
+#include "sim_io/input_file.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace pleat {
+
+namespace {
+
+void append_number(std::string& out, double v) {
+  char buffer[64];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, v);
+  out.append(buffer, end);
+}
+
+void append_number(std::string& out, std::size_t v) {
+  char buffer[32];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, v);
+  out.append(buffer, end);
+}
+
+}  // namespace
+
+VisibilityCsvWriter::VisibilityCsvWriter(const std::filesystem::path& path, std::vector<Index> welded_of_input)
+    : m_welded_of_input(std::move(welded_of_input)), m_file(path) {
+  for (Index w : m_welded_of_input) m_num_welded = std::max(m_num_welded, Index(w + 1));
+  m_file.stream() << "frame,vertex,front,back\n";
+}
+
+void VisibilityCsvWriter::add_frame(std::size_t frame, const std::vector<double>& front, const std::vector<double>& back) {
+  if (front.size() < m_num_welded || back.size() < m_num_welded)
+    throw std::invalid_argument("VisibilityCsvWriter::add_frame: one value per welded vertex and side");
+  std::string chunk;
+  chunk.reserve(64 * 1024);
+  for (std::size_t v = 0; v < m_welded_of_input.size(); ++v) {
+    const Index w = m_welded_of_input[v];
+    append_number(chunk, frame);
+    chunk += ',';
+    append_number(chunk, v);
+    chunk += ',';
+    append_number(chunk, front[w]);
+    chunk += ',';
+    append_number(chunk, back[w]);
+    chunk += '\n';
+    if (chunk.size() > 60 * 1024) {
+      m_file.stream().write(chunk.data(), std::streamsize(chunk.size()));
+      chunk.clear();
+    }
+  }
+  m_file.stream().write(chunk.data(), std::streamsize(chunk.size()));
+}
+
+void VisibilityCsvWriter::commit() { m_file.commit(); }
+
+std::vector<VisibilityRow> read_visibility_csv(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  const std::string text = read_whole_file(path);
+  std::vector<VisibilityRow> rows;
+  std::size_t begin = 0, line = 0;
+  while (begin < text.size()) {
+    std::size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    std::string_view row(text.data() + begin, end - begin);
+    begin = end + 1;
+    ++line;
+    if (!row.empty() && row.back() == '\r') row.remove_suffix(1);
+    if (line == 1) {
+      if (row != "frame,vertex,front,back")
+        throw InputError(file, "line 1", "expected the header frame,vertex,front,back");
+      continue;
+    }
+    if (row.empty()) continue;
+    std::string_view fields[4];
+    std::size_t count = 0, start = 0;
+    for (std::size_t i = 0; i <= row.size(); ++i) {
+      if (i == row.size() || row[i] == ',') {
+        if (count < 4) fields[count] = row.substr(start, i - start);
+        ++count;
+        start = i + 1;
+      }
+    }
+    const std::string place = "line " + std::to_string(line);
+    if (count != 4) throw InputError(file, place, "expected 4 fields, found " + std::to_string(count));
+    VisibilityRow r;
+    const auto parse = [&](std::string_view f, auto& value) {
+      const auto [p, ec] = std::from_chars(f.data(), f.data() + f.size(), value);
+      if (ec != std::errc() || p != f.data() + f.size()) throw InputError(file, place, "'" + std::string(f) + "' is not a number");
+    };
+    parse(fields[0], r.frame);
+    parse(fields[1], r.vertex);
+    parse(fields[2], r.front);
+    parse(fields[3], r.back);
+    if (!std::isfinite(r.front) || !std::isfinite(r.back)) throw InputError(file, place, "non-finite visibility");
+    rows.push_back(r);
+  }
+  if (line == 0) throw InputError(file, "", "empty file (expected the header frame,vertex,front,back)");
+  return rows;
+}
+
+}  // namespace pleat

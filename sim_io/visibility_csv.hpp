@@ -1,0 +1,45 @@
+// The visibility CSV (DESIGN.md §5, the contract outside checks read): header `frame,vertex,front,back`, one
+// row per frame and INPUT vertex (0-based, input order), front/back = A_front / A_back of §1.
+//
+// Values are written in the shortest decimal form that reads back to the same double (std::to_chars), so a
+// CSV round-trips exactly. Results computed on welded vertices are mapped back to input vertices through
+// MeshSequence::welded_of_input(). The writer streams frame by frame into an AtomicFile: O(V) memory, and
+// nothing is left on disk unless commit() is reached.
+#pragma once
+
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/mesh.hpp"
+
+#include <cstddef>
+#include <filesystem>
+#include <vector>
+
+namespace pleat {
+
+class VisibilityCsvWriter {
+ public:
+  /// `welded_of_input` maps each input vertex to its welded vertex (MeshSequence::welded_of_input()).
+  VisibilityCsvWriter(const std::filesystem::path& path, std::vector<Index> welded_of_input);
+  /// Appends the rows of one frame; front/back hold one value per welded vertex.
+  void add_frame(std::size_t frame, const std::vector<double>& front, const std::vector<double>& back);
+  /// Renames the file into place (throws std::runtime_error on I/O failure).
+  void commit();
+
+ private:
+  std::vector<Index> m_welded_of_input;
+  Index m_num_welded = 0;
+  AtomicFile m_file;
+};
+
+struct VisibilityRow {
+  std::size_t frame = 0;
+  std::size_t vertex = 0;
+  double front = 0.0;
+  double back = 0.0;
+};
+
+/// Reads a visibility CSV (for tests and comparisons). Throws InputError(path, "line N") on a wrong header,
+/// a malformed row or a value that is not a finite number.
+std::vector<VisibilityRow> read_visibility_csv(const std::filesystem::path& path);
+
+}  // namespace pleat
