@@ -1,0 +1,245 @@
+// path_trace: per-vertex path-traced reference radiance (see the header for the model).
+#include "shading/path_trace.hpp"
+
+#include "shading/ray_visibility.hpp"
+
+#include <glm/glm.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace pleat {
+
+namespace {
+
+constexpr double kInvPi = 1.0 / std::numbers::pi;
+constexpr int kMaxBounces = 64;
+constexpr int kRouletteAfter = 3;
+
+/// Counter-based stream: splitmix64 over a per-(seed, vertex, side, path) key.
+class Random {
+ public:
+  explicit Random(std::uint64_t key) : m_state(key) {}
+  double next() { return unit_double(splitmix64(m_state++)); }
+
+ private:
+  std::uint64_t m_state;
+};
+
+/// Radiance arriving along w from the lights that live at infinity (uniform and cloudy skies, maps).
+glm::dvec3 sky_radiance(const Lighting& lighting, const glm::dvec3& w) {
+  glm::dvec3 l(0.0);
+  for (const UniformSkyLight& s : lighting.skies) l += s.radiance;
+  for (const HemisphereSkyLight& s : lighting.cloudy_skies)
+    if (glm::dot(w, s.up) > 0.0) l += s.radiance;
+  for (const EnvironmentLight& e : lighting.environments) l += e.scale * e.map.radiance(w);
+  return l;
+}
+
+/// The nearest area light crossed by the ray o + t w, t in (0, tmax): its radiance towards the ray, and t.
+bool area_light_hit(const Lighting& lighting, const glm::dvec3& o, const glm::dvec3& w, double tmax,
+                    glm::dvec3& radiance) {
+  bool found = false;
+  for (const AreaLight& a : lighting.areas) {
+    const double denom = glm::dot(w, a.normal);
+    if (denom == 0.0 || (!a.two_sided && denom > 0.0)) continue;  // parallel, or seen from behind
+    const double t = glm::dot(a.polygon[0] - o, a.normal) / denom;
+    if (!(t > 0.0 && t < tmax)) continue;
+    const glm::dvec3 x = o + t * w;
+    bool inside = true;
+    for (std::size_t i = 0; i < a.polygon.size() && inside; ++i) {
+      const glm::dvec3& p = a.polygon[i];
+      const glm::dvec3& q = a.polygon[(i + 1) % a.polygon.size()];
+      inside = glm::dot(glm::cross(q - p, x - p), a.normal) >= 0.0;
+    }
+    if (!inside) continue;
+    tmax = t;
+    radiance = a.radiance;
+    found = true;
+  }
+  return found;
+}
+
+/// A point a path is at: a mesh vertex (with its one-ring side test) or a point inside a hit triangle.
+struct PathPoint {
+  glm::dvec3 position;
+  glm::dvec3 axis;  // unit normal of the side the path is on
+  const VertexFan* fan = nullptr;  // set at the starting vertex
+  Side side = Side::Front;
+  std::span<const Index> ignore;   // the vertex's one-ring, or the hit triangle
+};
+
+class Tracer {
+ public:
+  Tracer(const EmbreeScene& scene, const MeshTopology& topology, const Frame& frame, const Lighting& lighting,
+         double albedo)
+      : m_scene(scene), m_topology(topology), m_frame(frame), m_lighting(lighting), m_albedo(albedo),
+        m_tnear(1e-6 * scene.scene_diameter()) {}
+
+  std::uint64_t rays() const { return m_rays; }
+
+  /// Irradiance at x from point and directional lights (shadow rays), over the hemisphere of x.axis.
+  glm::dvec3 direct_irradiance(const PathPoint& x) {
+    glm::dvec3 e(0.0);
+    for (const DirectionalLight& d : m_lighting.directional) {
+      const glm::dvec3 l = -d.direction;
+      const double c = glm::dot(l, x.axis);
+      if (c > 0.0 && visible(x, l, std::numeric_limits<double>::infinity())) e += c * d.irradiance;
+    }
+    for (const PointLight& p : m_lighting.points) {
+      const glm::dvec3 to = p.position - x.position;
+      const double d2 = glm::dot(to, to);
+      if (!(d2 > 0.0)) continue;
+      const glm::dvec3 l = to / std::sqrt(d2);
+      const double c = glm::dot(l, x.axis);
+      if (c > 0.0 && visible(x, l, std::sqrt(d2))) e += (c / d2) * p.intensity;
+    }
+    return e;
+  }
+
+  /// One path's estimate of E_cos[L_in] at the starting vertex, first direction `first` (world).
+  glm::dvec3 trace(const PathPoint& start, const glm::dvec3& first, Random& random) {
+    glm::dvec3 sum(0.0);
+    double beta = 1.0;  // throughput relative to the start's L_in
+    PathPoint x = start;
+    Index hit_triangle = 0;
+    glm::dvec3 w = first;
+    for (int bounce = 0; bounce < kMaxBounces; ++bounce) {
+      if (bounce > 0) w = sample(x.axis, random);
+      if (x.fan != nullptr && x.fan->enters_cloth(w, x.side)) {
+        // The cloth right at the vertex: the path continues from the same vertex and side.
+        sum += beta * m_albedo * kInvPi * direct_irradiance(x);
+      } else {
+        RayQuery ray;
+        ray.origin = x.position;
+        ray.direction = w;
+        ray.tnear = m_tnear;
+        const RayHit hit = m_scene.intersect(ray, x.ignore);
+        ++m_rays;
+        glm::dvec3 area(0.0);
+        if (area_light_hit(m_lighting, x.position, w, hit.hit ? hit.t : std::numeric_limits<double>::infinity(),
+                           area)) {
+          sum += beta * area;
+          break;
+        }
+        if (!hit.hit) {
+          sum += beta * sky_radiance(m_lighting, w);
+          break;
+        }
+        const Triangle& t = m_topology.triangles[hit.triangle];
+        const glm::dvec3 &p0 = m_frame.positions[t[0]], &p1 = m_frame.positions[t[1]], &p2 = m_frame.positions[t[2]];
+        const glm::dvec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+        x.position = (1.0 - hit.u - hit.v) * p0 + hit.u * p1 + hit.v * p2;
+        x.axis = glm::dot(w, n) < 0.0 ? n : -n;
+        x.fan = nullptr;
+        hit_triangle = hit.triangle;
+        x.ignore = std::span<const Index>(&hit_triangle, 1);
+        sum += beta * m_albedo * kInvPi * direct_irradiance(x);
+      }
+      beta *= m_albedo;
+      if (bounce + 1 >= kRouletteAfter) {
+        if (random.next() >= m_albedo) break;
+        beta /= m_albedo;
+      }
+    }
+    return sum;
+  }
+
+ private:
+  static glm::dvec3 sample(const glm::dvec3& axis, Random& random) {
+    const glm::dvec3 l = cosine_hemisphere_direction(random.next(), random.next());
+    glm::dvec3 t1, t2;
+    tangent_basis(axis, t1, t2);
+    return l.x * t1 + l.y * t2 + l.z * axis;
+  }
+
+  bool visible(const PathPoint& x, const glm::dvec3& l, double distance) {
+    if (x.fan != nullptr && x.fan->enters_cloth(l, x.side)) return false;
+    RayQuery ray;
+    ray.origin = x.position;
+    ray.direction = l;
+    ray.tnear = m_tnear;
+    ray.tfar = distance;
+    ++m_rays;
+    return !m_scene.occluded(ray, x.ignore);
+  }
+
+  const EmbreeScene& m_scene;
+  const MeshTopology& m_topology;
+  const Frame& m_frame;
+  const Lighting& m_lighting;
+  double m_albedo;
+  double m_tnear;
+  std::uint64_t m_rays = 0;
+};
+
+}  // namespace
+
+PathTracedFrame path_trace_vertices(EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
+                                    const std::vector<glm::dvec3>& normals, const Lighting& lighting,
+                                    const PathTraceParams& params) {
+  if (params.paths_per_vertex < 1) throw std::invalid_argument("path_trace_vertices: paths_per_vertex must be >= 1");
+  if (!(params.albedo >= 0.0 && params.albedo < 1.0))
+    throw std::invalid_argument("path_trace_vertices: albedo must be in [0, 1)");
+  if (frame.positions.size() != topology.num_vertices || normals.size() != topology.num_vertices)
+    throw std::invalid_argument("path_trace_vertices: frame has " + std::to_string(frame.positions.size()) +
+                                " positions and " + std::to_string(normals.size()) + " normals for " +
+                                std::to_string(topology.num_vertices) + " vertices");
+  if (scene.topology().num_vertices != topology.num_vertices ||
+      scene.topology().triangles.size() != topology.triangles.size())
+    throw std::invalid_argument("path_trace_vertices: the Embree scene was built for another topology");
+  scene.update(frame);
+
+  const Index n_vertices = topology.num_vertices;
+  const int k = params.paths_per_vertex;
+  PathTracedFrame out;
+  for (int s = 0; s < 2; ++s) out.radiance[s].assign(n_vertices, glm::vec3(0.0f));
+  std::vector<std::uint64_t> rays(n_vertices, 0);
+
+  auto work = [&](Index begin, Index end) {
+    Tracer tracer(scene, topology, frame, lighting, params.albedo);
+    VertexFan fan;
+    std::vector<glm::dvec3> local;
+    for (Index v = begin; v < end; ++v) {
+      const std::uint64_t before = tracer.rays();
+      const glm::dvec3 n = glm::length(normals[v]) > 0.0 ? normals[v] : glm::dvec3(0.0, 0.0, 1.0);
+      fan.build(topology, frame, scene.incident_triangles(v), v, n);
+      for (Side side : kBothSides) {
+        PathPoint start;
+        start.position = frame.positions[v];
+        start.axis = side_sign(side) * n;
+        start.fan = &fan;
+        start.side = side;
+        start.ignore = scene.incident_triangles(v);
+        glm::dvec3 t1, t2;
+        tangent_basis(start.axis, t1, t2);
+        cosine_hemisphere_directions(k, params.seed, v, side, local);
+        glm::dvec3 indirect(0.0);
+        for (int i = 0; i < k; ++i) {
+          const glm::dvec3& l = local[static_cast<std::size_t>(i)];
+          Random random(splitmix64(params.seed ^ 0x5eedULL) ^
+                        splitmix64((static_cast<std::uint64_t>(v) << 24) ^ (static_cast<std::uint64_t>(i) << 1) ^
+                                   static_cast<std::uint64_t>(side)));
+          indirect += tracer.trace(start, l.x * t1 + l.y * t2 + l.z * start.axis, random);
+        }
+        const glm::dvec3 b = params.albedo * kInvPi * tracer.direct_irradiance(start) + params.albedo * indirect / double(k);
+        out.radiance[static_cast<int>(side)][v] = glm::vec3(b);
+      }
+      rays[v] = tracer.rays() - before;
+    }
+  };
+  if (params.parallel)
+    tbb::parallel_for(tbb::blocked_range<Index>(0, n_vertices, 8),
+                      [&](const tbb::blocked_range<Index>& r) { work(r.begin(), r.end()); });
+  else
+    work(0, n_vertices);
+  for (std::uint64_t r : rays) out.rays += r;
+  return out;
+}
+
+}  // namespace pleat
