@@ -1,0 +1,137 @@
+#include "static_core/angular_set.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pleat {
+
+double wrap_angle(double a) {
+  a = std::fmod(a, kTwoPi);
+  if (a < 0) a += kTwoPi;
+  if (a >= kTwoPi) a = 0.0;
+  return a;
+}
+
+double direction_angle(const glm::dvec2& d) { return wrap_angle(std::atan2(d.y, d.x)); }
+
+Wedge wedge_between(const glm::dvec2& from, const glm::dvec2& to) {
+  double width = std::atan2(from.x * to.y - from.y * to.x, glm::dot(from, to));
+  if (width <= 0) width += kTwoPi;
+  return {direction_angle(from), width};
+}
+
+Wedge thin_wedge_between(const glm::dvec2& from, const glm::dvec2& to) {
+  double width = std::atan2(from.x * to.y - from.y * to.x, glm::dot(from, to));
+  // The exact turn is left, so the true width is in (0, pi): a negative value is rounding of a width
+  // next to 0 or next to pi.
+  if (width < 0) width = width < -kTwoPi / 4 ? kTwoPi / 2 : 0.0;
+  return {direction_angle(from), width};
+}
+
+std::vector<std::pair<double, double>> AngularSet::to_intervals(const std::vector<Wedge>& wedges) {
+  std::vector<std::pair<double, double>> out;
+  out.reserve(wedges.size() + 1);
+  for (const Wedge& w : wedges) {
+    if (!(w.width > 0)) continue;
+    if (w.width >= kTwoPi - kAngleTolerance) {
+      out.clear();
+      out.emplace_back(0.0, kTwoPi);
+      return out;
+    }
+    const double s = wrap_angle(w.start), e = s + w.width;
+    if (e <= kTwoPi) {
+      out.emplace_back(s, e);
+    } else {
+      out.emplace_back(s, kTwoPi);
+      out.emplace_back(0.0, e - kTwoPi);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+AngularSet AngularSet::from_intervals(std::vector<std::pair<double, double>> iv) {
+  std::sort(iv.begin(), iv.end());
+  std::vector<std::pair<double, double>> merged;
+  for (const auto& [a, b] : iv) {
+    if (!merged.empty() && a <= merged.back().second + kAngleTolerance)
+      merged.back().second = std::max(merged.back().second, b);
+    else
+      merged.emplace_back(a, b);
+  }
+  AngularSet set;
+  if (merged.empty()) return set;
+  // Join the interval ending at 2pi with the one starting at 0 (the wedge that wraps around).
+  const bool wraps = merged.size() > 1 && merged.front().first <= kAngleTolerance &&
+                     merged.back().second >= kTwoPi - kAngleTolerance;
+  if (merged.size() == 1 && merged[0].first <= kAngleTolerance && merged[0].second >= kTwoPi - kAngleTolerance)
+    return full();
+  for (std::size_t i = wraps ? 1 : 0; i < merged.size(); ++i) {
+    auto [a, b] = merged[i];
+    if (wraps && i + 1 == merged.size()) b = kTwoPi + merged.front().second;
+    if (b - a > 0) set.m_wedges.push_back({a, b - a});
+  }
+  std::sort(set.m_wedges.begin(), set.m_wedges.end(), [](const Wedge& x, const Wedge& y) { return x.start < y.start; });
+  return set;
+}
+
+AngularSet AngularSet::from_wedges(const std::vector<Wedge>& wedges) { return from_intervals(to_intervals(wedges)); }
+
+AngularSet AngularSet::full() {
+  AngularSet set;
+  set.m_wedges.push_back({0.0, kTwoPi});
+  return set;
+}
+
+double AngularSet::measure() const {
+  double m = 0.0;
+  for (const Wedge& w : m_wedges) m += w.width;
+  return m;
+}
+
+AngularSet AngularSet::unite(const AngularSet& other) const {
+  auto iv = intervals();
+  const auto more = other.intervals();
+  iv.insert(iv.end(), more.begin(), more.end());
+  return from_intervals(std::move(iv));
+}
+
+AngularSet AngularSet::complement() const {
+  const auto iv = intervals();  // sorted and disjoint: m_wedges is normalized
+  std::vector<std::pair<double, double>> out;
+  double cursor = 0.0;
+  for (const auto& [a, b] : iv) {
+    if (a > cursor + kAngleTolerance) out.emplace_back(cursor, a);
+    cursor = std::max(cursor, b);
+  }
+  if (cursor < kTwoPi - kAngleTolerance) out.emplace_back(cursor, kTwoPi);
+  return from_intervals(std::move(out));
+}
+
+AngularSet AngularSet::intersect(const AngularSet& other) const {
+  const auto x = intervals(), y = other.intervals();
+  std::vector<std::pair<double, double>> out;
+  std::size_t i = 0, j = 0;
+  while (i < x.size() && j < y.size()) {
+    const double a = std::max(x[i].first, y[j].first), b = std::min(x[i].second, y[j].second);
+    if (b - a > kAngleTolerance) out.emplace_back(a, b);
+    (x[i].second < y[j].second) ? ++i : ++j;
+  }
+  return from_intervals(std::move(out));
+}
+
+AngularSet AngularSet::subtract(const AngularSet& other) const { return intersect(other.complement()); }
+
+bool AngularSet::contains(double angle) const {
+  angle = wrap_angle(angle);
+  for (const Wedge& w : m_wedges) {
+    double d = angle - w.start;
+    if (d < 0) d += kTwoPi;
+    if (d <= w.width + kAngleTolerance || kTwoPi - d <= kAngleTolerance) return true;
+  }
+  return false;
+}
+
+}  // namespace pleat

@@ -1,0 +1,64 @@
+// Sets of directions in a plane, as disjoint counter-clockwise wedges (2D visibility cones are such sets).
+//
+// A Wedge is the range of angles [start, start + width] (radians, width in (0, 2pi]); an AngularSet keeps
+// its wedges disjoint and sorted by start in [0, 2pi). Wedges whose ends meet within kAngleTolerance are
+// merged: the ends are directions towards the same slice point computed twice, so they differ by rounding
+// only (this merges representations; it decides nothing about the slice's topology).
+// Cost: O(k log k) for k wedges.
+#pragma once
+
+#include <glm/vec2.hpp>
+
+#include <vector>
+
+namespace pleat {
+
+inline constexpr double kTwoPi = 6.283185307179586476925286766559;
+inline constexpr double kAngleTolerance = 1e-12;
+
+struct Wedge {
+  double start = 0.0;  ///< in [0, 2pi)
+  double width = 0.0;  ///< in (0, 2pi]
+  double end() const { return start + width; }
+};
+
+/// Angle of a direction in [0, 2pi).
+double direction_angle(const glm::dvec2& d);
+/// An angle reduced to [0, 2pi).
+double wrap_angle(double a);
+/// The counter-clockwise wedge from direction `from` to direction `to`, of width in (0, 2pi): for ranges
+/// that may exceed a half-turn (exterior angles of the hull). The directions must not coincide.
+Wedge wedge_between(const glm::dvec2& from, const glm::dvec2& to);
+/// The same for a pair whose exact orientation is known to be a left turn (the wedge is below a
+/// half-turn): the width is computed from the cross and dot products, so a wedge far thinner than the
+/// angle's rounding stays thin and never wraps around to a full turn.
+Wedge thin_wedge_between(const glm::dvec2& from, const glm::dvec2& to);
+
+class AngularSet {
+ public:
+  AngularSet() = default;
+  /// The union of arbitrary wedges.
+  static AngularSet from_wedges(const std::vector<Wedge>& wedges);
+  static AngularSet full();
+
+  const std::vector<Wedge>& wedges() const { return m_wedges; }
+  bool empty() const { return m_wedges.empty(); }
+  double measure() const;
+
+  AngularSet unite(const AngularSet& other) const;
+  AngularSet intersect(const AngularSet& other) const;
+  AngularSet subtract(const AngularSet& other) const;
+  AngularSet complement() const;
+  /// True when the direction at `angle` is inside (ends included).
+  bool contains(double angle) const;
+
+ private:
+  // Linear intervals [a, b] within [0, 2pi], sorted and disjoint; the wedges are derived from them.
+  static std::vector<std::pair<double, double>> to_intervals(const std::vector<Wedge>& wedges);
+  static AngularSet from_intervals(std::vector<std::pair<double, double>> intervals);
+  std::vector<std::pair<double, double>> intervals() const { return to_intervals(m_wedges); }
+
+  std::vector<Wedge> m_wedges;
+};
+
+}  // namespace pleat

@@ -1,0 +1,48 @@
+// The one place that owns the CGAL typedefs of static_core (and kinetic). Internal: CGAL types never appear
+// in a public API (visibility.hpp, slicing_plan.hpp, visibility_cone.hpp).
+//
+// Kernel: Exact_predicates_inexact_constructions (filtered exact predicates on double coordinates). Every
+// orientation decision on slice points is exact; constructions (the slice points themselves, crossing
+// points of chains) are rounded doubles.
+#pragma once
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Constrained_triangulation_face_base_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_data_structure_2.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <glm/vec2.hpp>
+
+#include <array>
+
+namespace pleat::cgal {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point2 = Kernel::Point_2;
+
+/// Per CDT vertex: the slice vertex it was inserted for (-1: a crossing point of two chains).
+struct VertexInfo {
+  int slice_vertex = -1;
+};
+
+/// Per CDT face: its visibility region (-1: outside the hull) and the corner id of each of its vertices.
+struct FaceInfo {
+  int region = -1;
+  std::array<int, 3> corner{-1, -1, -1};
+};
+
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, Kernel>;
+using Fbb = CGAL::Triangulation_face_base_with_info_2<FaceInfo, Kernel>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<Kernel, Fbb>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+/// Crossing constraints (chains of a self-intersecting surface) are split at computed crossing points.
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
+using VertexHandle = Cdt::Vertex_handle;
+using FaceHandle = Cdt::Face_handle;
+
+inline Point2 to_point(const glm::dvec2& p) { return {p.x, p.y}; }
+inline glm::dvec2 to_glm(const Point2& p) { return {p.x(), p.y()}; }
+
+}  // namespace pleat::cgal

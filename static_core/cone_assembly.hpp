@@ -1,0 +1,33 @@
+// From 2D cones stored on a mesh vertex to its 3D visibility cones (Stewart 1999 §2.4; DESIGN.md §2.8).
+//
+// Each stored 2D cone is a set of wedges in a slicing plane, taken with its apex at the mesh vertex. The
+// wedges are first clipped to the side's half-space (directions d with d . side*n(v) >= 0). Two wedges are
+// linked when they share more than the apex (coplanar: their arcs overlap; otherwise the planes' common line
+// lies in both); each connected group becomes one piece: its wedges' bounding directions are projected onto
+// the tangent plane, sorted radially about the centroid of their convex hull (CGAL), and lifted back to unit
+// vectors in that order — a polygonal cone, not necessarily convex, counter-clockwise about side*n(v).
+// Cost: O(k^2) for k wedges at the vertex (k is a few dozen).
+#pragma once
+
+#include "static_core/angular_set.hpp"
+#include "static_core/slicing_plan.hpp"
+#include "static_core/visibility_cone.hpp"
+
+#include <span>
+#include <vector>
+
+namespace pleat {
+
+/// One stored 2D cone: the wedges of a slice vertex's cone, in its plane's (u, w) frame.
+struct PlanarCone {
+  const SlicingPlane* plane = nullptr;
+  std::span<const Wedge> wedges;
+};
+
+/// The 3D visibility cone of a vertex on one side from its 2D cones. `side_normal` = side * n(v), unit.
+VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal);
+
+/// A, bent normal and solid angle of a cone (Lambert's formula on each piece clipped to the hemisphere).
+ConeMeasures measure_cone(const VisibilityCone& cone, const glm::dvec3& side_normal);
+
+}  // namespace pleat

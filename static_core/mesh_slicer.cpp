@@ -1,0 +1,132 @@
+#include "static_core/mesh_slicer.hpp"
+
+#include "static_core/cgal_types.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <numeric>
+
+namespace pleat {
+
+MeshEdges::MeshEdges(const MeshTopology& topology) {
+  std::vector<std::array<Index, 3>> keyed;  // (a, b, face*3+i)
+  keyed.reserve(topology.triangles.size() * 3);
+  for (Index f = 0; f < topology.triangles.size(); ++f)
+    for (Index i = 0; i < 3; ++i) {
+      Index a = topology.triangles[f][i], b = topology.triangles[f][(i + 1) % 3];
+      if (a > b) std::swap(a, b);
+      keyed.push_back({a, b, f * 3 + i});
+    }
+  std::sort(keyed.begin(), keyed.end());
+  of_face.assign(topology.triangles.size(), {0, 0, 0});
+  for (std::size_t k = 0; k < keyed.size(); ++k) {
+    if (k == 0 || keyed[k][0] != keyed[k - 1][0] || keyed[k][1] != keyed[k - 1][1])
+      endpoints.push_back({keyed[k][0], keyed[k][1]});
+    of_face[keyed[k][2] / 3][keyed[k][2] % 3] = static_cast<Index>(endpoints.size() - 1);
+  }
+  neighbours.assign(topology.num_vertices, {});
+  for (const auto& e : endpoints) {
+    neighbours[e[0]].push_back(e[1]);
+    neighbours[e[1]].push_back(e[0]);
+  }
+  for (auto& n : neighbours) std::sort(n.begin(), n.end());
+}
+
+void Slice::clear() {
+  vertices.clear();
+  edges.clear();
+  out_edge.clear();
+  in_edge.clear();
+}
+
+bool on_or_above(const SlicingPlane& plane, const glm::dvec3& p) {
+  const cgal::Kernel::Plane_3 h(plane.normal.x, plane.normal.y, plane.normal.z, -plane.offset);
+  return h.oriented_side(cgal::Kernel::Point_3(p.x, p.y, p.z)) != CGAL::ON_NEGATIVE_SIDE;
+}
+
+void slice_mesh(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
+                const SlicingPlane& plane, std::span<const Index> candidate_faces, SlicerScratch& scratch,
+                Slice& out) {
+  out.clear();
+  auto& vertex_of_edge = scratch.slice_vertex_of_edge;
+  if (vertex_of_edge.size() != edges.endpoints.size()) vertex_of_edge.assign(edges.endpoints.size(), -1);
+  const auto& pos = frame.positions;
+
+  auto slice_vertex = [&](Index edge, Index above, Index below) -> Index {
+    std::int32_t& id = vertex_of_edge[edge];
+    if (id >= 0) return static_cast<Index>(id);
+    SliceVertex sv;
+    sv.edge = edge;
+    sv.above = above;
+    sv.below = below;
+    const double sa = glm::dot(plane.normal, pos[above]) - plane.offset;
+    const double sb = glm::dot(plane.normal, pos[below]) - plane.offset;
+    // sa >= 0 > sb in exact arithmetic; the rounded values are clamped into [0, 1].
+    const double denom = sa - sb;
+    sv.t = denom > 0 ? std::clamp(sa / denom, 0.0, 1.0) : 0.0;
+    const glm::dvec3 p = pos[above] + sv.t * (pos[below] - pos[above]);
+    sv.point = {glm::dot(plane.u, p), glm::dot(plane.w, p)};
+    const double length = glm::distance(pos[above], pos[below]);
+    if (sv.t < 0.5 || (sv.t == 0.5 && above < below)) {
+      sv.nearer = above;
+      sv.distance = sv.t * length;
+    } else {
+      sv.nearer = below;
+      sv.distance = (1.0 - sv.t) * length;
+    }
+    id = static_cast<std::int32_t>(out.vertices.size());
+    out.vertices.push_back(sv);
+    return static_cast<Index>(id);
+  };
+
+  for (Index f : candidate_faces) {
+    const Triangle& t = topology.triangles[f];
+    const bool up[3] = {on_or_above(plane, pos[t[0]]), on_or_above(plane, pos[t[1]]),
+                        on_or_above(plane, pos[t[2]])};
+    const int ups = up[0] + up[1] + up[2];
+    if (ups == 0 || ups == 3) continue;
+    // The lone vertex i is the one on the other side from the two others.
+    int i = 0;
+    for (int k = 0; k < 3; ++k)
+      if ((ups == 1) == up[k]) i = k;
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    const Index lone = t[i];
+    // Crossing points on edges (t[i], t[j]) and (t[k], t[i]).
+    const Index on_ij = up[i] ? slice_vertex(edges.of_face[f][i], lone, t[j])
+                              : slice_vertex(edges.of_face[f][i], t[j], lone);
+    const Index on_ki = up[i] ? slice_vertex(edges.of_face[f][k], lone, t[k])
+                              : slice_vertex(edges.of_face[f][k], t[k], lone);
+    // With (u, w, normal) right-handed, the front (face normal) side is to the right of on_ij -> on_ki
+    // when the lone vertex is above, and to the left when it is below.
+    SliceEdge e;
+    e.face = f;
+    e.from = up[i] ? on_ki : on_ij;
+    e.to = up[i] ? on_ij : on_ki;
+    out.edges.push_back(e);
+  }
+  for (const auto& sv : out.vertices) vertex_of_edge[sv.edge] = -1;
+
+  out.out_edge.assign(out.vertices.size(), -1);
+  out.in_edge.assign(out.vertices.size(), -1);
+  for (std::size_t e = 0; e < out.edges.size(); ++e) {
+    if (out.out_edge[out.edges[e].from] < 0) out.out_edge[out.edges[e].from] = static_cast<std::int32_t>(e);
+    if (out.in_edge[out.edges[e].to] < 0) out.in_edge[out.edges[e].to] = static_cast<std::int32_t>(e);
+  }
+}
+
+std::vector<Index> cone_recipients(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
+                                   const SlicingPlane& plane) {
+  std::vector<Index> faces(topology.triangles.size());
+  std::iota(faces.begin(), faces.end(), 0);
+  SlicerScratch scratch;
+  Slice slice;
+  slice_mesh(topology, edges, frame, plane, faces, scratch, slice);
+  std::vector<Index> result;
+  for (const auto& sv : slice.vertices) result.push_back(sv.nearer);
+  std::sort(result.begin(), result.end());
+  result.erase(std::unique(result.begin(), result.end()), result.end());
+  return result;
+}
+
+}  // namespace pleat

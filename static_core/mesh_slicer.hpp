@@ -1,0 +1,74 @@
+// Slicing a mesh with a plane (Stewart 1999 §2; DESIGN.md §2.2).
+//
+// The slice of a mesh by a plane has one slice vertex per mesh edge that crosses the plane and one slice
+// edge per face that crosses it; they form open or closed chains. Which side of the plane a mesh vertex is
+// on is decided exactly (filtered exact predicate); a vertex exactly on the plane is treated as lying just
+// above it (symbolic perturbation), so every face is either uncut or cut along exactly two of its edges and
+// the chains are always well formed. Slice edges are oriented so that the front side of the surface (the
+// side its face normals point to, in the input winding) is on their left.
+// Cost: O(#candidate faces) per plane.
+#pragma once
+
+#include "sim_io/mesh.hpp"
+#include "static_core/slicing_plan.hpp"
+
+#include <glm/vec2.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace pleat {
+
+/// The undirected edges of a topology, each face's three edges, and vertex adjacency.
+struct MeshEdges {
+  explicit MeshEdges(const MeshTopology& topology);
+  std::vector<std::array<Index, 2>> endpoints;  ///< (a, b) with a < b
+  std::vector<std::array<Index, 3>> of_face;    ///< of_face[f][i] = edge (t[i], t[(i+1)%3])
+  std::vector<std::vector<Index>> neighbours;   ///< vertex adjacency (sorted)
+};
+
+struct SliceVertex {
+  Index edge = 0;        ///< the mesh edge it lies on
+  Index above = 0;       ///< the edge's endpoint on or above the plane
+  Index below = 0;       ///< the edge's endpoint below the plane
+  double t = 0.0;        ///< position along the edge, from `above` (0) to `below` (1)
+  glm::dvec2 point{0.0}; ///< 2D coordinates in the plane's (u, w) frame
+  Index nearer = 0;      ///< the nearer endpoint, on which the 2D cone is stored
+  double distance = 0.0; ///< 3D distance from `nearer`
+};
+
+/// A slice edge from `from` to `to` (slice vertex indices), with the front side on its left.
+struct SliceEdge {
+  Index from = 0;
+  Index to = 0;
+  Index face = 0;
+};
+
+struct Slice {
+  std::vector<SliceVertex> vertices;
+  std::vector<SliceEdge> edges;
+  std::vector<std::int32_t> out_edge;  ///< per slice vertex: a slice edge leaving it, or -1
+  std::vector<std::int32_t> in_edge;   ///< per slice vertex: a slice edge entering it, or -1
+  void clear();
+};
+
+/// Reusable per-thread memory of slice_mesh (no allocation per slice once warmed up).
+struct SlicerScratch {
+  std::vector<std::int32_t> slice_vertex_of_edge;  ///< -1 where the edge was not crossed
+};
+
+/// Slices the faces listed in `candidate_faces` (all faces that may cross the plane; others are ignored)
+/// into `out`. Deterministic: slice vertices are numbered in order of first appearance.
+void slice_mesh(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
+                const SlicingPlane& plane, std::span<const Index> candidate_faces, SlicerScratch& scratch,
+                Slice& out);
+
+/// Exact side of a point against a plane: true when on or above (dot(normal, p) >= offset).
+bool on_or_above(const SlicingPlane& plane, const glm::dvec3& p);
+
+/// The mesh vertices that receive a 2D cone from this plane (the nearer endpoints of its slice vertices).
+std::vector<Index> cone_recipients(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
+                                   const SlicingPlane& plane);
+
+}  // namespace pleat

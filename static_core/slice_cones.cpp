@@ -1,0 +1,307 @@
+#include "static_core/slice_cones.hpp"
+
+#include "static_core/assert.hpp"
+
+#include <CGAL/number_utils.h>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+
+namespace pleat {
+namespace {
+
+using cgal::Cdt;
+using cgal::FaceHandle;
+using cgal::Point2;
+using cgal::VertexHandle;
+
+glm::dvec2 direction(const Point2& from, const Point2& to) { return {to.x() - from.x(), to.y() - from.y()}; }
+
+/// The counter-clockwise wedge at x from the direction of p to the direction of q, its kind (thin, half or
+/// reflex, or a full turn when p and q lie in the same direction) decided by exact predicates.
+Wedge exact_wedge(const Point2& x, const Point2& p, const Point2& q) {
+  const glm::dvec2 dp = direction(x, p), dq = direction(x, q);
+  switch (CGAL::orientation(x, p, q)) {
+    case CGAL::LEFT_TURN: return thin_wedge_between(dp, dq);
+    case CGAL::RIGHT_TURN: return wedge_between(dp, dq);
+    default:
+      return {direction_angle(dp), CGAL::angle(p, x, q) == CGAL::ACUTE ? kTwoPi : kTwoPi / 2};
+  }
+}
+
+/// The next slice vertex along the chain (forward or backward) that is at another CDT vertex, or -1.
+int next_distinct(const Slice& slice, const SliceTriangulation& st, Index x, bool forward) {
+  const VertexHandle at = st.vertex_of(x);
+  Index y = x;
+  for (std::size_t steps = 0; steps <= slice.vertices.size(); ++steps) {
+    const std::int32_t e = forward ? slice.out_edge[y] : slice.in_edge[y];
+    if (e < 0) return -1;
+    y = forward ? slice.edges[e].to : slice.edges[e].from;
+    if (st.vertex_of(y) != at) return static_cast<int>(y);
+  }
+  return -1;  // a closed chain collapsed onto one point
+}
+
+/// The constrained CDT edge leaving X towards Y (Y may lie beyond a vertex that splits the constraint).
+VertexHandle first_constraint_vertex(const Cdt& cdt, VertexHandle x, const Point2& y) {
+  auto ec = cdt.incident_edges(x), done = ec;
+  do {
+    if (!cdt.is_constrained(*ec)) continue;
+    const FaceHandle f = ec->first;
+    const int i = ec->second;
+    const VertexHandle w = f->vertex(cdt.ccw(i)) == x ? f->vertex(cdt.cw(i)) : f->vertex(cdt.ccw(i));
+    if (cdt.is_infinite(w)) continue;
+    if (w->point() == y) return w;
+    if (CGAL::orientation(x->point(), w->point(), y) == CGAL::COLLINEAR &&
+        CGAL::collinear_are_ordered_along_line(x->point(), w->point(), y))
+      return w;
+  } while (++ec != done);
+  return VertexHandle();
+}
+
+class RangeWalker {
+ public:
+  RangeWalker(const Cdt& cdt, const SliceConeScratch& scratch) : m_cdt(cdt), m_scratch(scratch) {}
+
+  /// Appends the visible wedges of the range counter-clockwise from edge (x, w) (or the whole circle
+  /// around x when w is null) up to the next chain edge.
+  void collect_ccw(VertexHandle x, VertexHandle w, std::vector<Wedge>& out) const {
+    FaceHandle f;
+    if (w == VertexHandle()) {
+      // No chain edge at x: the whole circle. Start just after the exterior, if x is on the hull, so
+      // that the exterior wedge is entered and left along its hull edges.
+      f = x->face();
+      auto fc = m_cdt.incident_faces(x), done = fc;
+      do {
+        const FaceHandle g = fc;
+        if (!m_cdt.is_infinite(g) && m_cdt.is_infinite(g->neighbor(m_cdt.cw(g->index(x))))) {
+          f = g;
+          break;
+        }
+      } while (++fc != done);
+    } else {
+      FaceHandle fr;
+      int i = 0;
+      const bool found = m_cdt.is_edge(x, w, fr, i);
+      PLEAT_ASSERT(found, "chain edge missing from the triangulation");
+      f = fr->neighbor(i);  // fr is on the right of x->w; its neighbour is on the left (counter-clockwise)
+    }
+    const FaceHandle start = f;
+    const Point2& px = x->point();
+    bool outside = m_cdt.is_infinite(f);
+    VertexHandle outside_from = w;
+    int last_corner = -1;
+    while (true) {
+      const int i = f->index(x);
+      if (!m_cdt.is_infinite(f)) {
+        const int corner = f->info().corner[i];
+        if (corner != last_corner) {
+          const auto& wedges = m_scratch.corner_wedges[corner];
+          out.insert(out.end(), wedges.begin(), wedges.end());
+          last_corner = corner;
+        }
+      }
+      // The edge to the next face counter-clockwise is (x, f->vertex(cw(i))), index ccw(i) in f.
+      const VertexHandle next_vertex = f->vertex(m_cdt.cw(i));
+      const FaceHandle g = f->neighbor(m_cdt.ccw(i));
+      const bool stop = f->is_constrained(m_cdt.ccw(i)) || g == start;
+      const bool g_outside = m_cdt.is_infinite(g);
+      if (outside && (stop || !g_outside)) {
+        // Leaving the exterior (or ending in it) along the hull edge (x, next_vertex).
+        out.push_back(exact_wedge(px, outside_from->point(), next_vertex->point()));
+        outside = false;
+      }
+      if (stop) break;
+      if (!outside && g_outside) {
+        outside = true;
+        outside_from = next_vertex;
+      }
+      f = g;
+    }
+  }
+
+  /// The chain edge at x found by turning clockwise from edge (x, w) (the start of the range that ends
+  /// at (x, w)); w itself when it is the only chain edge at x.
+  VertexHandle clockwise_boundary(VertexHandle x, VertexHandle w) const {
+    FaceHandle f;
+    int i = 0;
+    m_cdt.is_edge(x, w, f, i);  // f is on the right of x->w: clockwise of the edge
+    while (true) {
+      const int ix = f->index(x);
+      // The edge to the next face clockwise is (x, f->vertex(ccw(ix))), index cw(ix) in f.
+      if (f->is_constrained(m_cdt.cw(ix))) return f->vertex(m_cdt.ccw(ix));
+      f = f->neighbor(m_cdt.cw(ix));
+    }
+  }
+
+ private:
+  const Cdt& m_cdt;
+  const SliceConeScratch& m_scratch;
+};
+
+/// The sector of a corner: counter-clockwise from its first edge to its last edge around its vertex.
+Wedge corner_sector(const Cdt& cdt, FaceHandle f, int corner) {
+  const VertexHandle x = f->vertex(f->info().corner[0] == corner ? 0 : f->info().corner[1] == corner ? 1 : 2);
+  // Turn clockwise to the corner's first face.
+  FaceHandle first = f;
+  while (true) {
+    const int i = first->index(x);
+    if (is_separator(cdt, first, cdt.cw(i))) break;
+    first = first->neighbor(cdt.cw(i));
+    if (first == f) return {0.0, kTwoPi};
+  }
+  FaceHandle last = first;
+  while (true) {
+    const int i = last->index(x);
+    if (is_separator(cdt, last, cdt.ccw(i))) break;
+    last = last->neighbor(cdt.ccw(i));
+  }
+  const Point2& px = x->point();
+  return exact_wedge(px, first->vertex(cdt.ccw(first->index(x)))->point(),
+                     last->vertex(cdt.cw(last->index(x)))->point());
+}
+
+void cones_of_simple_region(const SliceTriangulation& st, const SliceRegion& region, SliceConeScratch& s) {
+  const Cdt& cdt = st.cdt();
+  for (const SliceWindow& window : region.windows) {
+    grow_shortest_path_tree(st, window, false, s.parent_a, s.stack);
+    grow_shortest_path_tree(st, window, true, s.parent_b, s.stack);
+    for (int c : s.region_corners) {
+      const Point2& x = st.corner_vertex(c)->point();
+      const Point2& pa = st.corner_vertex(s.parent_a[c])->point();
+      const Point2& pb = st.corner_vertex(s.parent_b[c])->point();
+      if (CGAL::orientation(x, pa, pb) == CGAL::LEFT_TURN)
+        s.corner_wedges[c].push_back(thin_wedge_between(direction(x, pa), direction(x, pb)));
+    }
+  }
+  (void)cdt;
+}
+
+void cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion& region, SliceConeScratch& s) {
+  const Cdt& cdt = st.cdt();
+  // The chain edges bounding the region: the only things a ray from inside can meet before a window.
+  std::vector<std::pair<VertexHandle, VertexHandle>> segments;
+  for (const FaceHandle f : region.faces)
+    for (int i = 0; i < 3; ++i)
+      if (f->is_constrained(i)) segments.emplace_back(f->vertex(cdt.ccw(i)), f->vertex(cdt.cw(i)));
+  std::vector<Wedge> blocked;
+  std::vector<char> done(st.num_corners(), 0);
+  for (const FaceHandle f : region.faces)
+    for (int k = 0; k < 3; ++k) {
+      const int c = f->info().corner[k];
+      if (done[c]) continue;
+      done[c] = 1;
+      const VertexHandle xv = f->vertex(k);
+      const Point2& x = xv->point();
+      blocked.clear();
+      for (const auto& [p, q] : segments) {
+        if (p == xv || q == xv) continue;
+        switch (CGAL::orientation(x, p->point(), q->point())) {
+          case CGAL::LEFT_TURN: blocked.push_back(thin_wedge_between(direction(x, p->point()), direction(x, q->point()))); break;
+          case CGAL::RIGHT_TURN: blocked.push_back(thin_wedge_between(direction(x, q->point()), direction(x, p->point()))); break;
+          default: break;  // seen edge-on: blocks a single direction
+        }
+      }
+      const AngularSet visible =
+          AngularSet::from_wedges({corner_sector(cdt, f, c)}).subtract(AngularSet::from_wedges(blocked));
+      s.corner_wedges[c].assign(visible.wedges().begin(), visible.wedges().end());
+    }
+}
+
+/// Collinear or tiny slices (dimension < 2): nothing lies off the line, so a side sees its whole range:
+/// the open half-plane where the chain continues on both sides of X, the whole circle at a chain's end.
+void collinear_slice_cones(const Slice& slice, const SliceTriangulation& st, SliceCones& out) {
+  // Chain directions leaving each CDT vertex (several slice vertices may share one).
+  std::vector<std::pair<cgal::VertexHandle, glm::dvec2>> leaving;
+  for (Index x = 0; x < slice.vertices.size(); ++x)
+    for (bool forward : {true, false}) {
+      const int y = next_distinct(slice, st, x, forward);
+      if (y >= 0) leaving.emplace_back(st.vertex_of(x), slice.vertices[y].point - slice.vertices[x].point);
+    }
+  std::sort(leaving.begin(), leaving.end(), [](const auto& a, const auto& b) { return &*a.first < &*b.first; });
+  for (Index x = 0; x < slice.vertices.size(); ++x) {
+    const int next = next_distinct(slice, st, x, true), prev = next_distinct(slice, st, x, false);
+    const glm::dvec2 d = next >= 0   ? slice.vertices[next].point - slice.vertices[x].point
+                         : prev >= 0 ? slice.vertices[x].point - slice.vertices[prev].point
+                                     : glm::dvec2(0.0);
+    // Both directions along the line leave X as chain edges: X is inside a chain.
+    bool forward = false, backward = false;
+    auto it = std::lower_bound(leaving.begin(), leaving.end(), st.vertex_of(x),
+                               [](const auto& a, const cgal::VertexHandle& v) { return &*a.first < &*v; });
+    for (; it != leaving.end() && it->first == st.vertex_of(x); ++it) {
+      (glm::dot(it->second, d) > 0 ? forward : backward) = true;
+    }
+    for (Side side : kBothSides) {
+      if (d == glm::dvec2(0.0) || !(forward && backward)) out.wedges.push_back({0.0, kTwoPi});
+      else out.wedges.push_back({direction_angle(side == Side::Front ? d : -d), kTwoPi / 2});
+      out.offsets.push_back(static_cast<std::uint32_t>(out.wedges.size()));
+    }
+  }
+}
+
+}  // namespace
+
+void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, SliceConeScratch& s, SliceCones& out) {
+  out.wedges.clear();
+  out.offsets.assign(1, 0);
+  out.windows = out.regions = out.regions_with_holes = 0;
+  if (st.dimension() < 2) {
+    collinear_slice_cones(slice, st, out);
+    return;
+  }
+  const Cdt& cdt = st.cdt();
+  const std::size_t corners = st.num_corners();
+  if (s.corner_wedges.size() < corners) s.corner_wedges.resize(corners);
+  for (std::size_t c = 0; c < corners; ++c) s.corner_wedges[c].clear();
+  s.parent_a.assign(corners, -1);
+  s.parent_b.assign(corners, -1);
+  s.corner_stamp.assign(corners, -1);
+
+  out.regions = st.regions().size();
+  for (std::size_t r = 0; r < st.regions().size(); ++r) {
+    const SliceRegion& region = st.regions()[r];
+    if (region.windows.empty()) continue;
+    out.windows += region.windows.size();
+    if (region.has_holes) {
+      ++out.regions_with_holes;
+      cones_of_region_with_holes(st, region, s);
+      continue;
+    }
+    s.region_corners.clear();
+    for (const FaceHandle f : region.faces)
+      for (int k = 0; k < 3; ++k) {
+        const int c = f->info().corner[k];
+        if (s.corner_stamp[c] == static_cast<int>(r)) continue;
+        s.corner_stamp[c] = static_cast<int>(r);
+        s.region_corners.push_back(c);
+      }
+    cones_of_simple_region(st, region, s);
+  }
+
+  const RangeWalker walker(cdt, s);
+  for (Index x = 0; x < slice.vertices.size(); ++x) {
+    const VertexHandle xv = st.vertex_of(x);
+    const int next = next_distinct(slice, st, x, true), prev = next_distinct(slice, st, x, false);
+    const VertexHandle w_out =
+        next >= 0 ? first_constraint_vertex(cdt, xv, cgal::to_point(slice.vertices[next].point)) : VertexHandle();
+    const VertexHandle w_in =
+        prev >= 0 ? first_constraint_vertex(cdt, xv, cgal::to_point(slice.vertices[prev].point)) : VertexHandle();
+    for (Side side : kBothSides) {
+      // Front: counter-clockwise of the outgoing edge (or clockwise of the incoming one); back: mirrored.
+      const VertexHandle ccw_of = side == Side::Front ? w_out : w_in;
+      const VertexHandle cw_of = side == Side::Front ? w_in : w_out;
+      s.range_wedges.clear();
+      if (ccw_of != VertexHandle())
+        walker.collect_ccw(xv, ccw_of, s.range_wedges);
+      else if (cw_of != VertexHandle())
+        walker.collect_ccw(xv, walker.clockwise_boundary(xv, cw_of), s.range_wedges);
+      else
+        walker.collect_ccw(xv, VertexHandle(), s.range_wedges);
+      const AngularSet cone = AngularSet::from_wedges(s.range_wedges);
+      out.wedges.insert(out.wedges.end(), cone.wedges().begin(), cone.wedges().end());
+      out.offsets.push_back(static_cast<std::uint32_t>(out.wedges.size()));
+    }
+  }
+}
+
+}  // namespace pleat

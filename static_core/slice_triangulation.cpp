@@ -1,0 +1,143 @@
+#include "static_core/slice_triangulation.hpp"
+
+#include <CGAL/spatial_sort.h>
+
+#include <numeric>
+#include <string>
+
+namespace pleat {
+
+void SliceTriangulation::build(const Slice& slice) {
+  m_cdt.clear();
+  m_regions.clear();
+  m_corner_vertex.clear();
+  m_corner_region.clear();
+  m_crossings = 0;
+  const std::size_t n = slice.vertices.size();
+  m_vertex_of_slice_vertex.assign(n, cgal::VertexHandle());
+
+  // Insert points in spatial order with a hint; coincident points (slice vertices of edges that meet at a
+  // mesh vertex lying on the plane) become one CDT vertex.
+  std::vector<std::ptrdiff_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<cgal::Point2> points(n);
+  for (std::size_t i = 0; i < n; ++i) points[i] = cgal::to_point(slice.vertices[i].point);
+  using Traits = CGAL::Spatial_sort_traits_adapter_2<cgal::Kernel, cgal::Point2*>;
+  CGAL::spatial_sort(order.begin(), order.end(), Traits(points.data()));
+  cgal::FaceHandle hint;
+  for (std::ptrdiff_t i : order) {
+    cgal::VertexHandle v = m_cdt.insert(points[i], hint);
+    if (v->info().slice_vertex < 0) v->info().slice_vertex = static_cast<int>(i);
+    m_vertex_of_slice_vertex[i] = v;
+    hint = v->face();
+  }
+  const std::size_t vertices_before = m_cdt.number_of_vertices();
+  for (const SliceEdge& e : slice.edges) {
+    const cgal::VertexHandle a = m_vertex_of_slice_vertex[e.from], b = m_vertex_of_slice_vertex[e.to];
+    if (a != b) m_cdt.insert_constraint(a, b);
+  }
+  m_crossings = m_cdt.number_of_vertices() - vertices_before;
+  if (m_cdt.dimension() < 2) return;
+  assign_corners();
+  flood_regions();
+}
+
+void SliceTriangulation::assign_corners() {
+  std::vector<cgal::FaceHandle> ring;
+  for (auto v = m_cdt.finite_vertices_begin(); v != m_cdt.finite_vertices_end(); ++v) {
+    ring.clear();
+    auto fc = m_cdt.incident_faces(v), done = fc;
+    do ring.push_back(fc); while (++fc != done);
+    const std::size_t k = ring.size();
+    // The edge between ring[j] and ring[j+1] (counter-clockwise next) is (ring[j], ccw(index of v)).
+    auto separates = [&](std::size_t j) {
+      const cgal::FaceHandle f = ring[j];
+      return is_separator(m_cdt, f, m_cdt.ccw(f->index(v)));
+    };
+    std::size_t start = 0;
+    for (std::size_t j = 0; j < k; ++j)
+      if (separates((j + k - 1) % k)) {
+        start = j;
+        break;
+      }
+    int corner = -1;
+    for (std::size_t s = 0; s < k; ++s) {
+      const std::size_t j = (start + s) % k;
+      const cgal::FaceHandle f = ring[j];
+      if (s == 0 || separates((j + k - 1) % k)) corner = -1;
+      if (m_cdt.is_infinite(f)) continue;
+      if (corner < 0) {
+        corner = static_cast<int>(m_corner_vertex.size());
+        m_corner_vertex.push_back(v);
+      }
+      f->info().corner[f->index(v)] = corner;
+    }
+  }
+  m_corner_region.assign(m_corner_vertex.size(), -1);
+}
+
+void SliceTriangulation::flood_regions() {
+  for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f) f->info().region = -1;
+  std::vector<cgal::FaceHandle> stack;
+  for (auto seed = m_cdt.finite_faces_begin(); seed != m_cdt.finite_faces_end(); ++seed) {
+    if (seed->info().region >= 0) continue;
+    const int id = static_cast<int>(m_regions.size());
+    m_regions.emplace_back();
+    SliceRegion& region = m_regions.back();
+    std::size_t interior_edges = 0;  // counted from both sides
+    seed->info().region = id;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const cgal::FaceHandle f = stack.back();
+      stack.pop_back();
+      region.faces.push_back(f);
+      for (int i = 0; i < 3; ++i) {
+        m_corner_region[f->info().corner[i]] = id;
+        const cgal::FaceHandle g = f->neighbor(i);
+        if (m_cdt.is_infinite(g)) {
+          if (!f->is_constrained(i))
+            region.windows.push_back({f, i, f->info().corner[m_cdt.ccw(i)], f->info().corner[m_cdt.cw(i)]});
+          continue;
+        }
+        if (f->is_constrained(i)) continue;
+        ++interior_edges;
+        if (g->info().region < 0) {
+          g->info().region = id;
+          stack.push_back(g);
+        }
+      }
+    }
+    // A connected set of F triangles is simply connected iff its dual graph is a tree: F - 1 edges.
+    region.has_holes = interior_edges / 2 != region.faces.size() - 1;
+  }
+}
+
+bool SliceTriangulation::check_invariants(std::string* why) const {
+  auto fail = [&](const std::string& message) {
+    if (why) *why = message;
+    return false;
+  };
+  if (m_cdt.dimension() < 2) return true;
+  if (!m_cdt.is_valid()) return fail("CGAL triangulation is not valid");
+  for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f) {
+    if (f->info().region < 0) return fail("a finite face has no region");
+    for (int i = 0; i < 3; ++i) {
+      if (f->info().corner[i] < 0) return fail("a finite face has no corner");
+      if (m_corner_vertex[f->info().corner[i]] != f->vertex(i)) return fail("corner of the wrong vertex");
+      const cgal::FaceHandle g = f->neighbor(i);
+      if (m_cdt.is_infinite(g) || f->is_constrained(i)) continue;
+      if (g->info().region != f->info().region) return fail("unconstrained edge between regions");
+      // Across an unconstrained edge, both endpoints keep their corners.
+      for (int k : {m_cdt.ccw(i), m_cdt.cw(i)})
+        if (g->info().corner[g->index(f->vertex(k))] != f->info().corner[k])
+          return fail("corner changes across an unconstrained edge");
+    }
+  }
+  for (const SliceRegion& r : m_regions)
+    for (const SliceWindow& w : r.windows)
+      if (w.face->is_constrained(w.index) || !m_cdt.is_infinite(w.face->neighbor(w.index)))
+        return fail("a window is not an unconstrained hull edge");
+  return true;
+}
+
+}  // namespace pleat

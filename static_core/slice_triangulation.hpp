@@ -1,0 +1,71 @@
+// The planar structure of one slice (Stewart 1999 §2.2; DESIGN.md §2.3): the convex hull of the slice
+// points and a constrained Delaunay triangulation of it with the chains as constraints (CGAL, exact
+// predicates), visibility regions by flood fill up to chain edges, windows, and corners.
+//
+// A *region* is a maximal set of finite triangles connected across edges that are neither chain edges
+// nor hull edges. A *window* is a hull edge of a region that is not a chain edge. A *corner* is one
+// occurrence of a vertex on a region's boundary: the run of the vertex's incident triangles between two
+// chain (or hull) edges. A vertex on a dangling chain has two corners in the same region; shortest-path
+// trees are trees over corners. A region *has holes* when its dual graph is not a tree (an island chain, an
+// isolated point, or a chain loop inside it).
+// Internal header (CGAL types): used by static_core and kinetic only.
+// Cost: O(n log n) expected for n slice vertices.
+#pragma once
+
+#include "static_core/cgal_types.hpp"
+#include "static_core/mesh_slicer.hpp"
+
+#include <vector>
+
+namespace pleat {
+
+struct SliceWindow {
+  cgal::FaceHandle face;  ///< the region's triangle on the window
+  int index = 0;          ///< the window is the edge of `face` opposite this index
+  int corner_a = -1;      ///< endpoint on the right, seen from inside (face->vertex(ccw(index)))
+  int corner_b = -1;      ///< endpoint on the left (face->vertex(cw(index)))
+};
+
+struct SliceRegion {
+  std::vector<cgal::FaceHandle> faces;
+  std::vector<SliceWindow> windows;
+  bool has_holes = false;
+};
+
+class SliceTriangulation {
+ public:
+  /// Builds everything for `slice` (replacing any previous content).
+  void build(const Slice& slice);
+
+  const cgal::Cdt& cdt() const { return m_cdt; }
+  int dimension() const { return m_cdt.dimension(); }
+  cgal::VertexHandle vertex_of(Index slice_vertex) const { return m_vertex_of_slice_vertex[slice_vertex]; }
+  const std::vector<SliceRegion>& regions() const { return m_regions; }
+  std::size_t num_corners() const { return m_corner_vertex.size(); }
+  cgal::VertexHandle corner_vertex(int corner) const { return m_corner_vertex[corner]; }
+  int corner_region(int corner) const { return m_corner_region[corner]; }
+  /// Points inserted where chains cross (self-intersecting input); 0 for a valid surface.
+  std::size_t crossings() const { return m_crossings; }
+
+  /// Checks the invariants (every finite face has a region and corners; windows are unconstrained hull
+  /// edges; corner ids are consistent across unconstrained edges). Returns false and explains in `why`.
+  bool check_invariants(std::string* why) const;
+
+ private:
+  void assign_corners();
+  void flood_regions();
+
+  cgal::Cdt m_cdt;
+  std::vector<cgal::VertexHandle> m_vertex_of_slice_vertex;
+  std::vector<SliceRegion> m_regions;
+  std::vector<cgal::VertexHandle> m_corner_vertex;
+  std::vector<int> m_corner_region;
+  std::size_t m_crossings = 0;
+};
+
+/// True when the edge (f, i) separates corners and regions: a chain edge, or an edge to outside the hull.
+inline bool is_separator(const cgal::Cdt& cdt, cgal::FaceHandle f, int i) {
+  return f->is_constrained(i) || cdt.is_infinite(f) || cdt.is_infinite(f->neighbor(i));
+}
+
+}  // namespace pleat

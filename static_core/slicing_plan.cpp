@@ -1,0 +1,203 @@
+#include "static_core/slicing_plan.hpp"
+
+#include "static_core/mesh_slicer.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace pleat {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// The paper's six orientations for 6; otherwise n directions spread over the half sphere (a Fibonacci
+/// spiral on the upper hemisphere: a plane normal and its negation are the same family).
+std::vector<glm::dvec3> diffuse_orientations(int n) {
+  if (n <= 0) throw std::invalid_argument("slicing plan: the number of orientations must be positive");
+  if (n == 6)
+    return {glm::normalize(glm::dvec3(1, 0, 0)), glm::normalize(glm::dvec3(0, 1, 0)),
+            glm::normalize(glm::dvec3(0, 0, 1)), glm::normalize(glm::dvec3(1, 1, 0)),
+            glm::normalize(glm::dvec3(1, 0, 1)), glm::normalize(glm::dvec3(0, 1, 1))};
+  std::vector<glm::dvec3> dirs;
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - (i + 0.5) / n;  // upper hemisphere
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    dirs.push_back(glm::normalize(glm::dvec3(r * std::cos(golden * i), r * std::sin(golden * i), z)));
+  }
+  return dirs;
+}
+
+std::pair<double, double> extent_along(const Frame& frame, const glm::dvec3& n) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const auto& p : frame.positions) {
+    const double d = glm::dot(n, p);
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  return {lo, hi};
+}
+
+/// Parallel planes one `spacing` apart, centred on the extent [lo, hi].
+void add_parallel_planes(SlicingPlan& plan, int orientation, double lo, double hi, double spacing,
+                         int count) {
+  const glm::dvec3 n = plan.orientations[orientation];
+  if (count <= 0) count = std::max(1, static_cast<int>(std::floor((hi - lo) / spacing)));
+  const double step = count > 1 ? (hi - lo) / count : 0.0;
+  for (int k = 0; k < count; ++k) {
+    const double offset = count > 1 ? lo + step * (k + 0.5) : 0.5 * (lo + hi);
+    plan.planes.push_back(make_plane(n, offset, orientation));
+  }
+}
+
+}  // namespace
+
+SlicingPlane make_plane(const glm::dvec3& normal, double offset, int orientation) {
+  SlicingPlane plane;
+  plane.normal = glm::normalize(normal);
+  plane.offset = offset;
+  plane.orientation = orientation;
+  // Deterministic in-plane frame: u is the world axis least aligned with the normal, made orthogonal.
+  const glm::dvec3 a = std::abs(plane.normal.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  plane.u = glm::normalize(a - glm::dot(a, plane.normal) * plane.normal);
+  plane.w = glm::cross(plane.normal, plane.u);  // (u, w, normal) right-handed
+  return plane;
+}
+
+double average_edge_length(const MeshTopology& topology, const Frame& frame) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (const auto& t : topology.triangles)
+    for (int i = 0; i < 3; ++i) {
+      sum += glm::distance(frame.positions[t[i]], frame.positions[t[(i + 1) % 3]]);
+      ++count;
+    }
+  return count ? sum / count : 0.0;
+}
+
+SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame, const DiffusePlanParams& params) {
+  SlicingPlan plan;
+  plan.orientations = diffuse_orientations(params.orientations);
+  double spacing = params.spacing > 0 ? params.spacing : average_edge_length(topology, frame);
+  if (!(spacing > 0)) spacing = 1.0;
+  for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
+    const auto [lo, hi] = extent_along(frame, plan.orientations[o]);
+    add_parallel_planes(plan, o, lo, hi, spacing, params.planes_per_orientation);
+  }
+  return plan;
+}
+
+SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame, const AdaptivePlanParams& params) {
+  SlicingPlan plan;
+  plan.orientations = diffuse_orientations(params.orientations);
+  const MeshEdges edges(topology);
+  const std::size_t n = topology.num_vertices;
+  const std::size_t allowed_missing = static_cast<std::size_t>(params.max_missing_fraction * n);
+  for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
+    const glm::dvec3 normal = plan.orientations[o];
+    std::vector<double> height(n);
+    for (std::size_t v = 0; v < n; ++v) height[v] = glm::dot(normal, frame.positions[v]);
+    std::vector<char> has_cone(n, 0);
+    // Only vertices with at least one incident face can ever receive a cone.
+    std::vector<char> used(n, 0);
+    for (const auto& t : topology.triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
+    std::vector<Index> missing;
+    for (Index v = 0; v < n; ++v)
+      if (used[v]) missing.push_back(v);
+    // Recursive median split, breadth first: each group is the set of still-uncovered vertices
+    // between two planes already placed.
+    std::vector<std::vector<Index>> groups{missing};
+    std::size_t total_missing = missing.size();
+    while (total_missing > allowed_missing && !groups.empty()) {
+      std::vector<std::vector<Index>> next;
+      for (auto& group : groups) {
+        if (group.empty()) continue;
+        auto mid = group.begin() + group.size() / 2;
+        std::nth_element(group.begin(), mid, group.end(),
+                         [&](Index a, Index b) { return height[a] < height[b]; });
+        const double offset = height[*mid];
+        const SlicingPlane plane = make_plane(normal, offset, o);
+        plan.planes.push_back(plane);
+        for (Index v : cone_recipients(topology, edges, frame, plane)) has_cone[v] = 1;
+        std::vector<Index> below, above;
+        for (Index v : group) {
+          if (has_cone[v]) continue;
+          (height[v] < offset ? below : above).push_back(v);
+        }
+        if (!below.empty()) next.push_back(std::move(below));
+        if (!above.empty()) next.push_back(std::move(above));
+      }
+      groups = std::move(next);
+      total_missing = 0;
+      for (const auto& g : groups) total_missing += g.size();
+    }
+  }
+  return plan;
+}
+
+/// A pencil of planes about the line {point + s * axis}, covering the cloth's angular extent about it with
+/// an angular step that gives `spacing` at the cloth's mean distance from the line.
+static void add_pencil(SlicingPlan& plan, const glm::dvec3& point, const glm::dvec3& axis,
+                       const MeshTopology& topology, const Frame& frame, double spacing) {
+  glm::dvec3 centroid(0.0);
+  for (const auto& p : frame.positions) centroid += p;
+  centroid /= std::max<std::size_t>(1, frame.positions.size());
+  glm::dvec3 e1 = centroid - point;
+  e1 -= glm::dot(e1, axis) * axis;
+  if (glm::length(e1) == 0) e1 = make_plane(axis, 0, 0).u;
+  e1 = glm::normalize(e1);
+  const glm::dvec3 e2 = glm::cross(axis, e1);
+  double lo = INFINITY, hi = -INFINITY, mean_distance = 0.0;
+  for (const auto& p : frame.positions) {
+    const glm::dvec3 d = p - point;
+    const double angle = std::atan2(glm::dot(d, e2), glm::dot(d, e1));
+    lo = std::min(lo, angle);
+    hi = std::max(hi, angle);
+    mean_distance += glm::length(d - glm::dot(d, axis) * axis);
+  }
+  mean_distance /= std::max<std::size_t>(1, frame.positions.size());
+  if (!(spacing > 0)) spacing = average_edge_length(topology, frame);
+  const double step = mean_distance > 0 && spacing > 0 ? spacing / mean_distance : 0.01;
+  const int count = std::max(1, static_cast<int>(std::ceil((hi - lo) / step)));
+  const int orientation = static_cast<int>(plan.orientations.size());
+  plan.orientations.push_back(axis);
+  for (int k = 0; k < count; ++k) {
+    const double angle = lo + (hi - lo) * (k + 0.5) / count;
+    const glm::dvec3 in_plane = std::cos(angle) * e1 + std::sin(angle) * e2;
+    const glm::dvec3 normal = glm::normalize(glm::cross(axis, in_plane));  // plane contains the line
+    plan.planes.push_back(make_plane(normal, glm::dot(normal, point), orientation));
+  }
+}
+
+SlicingPlan make_point_light_plan(const MeshTopology& topology, const Frame& frame, const glm::dvec3& light,
+                                  double spacing) {
+  // Any line through the light will do (paper §2.1): take one perpendicular to the light->cloth direction.
+  glm::dvec3 centroid(0.0);
+  for (const auto& p : frame.positions) centroid += p;
+  centroid /= std::max<std::size_t>(1, frame.positions.size());
+  glm::dvec3 to_cloth = centroid - light;
+  to_cloth = glm::length(to_cloth) > 0 ? glm::normalize(to_cloth) : glm::dvec3(0, 0, -1);
+  SlicingPlan plan;
+  add_pencil(plan, light, make_plane(to_cloth, 0, 0).u, topology, frame, spacing);
+  return plan;
+}
+
+SlicingPlan make_area_light_plan(const MeshTopology& topology, const Frame& frame,
+                                 const std::vector<glm::dvec3>& light_polygon, double spacing) {
+  if (light_polygon.size() < 3) throw std::invalid_argument("area light: a polygon needs 3 or more vertices");
+  // Planes rotate about lines joining opposite points of the light's hull (paper §2.1): vertex i and
+  // vertex i + n/2, one pencil (one orientation family) per line.
+  SlicingPlan plan;
+  const std::size_t n = light_polygon.size();
+  for (std::size_t i = 0; i < std::max<std::size_t>(1, n / 2); ++i) {
+    const glm::dvec3 a = light_polygon[i], b = light_polygon[(i + n / 2) % n];
+    add_pencil(plan, 0.5 * (a + b), glm::normalize(b - a), topology, frame, spacing);
+  }
+  return plan;
+}
+
+}  // namespace pleat

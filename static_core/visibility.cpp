@@ -1,0 +1,241 @@
+#include "static_core/visibility.hpp"
+
+#include "static_core/cone_assembly.hpp"
+#include "static_core/mesh_slicer.hpp"
+#include "static_core/slice_cones.hpp"
+#include "static_core/slice_triangulation.hpp"
+
+#include <glm/geometric.hpp>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <queue>
+
+namespace pleat {
+namespace {
+
+/// A 2D cone stored on a mesh vertex: which plane, which side, and its wedges (in the plane's result).
+struct StoredCone {
+  Index vertex = 0;
+  int side = 0;
+  Index slice_vertex = 0;
+  double distance = 0.0;
+};
+
+struct PlaneResult {
+  Slice slice;
+  SliceCones cones;
+  std::vector<StoredCone> stored;
+  std::size_t crossings = 0;
+};
+
+struct Workspace {
+  SlicerScratch slicer;
+  SliceTriangulation triangulation;
+  SliceConeScratch cones;
+  std::vector<std::int64_t> best;  // per mesh vertex and side: index into `stored`, -1 if none
+};
+
+/// For each plane, the faces that may cross it. Parallel families are bucketed by offset (faces whose
+/// height interval, widened by a rounding margin, contains the offset); other planes get every face.
+std::vector<std::vector<Index>> candidate_faces(const MeshTopology& topology, const Frame& frame,
+                                                const SlicingPlan& plan) {
+  std::vector<std::vector<Index>> result(plan.planes.size());
+  const std::size_t faces = topology.triangles.size();
+  for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
+    std::vector<std::pair<double, Index>> planes;  // (offset, plane index) of this family
+    glm::dvec3 normal(0.0);
+    bool parallel = true;
+    for (Index p = 0; p < plan.planes.size(); ++p) {
+      if (plan.planes[p].orientation != o) continue;
+      if (planes.empty()) normal = plan.planes[p].normal;
+      else if (plan.planes[p].normal != normal) parallel = false;
+      planes.emplace_back(plan.planes[p].offset, p);
+    }
+    if (planes.empty()) continue;
+    if (!parallel) {
+      for (const auto& [offset, p] : planes) {
+        result[p].resize(faces);
+        std::iota(result[p].begin(), result[p].end(), 0);
+      }
+      continue;
+    }
+    std::sort(planes.begin(), planes.end());
+    std::vector<double> height(frame.positions.size());
+    double scale = 0.0;
+    for (std::size_t v = 0; v < height.size(); ++v) {
+      height[v] = glm::dot(normal, frame.positions[v]);
+      scale = std::max(scale, std::abs(height[v]));
+    }
+    const double margin = 1e-9 * (1.0 + scale);  // far above the rounding of a dot product
+    for (Index f = 0; f < faces; ++f) {
+      const Triangle& t = topology.triangles[f];
+      const double lo = std::min({height[t[0]], height[t[1]], height[t[2]]}) - margin;
+      const double hi = std::max({height[t[0]], height[t[1]], height[t[2]]}) + margin;
+      auto it = std::lower_bound(planes.begin(), planes.end(), std::make_pair(lo, Index(0)));
+      for (; it != planes.end() && it->first <= hi; ++it) result[it->second].push_back(f);
+    }
+  }
+  return result;
+}
+
+void process_plane(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
+                   const SlicingPlane& plane, std::span<const Index> faces, Workspace& ws, PlaneResult& out) {
+  slice_mesh(topology, edges, frame, plane, faces, ws.slicer, out.slice);
+  ws.triangulation.build(out.slice);
+  out.crossings = ws.triangulation.crossings();
+  compute_slice_cones(out.slice, ws.triangulation, ws.cones, out.cones);
+  // One cone per mesh vertex and side: from the nearest slice vertex (ties: the lower index).
+  if (ws.best.size() != 2 * std::size_t(topology.num_vertices)) ws.best.assign(2 * std::size_t(topology.num_vertices), -1);
+  out.stored.clear();
+  for (Index x = 0; x < out.slice.vertices.size(); ++x) {
+    const SliceVertex& sv = out.slice.vertices[x];
+    for (int side = 0; side < 2; ++side) {
+      std::int64_t& best = ws.best[2 * std::size_t(sv.nearer) + side];
+      if (best >= 0 && out.stored[best].distance <= sv.distance) continue;
+      if (best < 0) {
+        best = static_cast<std::int64_t>(out.stored.size());
+        out.stored.push_back({});
+      }
+      out.stored[best] = {sv.nearer, side, x, sv.distance};
+    }
+  }
+  for (const StoredCone& s : out.stored) ws.best[2 * std::size_t(s.vertex) + s.side] = -1;
+}
+
+}  // namespace
+
+std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame& frame) {
+  std::vector<glm::dvec3> n(topology.num_vertices, glm::dvec3(0.0));
+  for (const Triangle& t : topology.triangles) {
+    const glm::dvec3& a = frame.positions[t[0]];
+    const glm::dvec3 c = glm::cross(frame.positions[t[1]] - a, frame.positions[t[2]] - a);
+    for (Index v : t) n[v] += c;
+  }
+  for (auto& v : n) {
+    const double len = glm::length(v);
+    v = len > 0 ? v / len : glm::dvec3(0, 0, 1);
+  }
+  return n;
+}
+
+FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
+                                   const VisibilityParams& params) {
+  FrameVisibility result;
+  const std::size_t n = topology.num_vertices;
+  result.normals = vertex_normals(topology, frame);
+  const MeshEdges edges(topology);
+  const auto faces = candidate_faces(topology, frame, plan);
+
+  // 1. Every plane on its own: slice, triangulate, shortest-path trees, 2D cones, storage.
+  std::vector<PlaneResult> planes(plan.planes.size());
+  tbb::enumerable_thread_specific<Workspace> workspaces;
+  auto run = [&](std::size_t p) {
+    process_plane(topology, edges, frame, plan.planes[p], faces[p], workspaces.local(), planes[p]);
+  };
+  if (params.parallel)
+    tbb::parallel_for(std::size_t(0), planes.size(), run);
+  else
+    for (std::size_t p = 0; p < planes.size(); ++p) run(p);
+
+  VisibilityStats& stats = result.stats;
+  stats.slices = planes.size();
+  for (const PlaneResult& r : planes) {
+    stats.slice_vertices += r.slice.vertices.size();
+    stats.regions += r.cones.regions;
+    stats.windows += r.cones.windows;
+    stats.regions_with_holes += r.cones.regions_with_holes;
+    stats.chain_crossings += r.crossings;
+    stats.crossing_slices += r.crossings > 0;
+  }
+
+  // 2. Per vertex and side, the stored cones, grouped by orientation.
+  struct Ref {
+    std::uint32_t plane;
+    std::uint32_t stored;
+  };
+  const std::size_t orientations = plan.orientations.size();
+  // refs[(side * orientations + o) * n + v]
+  std::vector<std::vector<Ref>> refs(2 * orientations * n);
+  for (std::uint32_t p = 0; p < planes.size(); ++p)
+    for (std::uint32_t s = 0; s < planes[p].stored.size(); ++s) {
+      const StoredCone& c = planes[p].stored[s];
+      refs[(c.side * orientations + plan.planes[p].orientation) * n + c.vertex].push_back({p, s});
+    }
+
+  // 3. Fill: a vertex with no cone in an orientation borrows those of its nearest vertex (along mesh
+  //    edges) that has one — multi-source Dijkstra per orientation and side.
+  MeshEdges const& graph = edges;
+  stats.filled_fraction.assign(orientations, 0.0);
+  std::vector<double> dist(n);
+  std::vector<Index> source(n);
+  for (int side = 0; side < 2; ++side)
+    for (std::size_t o = 0; o < orientations; ++o) {
+      auto* level = &refs[(side * orientations + o) * n];
+      using Item = std::pair<double, Index>;
+      std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+      std::size_t sources = 0;
+      for (Index v = 0; v < n; ++v) {
+        if (!level[v].empty()) {
+          dist[v] = 0;
+          source[v] = v;
+          queue.emplace(0.0, v);
+          ++sources;
+        } else {
+          dist[v] = INFINITY;
+        }
+      }
+      if (sources == 0) continue;
+      while (!queue.empty()) {
+        const auto [d, v] = queue.top();
+        queue.pop();
+        if (d > dist[v]) continue;
+        for (Index u : graph.neighbours[v]) {
+          const double du = d + glm::distance(frame.positions[u], frame.positions[v]);
+          if (du < dist[u] || (du == dist[u] && source[v] < source[u])) {
+            dist[u] = du;
+            source[u] = source[v];
+            queue.emplace(du, u);
+          }
+        }
+      }
+      std::size_t filled = 0;
+      for (Index v = 0; v < n; ++v)
+        if (level[v].empty() && std::isfinite(dist[v])) {
+          level[v] = level[source[v]];
+          ++filled;
+        }
+      if (side == 0) stats.filled_fraction[o] = n ? double(filled) / double(n) : 0.0;
+    }
+
+  // 4. 3D cones and their measures, per vertex and side.
+  for (int side = 0; side < 2; ++side) {
+    result.cones[side].assign(n, {});
+    result.measures[side].assign(n, {});
+  }
+  auto assemble = [&](std::size_t v) {
+    std::vector<PlanarCone> cones;
+    for (int side = 0; side < 2; ++side) {
+      cones.clear();
+      for (std::size_t o = 0; o < orientations; ++o)
+        for (const Ref& r : refs[(side * orientations + o) * n + v]) {
+          const PlaneResult& pr = planes[r.plane];
+          const StoredCone& s = pr.stored[r.stored];
+          cones.push_back({&plan.planes[r.plane], pr.cones.cone(s.slice_vertex, static_cast<Side>(side))});
+        }
+      const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];
+      result.cones[side][v] = assemble_cone(cones, side_normal);
+      result.measures[side][v] = measure_cone(result.cones[side][v], side_normal);
+    }
+  };
+  if (params.parallel)
+    tbb::parallel_for(std::size_t(0), n, assemble);
+  else
+    for (std::size_t v = 0; v < n; ++v) assemble(v);
+  return result;
+}
+
+}  // namespace pleat

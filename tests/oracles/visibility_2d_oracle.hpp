@@ -1,0 +1,21 @@
+// Brute-force 2D visibility: the oracle for static_core's funnel-tree cones.
+//
+// For a slice vertex X and a side, the cone is the set of directions, inside the side's angular range at X
+// (between the chain edges at X), along which the ray from X meets no slice edge except at X itself. The
+// range and the blocked spans are found by an exact angular sweep over every slice edge (orientation
+// predicates of CGAL; angles only to represent the result). No triangulation, no regions, no trees.
+// Cost: O(n log n) per vertex, O(n^2 log n) per slice.
+#pragma once
+
+#include "static_core/angular_set.hpp"
+#include "static_core/mesh_slicer.hpp"
+
+#include <array>
+#include <vector>
+
+namespace pleat::oracle {
+
+/// cones[x][side] for every slice vertex x.
+std::vector<std::array<AngularSet, 2>> brute_force_slice_cones(const Slice& slice);
+
+}  // namespace pleat::oracle
