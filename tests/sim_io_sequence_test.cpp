@@ -102,8 +102,8 @@ TEST(SimIoSequence, DegenerateFacesAreCountedExactly) {
   f.positions = {{0, 0, 0}, {1, 1, 1}, {0.1, 0.1, 0.1}, {0, 1, 0}, {3, 3, 3}};
   EXPECT_EQ(count_degenerate_faces(t, f), 2u);  // collinear, and a repeated corner
   Frame g;
-  g.positions = {{0, 0, 0}, {1, 1, 1}, {0.1, 0.1, 0.1 + 1e-17}, {0, 1, 0}, {3, 3, 3}};
-  EXPECT_EQ(count_degenerate_faces(t, g), 2u);  // 0.1 + 1e-17 == 0.1 in doubles
+  g.positions = {{0, 0, 0}, {1, 1, 1}, {0.1, 0.1, 0.1 + 1e-18}, {0, 1, 0}, {3, 3, 3}};
+  EXPECT_EQ(count_degenerate_faces(t, g), 2u);  // 0.1 + 1e-18 == 0.1 in doubles
   g.positions[2].z = std::nextafter(0.1, 1.0);
   EXPECT_EQ(count_degenerate_faces(t, g), 1u);  // one ulp off the line: not degenerate
 }
