@@ -4,6 +4,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include <cmath>
 #include <utility>
 
 namespace pleat {
@@ -16,6 +17,38 @@ double total_projection(const SphericalPolygonList& list, const glm::dvec3& axis
   for (std::size_t k = 0; k < list.size; ++k) sum += projected_solid_angle(list[k], axis);
   return sum;
 }
+/// Whether unit direction l lies in `piece`, knowing that -l does not (the pieces are clipped to the
+/// hemisphere of the axis and axis.l > 0). The winding number about l of the piece's orthographic
+/// projection onto the plane orthogonal to l is winding(l) - winding(-l) (a minor arc projects to less
+/// than half an ellipse centred on the origin, so its chord leaves the origin on the same side), computed
+/// by Sunday's crossing rule without trigonometry; if the origin is on the line of a crossing edge (l on
+/// that edge's great circle) the exact fan test decides.
+bool contains_given_antipode_outside(const SphericalPolygon& piece, const glm::dvec3& l) {
+  const std::size_t count = piece.size();
+  if (count < 3) return false;
+  const glm::dvec3 helper = std::abs(l.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 e1 = glm::normalize(glm::cross(helper, l));
+  const glm::dvec3 e2 = glm::cross(l, e1);
+  int winding = 0;
+  double ax = glm::dot(piece[count - 1], e1), ay = glm::dot(piece[count - 1], e2);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double bx = glm::dot(piece[i], e1), by = glm::dot(piece[i], e2);
+    const double cross = ax * by - ay * bx;
+    if (ay <= 0.0) {
+      if (by > 0.0) {
+        if (cross == 0.0) return contains_direction(piece, l);
+        if (cross > 0.0) ++winding;
+      }
+    } else if (by <= 0.0) {
+      if (cross == 0.0) return contains_direction(piece, l);
+      if (cross < 0.0) --winding;
+    }
+    ax = bx;
+    ay = by;
+  }
+  return winding > 0;
+}
+
 }  // namespace
 
 double ConeLighting::set_cone(const VisibilityCone& cone, const glm::dvec3& axis) {
@@ -51,7 +84,7 @@ glm::dvec3 ConeLighting::hemisphere_sky(const HemisphereSkyLight& light) {
 bool ConeLighting::sees(const glm::dvec3& l) const {
   // l is above the horizon of the axis, where the clipped pieces and the cone coincide.
   for (std::size_t k = 0; k < m_clipped.size; ++k)
-    if (contains_direction(m_clipped[k], l)) return true;
+    if (contains_given_antipode_outside(m_clipped[k], l)) return true;
   return false;
 }
 

@@ -12,8 +12,11 @@
 //                            circles of its edges in turn (Sutherland–Hodgman is exact for a convex clipper)
 //   environment map          E = scale * sum_k integral_{piece_k} L(w) (m.w) dw (environment_map.hpp)
 // and the sky visibility A = sum_k proj(piece_k, m) / pi (DESIGN.md §1).
-// Inside-cone test: the exact winding count of contains_direction (a Van Oosterom–Strackee fan from the
-// antipode of the direction), valid for any simple piece, star-shaped or not, even beyond a hemisphere.
+// Inside-cone test: a winding number, valid for any simple piece, star-shaped or not. Since the clipped
+// pieces lie in the hemisphere of m and m.l > 0, -l is in no piece, so the winding about l of the piece's
+// orthographic projection onto the plane orthogonal to l (Sunday's crossing rule, no trigonometry) is
+// exact; when l lies on the great circle of a crossing edge, contains_direction (a Van Oosterom–Strackee
+// fan from -l, exact for any polygon) decides.
 // Limitation: a cone says which directions escape to infinity; a point or area light closer than an
 // occluder in that direction is still treated as blocked (use light-specific slicing plans for that).
 // Cost: O(cone edges x (#lights + light edges)); environment maps add O(map columns spanned by the edges).

@@ -94,6 +94,35 @@ glm::dvec3 horizon_crossing(const glm::dvec3& a, const glm::dvec3& b, double da,
   return p / len;
 }
 
+/// Winding number about n of the orthographic projection of the polygon's vertices onto the plane
+/// orthogonal to n (Sunday's crossing rule, no trigonometry). When the origin lies on an edge's line where
+/// that edge crosses the reference ray, the count is ambiguous: then the answer is +1 or -1 by the sign of
+/// integral_P n.w, which is all the callers need (for a boundary on one side of the horizon it is >= 0 when
+/// P lies within the hemisphere of n or holds all of it, < 0 when P holds -n or lies strictly below).
+int projected_winding(const SphericalPolygon& poly, const glm::dvec3& n) {
+  glm::dvec3 e1, e2;
+  horizon_frame(n, e1, e2);
+  const std::size_t count = poly.size();
+  int winding = 0;
+  double ax = glm::dot(poly[count - 1], e1), ay = glm::dot(poly[count - 1], e2);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double bx = glm::dot(poly[i], e1), by = glm::dot(poly[i], e2);
+    const double cross = ax * by - ay * bx;
+    if (ay <= 0.0) {
+      if (by > 0.0) {
+        if (cross == 0.0) return glm::dot(n, vector_irradiance(poly)) >= 0.0 ? 1 : -1;
+        if (cross > 0.0) ++winding;
+      }
+    } else if (by <= 0.0) {
+      if (cross == 0.0) return glm::dot(n, vector_irradiance(poly)) >= 0.0 ? 1 : -1;
+      if (cross < 0.0) --winding;
+    }
+    ax = bx;
+    ay = by;
+  }
+  return winding;
+}
+
 }  // namespace
 
 SphericalPolygon hemisphere_polygon(const glm::dvec3& n) {
@@ -113,13 +142,14 @@ std::size_t HemisphereClipper::clip(const SphericalPolygon& poly, const glm::dve
   }
   if (inside == count || inside == 0) {
     // The boundary does not cross the horizon, so the open hemisphere beyond it (inside == count) or the
-    // closed hemisphere (inside == 0) is entirely in the polygon or entirely outside it. The sign of
-    // integral_P n.w tells which: for P within the hemisphere it is >= 0, for P holding the other open
-    // hemisphere it is proj(P cap H) - pi <= 0; for P strictly below it is < 0, for P holding H it is > 0.
-    const double signed_projection = glm::dot(n, vector_irradiance(poly));
+    // closed hemisphere (inside == 0) is entirely in the polygon or entirely outside it. Which one: the
+    // winding number about n of the boundary's orthographic projection onto the horizon plane (seen from
+    // n, a minor arc projects to less than half an ellipse centred on the origin, so its chord leaves the
+    // origin on the same side): +1 when P holds n, -1 when it holds -n, 0 otherwise.
+    const int winding = projected_winding(poly, n);
     if (inside == count) {
       SphericalPolygon& piece = out.push();
-      if (signed_projection >= 0.0) {
+      if (winding != -1) {
         piece.assign(poly.begin(), poly.end());
         return 1;
       }
@@ -144,7 +174,7 @@ std::size_t HemisphereClipper::clip(const SphericalPolygon& poly, const glm::dve
       for (std::size_t i = 0; i <= count; ++i) piece.push_back(poly[(k + i) % count]);
       return 1;
     }
-    if (signed_projection <= 0.0) return 0;
+    if (winding != 1) return 0;
     glm::dvec3 e1, e2;
     horizon_frame(n, e1, e2);
     SphericalPolygon& piece = out.push();

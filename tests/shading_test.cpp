@@ -225,6 +225,27 @@ TEST(ConeLighting, PointAndDirectionalInsideOutsideKnownCone) {
   EXPECT_NEAR(cl.directional({-arm, glm::dvec3(1.0)}).x, std::cos(0.5), 1e-12);
 }
 
+TEST(ConeLighting, InsideConeTestAgreesWithWindingFan) {
+  // The fast projected-winding test used for point and directional lights against the exact fan test.
+  std::mt19937 rng(42);
+  const Lighting none;
+  ConeLighting cl(none);
+  int inside = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const glm::dvec3 m = random_unit(rng);
+    const SphericalPolygon piece = star(glm::normalize(m + 0.8 * random_unit(rng)), 6 + trial % 7, 1.4, 0.6, trial);
+    cl.set_cone(cone_of({piece}), m);
+    for (int k = 0; k < 20; ++k) {
+      glm::dvec3 l = random_unit(rng);
+      if (glm::dot(l, m) <= 0.0) l = -l;
+      const bool expected = contains_direction(piece, l);
+      inside += expected;
+      EXPECT_EQ(cl.directional({-l, glm::dvec3(1.0)}).x > 0.0, expected) << trial << " " << k;
+    }
+  }
+  EXPECT_GT(inside, 200);  // both outcomes exercised
+}
+
 TEST(ConeLighting, AreaLightCoveringTheConeEqualsTheSky) {
   // The cone (half-angle ~40 degrees about +z) lies inside a large square light at height 1: the area
   // light of radiance L gives the same irradiance as a sky of radiance L.
