@@ -205,6 +205,33 @@ TEST(RayVisibility, VFoldMatchesTheClosedForm) {
   }
 }
 
+TEST(RayVisibility, VertexFanTellsTheSideAtACrease) {
+  // The bottom vertex of a V-fold of half-angle 30°: n = +y, the front is the inside of the V.
+  const double alpha = std::numbers::pi / 6.0;
+  const VFold fold = v_fold(alpha, {0.0, 1.0, 2.0}, {-1.0, 0.0, 1.0});
+  const Index bottom = fold.vertex(2, 1);
+  const auto normals = vertex_normals(fold.mesh.topology, fold.mesh.frame);
+  const EmbreeScene scene(fold.mesh.topology, fold.mesh.frame);
+  VertexFan fan;
+  fan.build(fold.mesh.topology, fold.mesh.frame, scene.incident_triangles(bottom), bottom, normals[bottom]);
+  auto direction = [](double psi_degrees, double z) {  // angle from +y in the xy plane, plus a z component
+    const double psi = psi_degrees * std::numbers::pi / 180.0;
+    return glm::normalize(glm::dvec3(std::sin(psi), std::cos(psi), z));
+  };
+  for (double z : {0.0, 0.7, -2.0}) {
+    EXPECT_EQ(fan.side_of(direction(0.0, z)), 1);
+    EXPECT_EQ(fan.side_of(direction(29.0, z)), 1);
+    EXPECT_EQ(fan.side_of(direction(-29.0, z)), 1);
+    EXPECT_EQ(fan.side_of(direction(31.0, z)), -1);   // past the right face: inside the cloth's back
+    EXPECT_EQ(fan.side_of(direction(-80.0, z)), -1);
+    EXPECT_EQ(fan.side_of(direction(180.0, z)), -1);  // straight down, outside the V
+    EXPECT_TRUE(fan.enters_cloth(direction(45.0, z), Side::Front));
+    EXPECT_FALSE(fan.enters_cloth(direction(45.0, z), Side::Back));
+    EXPECT_FALSE(fan.enters_cloth(direction(10.0, z), Side::Front));
+    EXPECT_TRUE(fan.enters_cloth(direction(10.0, z), Side::Back));
+  }
+}
+
 TEST(RayVisibility, SameSeedSameBitsSerialOrParallel) {
   const VFold fold = v_fold(0.5, {0.0, 0.5, 1.0, 3.0}, {-3.0, -1.0, -0.5, 0.0, 0.5, 1.0, 3.0});
   RayVisibilityParams params;
