@@ -27,8 +27,10 @@
 // Without step 3, the hemisphere about the vertex normal at a crease would see "through" the adjacent
 // faces, and a V-fold's bottom would get A = 1 instead of sin α.
 //
-// Cost: K rays per vertex and side; Embree streams of 64 rays, TBB-parallel over vertices (DESIGN.md §6:
-// ≈9–13 Mrays/s per core on a 3k-vertex folded sheet).
+// Cost: K rays per vertex and side; Embree streams of 64 rays (≈25% faster than rtcOccluded1 loops here),
+// TBB-parallel over vertices. Measured on this machine, one core (thread CPU time, shared machine): 3k-vertex
+// generated curtain/roll, 10–12 Mrays/s (K = 256: ≈0.14 s for both sides of the frame; 1–6% of the samples
+// are decided by the one-ring test without a ray); 100k-vertex curtain ≈5 Mrays/s.
 #pragma once
 
 #include "shading/embree_scene.hpp"
