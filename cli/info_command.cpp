@@ -30,7 +30,7 @@ struct InfoOptions {
 
 std::string number(double v) {
   char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  std::snprintf(buffer, sizeof buffer, "%.6g", v + 0.0);  // + 0.0: print -0 as 0
   return buffer;
 }
 

@@ -652,6 +652,7 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
   for (std::size_t f : m_frames)
     if (f >= sequence.num_frames()) throw std::invalid_argument("ShadedGlbWriter: frame index out of range");
   const MeshTopology& topology = sequence.topology();
+  if (topology.triangles.empty()) throw std::invalid_argument("ShadedGlbWriter: the mesh has no triangles");
   const std::uint64_t V = topology.num_vertices, T = topology.triangles.size(), F = m_frames.size();
   const std::uint64_t index_bytes = 12 * T;
   const std::uint64_t frame_bytes = 36 * V;
