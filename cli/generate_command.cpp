@@ -2,18 +2,18 @@
 // OBJ of frame 0 plus a PC2 point cache of every frame beside it (OUT with the extension .pc2), the pair
 // `pleat info/visibility/shade OUT.obj --cache OUT.pc2` reads back. Frames are generated one at a time;
 // the PC2 writer takes them all, so memory is about 24 bytes x vertices x frames.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io/pc2_format.hpp"
-
-#include <filesystem>
-#include <iostream>
-#include <memory>
-#include <stdexcept>
-#include <string>
 
 namespace pleat::cli {
 
@@ -27,16 +27,19 @@ struct GenerateOptions {
 
 std::string kind_list() {
   std::string list;
-  for (ClothKind kind : kAllClothKinds) list += (list.empty() ? "" : ", ") + std::string(cloth_kind_name(kind));
+  for (ClothKind kind : kAllClothKinds)
+    list += (list.empty() ? "" : ", ") + std::string(cloth_kind_name(kind));
   return list;
 }
 
 void run_generate(const GenerateOptions& options) {
   const std::optional<ClothKind> kind = parse_cloth_kind(options.kind);
-  if (!kind) throw std::runtime_error("unknown cloth kind '" + options.kind + "' (choose " + kind_list() + ")");
+  if (!kind)
+    throw std::runtime_error("unknown cloth kind '" + options.kind + "' (choose " + kind_list() + ")");
   const std::filesystem::path obj_path = options.output;
   if (obj_path.extension() != ".obj")
-    throw std::runtime_error("output '" + options.output + "' must end in .obj (the cache is written beside it, as .pc2)");
+    throw std::runtime_error("output '" + options.output +
+                             "' must end in .obj (the cache is written beside it, as .pc2)");
   std::filesystem::path pc2_path = obj_path;
   pc2_path.replace_extension(".pc2");
 
@@ -56,8 +59,8 @@ void run_generate(const GenerateOptions& options) {
   write_obj(obj_path, generator.topology(), frames.front());
 
   const MeshTopology& topology = generator.topology();
-  std::cout << "wrote " << obj_path.string() << " (" << cloth_kind_name(*kind) << ", " << topology.num_vertices
-            << " vertices, " << topology.triangles.size() << " triangles, frame 0)\n"
+  std::cout << "wrote " << obj_path.string() << " (" << cloth_kind_name(*kind) << ", "
+            << topology.num_vertices << " vertices, " << topology.triangles.size() << " triangles, frame 0)\n"
             << "wrote " << pc2_path.string() << " (" << frames.size() << " frames at " << options.params.fps
             << " fps, seed " << options.params.seed << ")\n";
 }
@@ -83,7 +86,9 @@ void register_generate_command(CLI::App& app) {
   cmd->add_option("--frames", options->params.frames, "number of frames (one motion cycle, loops)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--fps", options->params.fps, "frames per second")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--fps", options->params.fps, "frames per second")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--seed", options->params.seed, "0: nominal shape; other values jitter its proportions")
       ->capture_default_str();
   cmd->footer(

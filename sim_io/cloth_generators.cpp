@@ -7,11 +7,10 @@
 // resolve their folds; from resolution ~50 up the shape no longer depends on the resolution.
 #include "sim_io/cloth_generators.hpp"
 
-#include <glm/geometric.hpp>
-#include <glm/vec2.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -65,7 +64,8 @@ double fold_count_cap(int n, double nominal) { return std::min(nominal, std::max
 // width W, drop H (length); `count` pleats; depth (in pleat periods) from depth_lo to depth_hi; the rod
 // gathers the cloth (width x (1 - shrink g)); pleats lean by `tilt` radians of phase over the drop, are
 // 35% shallower at the hem, and the hem sways by `sway`.
-void curtain_frame(const ClothGenerator::Shape& c, int n, double t_cycle, double g, std::vector<glm::dvec3>& out) {
+void curtain_frame(const ClothGenerator::Shape& c, int n, double t_cycle, double g,
+                   std::vector<glm::dvec3>& out) {
   const double width = c.width * (1.0 - c.shrink * g);
   const double period = width / c.count;
   const double depth = period * (c.depth_lo + (c.depth_hi - c.depth_lo) * g);
@@ -74,8 +74,8 @@ void curtain_frame(const ClothGenerator::Shape& c, int n, double t_cycle, double
     const double v = double(j) / (n - 1);
     for (int i = 0; i < n; ++i) {
       const double s = double(i) / (n - 1);
-      const double z = depth * (1.0 - 0.35 * v) * std::sin(kTwoPi * c.count * s + c.phase + c.tilt * v) +
-                       sway * v * v;
+      const double z =
+          depth * (1.0 - 0.35 * v) * std::sin(kTwoPi * c.count * s + c.phase + c.tilt * v) + sway * v * v;
       out[static_cast<std::size_t>(j) * n + i] = {width * (s - 0.5), -c.length * v, z};
     }
   }
@@ -85,13 +85,14 @@ void curtain_frame(const ClothGenerator::Shape& c, int n, double t_cycle, double
 // length L (along x), height `width`; `count` waves along the flag; the wave's steepness (amplitude x
 // wavenumber) at the free end is depth_lo..depth_hi (the amplitude grows from 0 at the pole as s^0.8);
 // `tilt` radians of phase over the height make the crests diagonal; `shrink` shortens the flag as it
-// waves; the free end sags by `sway`; `squash` wave cycles per sequence.
-void flag_frame(const ClothGenerator::Shape& c, int n, double t_cycle, double g, std::vector<glm::dvec3>& out) {
+// waves; the free end sags by `sway`; `cycles` whole wave periods pass over the sequence.
+void flag_frame(const ClothGenerator::Shape& c, int n, double t_cycle, double g,
+                std::vector<glm::dvec3>& out) {
   const double length = c.length * (1.0 - c.shrink * g);
   const double k = kTwoPi * c.count / length;  // wavenumber along x
   const double steepness = c.depth_lo + (c.depth_hi - c.depth_lo) * g;
   const double tip_amplitude = steepness / k;
-  const double wave_phase = kTwoPi * c.squash * t_cycle;
+  const double wave_phase = kTwoPi * c.cycles * t_cycle;
   for (int i = 0; i < n; ++i) {
     const double s = double(i) / (n - 1);
     const double x = length * s;
@@ -110,7 +111,8 @@ void flag_frame(const ClothGenerator::Shape& c, int n, double t_cycle, double g,
 // the folds wind once around the tube over one fold period when tilt = 1 (a helix; 0: rings); the tube
 // shortens by `shrink` as the folds deepen; the cross-section is squashed into an ellipse by `squash`
 // that turns once over the sequence, starting at angle phase2.
-void sleeve_frame(const ClothGenerator::Shape& c, int n, double t_cycle, double g, std::vector<glm::dvec3>& out) {
+void sleeve_frame(const ClothGenerator::Shape& c, int n, double t_cycle, double g,
+                  std::vector<glm::dvec3>& out) {
   const double length = c.length * (1.0 - c.shrink * g);
   const double amplitude = c.depth_lo + (c.depth_hi - c.depth_lo) * g;
   for (int j = 0; j < n; ++j) {
@@ -130,8 +132,7 @@ void sleeve_frame(const ClothGenerator::Shape& c, int n, double t_cycle, double 
 // length L along the rolling direction, width along z; rolled length L * (depth_lo .. depth_hi); spiral
 // r = b phi from radius inner_radius, turns `gap` apart. The free (outer) end stays put on the floor y = 0.
 struct Spiral {
-  Spiral(double gap, double inner_radius)
-      : b(gap / kTwoPi), phi0(inner_radius / b), arc0(arc(phi0)) {}
+  Spiral(double gap, double inner_radius) : b(gap / kTwoPi), phi0(inner_radius / b), arc0(arc(phi0)) {}
   double b;     // r = b * phi
   double phi0;  // inner end
   double arc0;  // arc(phi0)
@@ -155,8 +156,8 @@ void roll_frame(const ClothGenerator::Shape& c, int n, double g, std::vector<glm
   const double phi1 = sp.phi_at(rolled);
   const glm::dvec2 joint = sp.b * phi1 * glm::dvec2(std::cos(phi1), std::sin(phi1));
   // Tangent d/dphi (b phi cos phi, b phi sin phi) = b (cos phi - phi sin phi, sin phi + phi cos phi).
-  const glm::dvec2 tangent = glm::normalize(glm::dvec2(std::cos(phi1) - phi1 * std::sin(phi1),
-                                                       std::sin(phi1) + phi1 * std::cos(phi1)));
+  const glm::dvec2 tangent = glm::normalize(
+      glm::dvec2(std::cos(phi1) - phi1 * std::sin(phi1), std::sin(phi1) + phi1 * std::cos(phi1)));
   // Rotate the tangent onto +x (the spiral's centre goes to +y, the left of a counter-clockwise turn) and
   // put the outer end at x = L / 2 on y = 0.
   const auto rotate = [&](glm::dvec2 p) {
@@ -197,10 +198,14 @@ std::optional<ClothKind> parse_cloth_kind(std::string_view name) {
 
 std::string_view cloth_kind_name(ClothKind kind) {
   switch (kind) {
-    case ClothKind::Curtain: return "curtain";
-    case ClothKind::Roll: return "roll";
-    case ClothKind::Flag: return "flag";
-    case ClothKind::Sleeve: return "sleeve";
+    case ClothKind::Curtain:
+      return "curtain";
+    case ClothKind::Roll:
+      return "roll";
+    case ClothKind::Flag:
+      return "flag";
+    case ClothKind::Sleeve:
+      return "sleeve";
   }
   return "unknown";
 }
@@ -209,11 +214,13 @@ Index cloth_vertex_count(int resolution) {
   return static_cast<Index>(resolution) * static_cast<Index>(resolution);
 }
 
-ClothGenerator::ClothGenerator(ClothKind kind, const GeneratorParams& params) : m_kind(kind), m_params(params) {
+ClothGenerator::ClothGenerator(ClothKind kind, const GeneratorParams& params)
+    : m_kind(kind), m_params(params) {
   if (params.resolution < 3 || params.resolution > kMaxResolution)
     throw std::invalid_argument("resolution must be in [3, " + std::to_string(kMaxResolution) + "], got " +
                                 std::to_string(params.resolution));
-  if (params.frames < 1) throw std::invalid_argument("frames must be at least 1, got " + std::to_string(params.frames));
+  if (params.frames < 1)
+    throw std::invalid_argument("frames must be at least 1, got " + std::to_string(params.frames));
   if (!std::isfinite(params.fps) || params.fps <= 0.0)
     throw std::invalid_argument("fps must be a positive number, got " + std::to_string(params.fps));
 
@@ -243,7 +250,7 @@ ClothGenerator::ClothGenerator(ClothKind kind, const GeneratorParams& params) : 
       c.tilt = jitter.scale(0.6, 0.5);
       c.shrink = jitter.scale(0.12, 0.2);
       c.sway = jitter.scale(0.1, 0.3);
-      c.squash = std::max(1.0, std::round(jitter.scale(2.0, 0.5)));  // whole wave cycles: the motion loops
+      c.cycles = std::max(1.0, std::round(jitter.scale(2.0, 0.5)));  // whole cycles: the motion loops
       break;
     case ClothKind::Sleeve:
       c.length = jitter.scale(2.0, 0.1);
@@ -266,7 +273,8 @@ ClothGenerator::ClothGenerator(ClothKind kind, const GeneratorParams& params) : 
       // with 5% to spare; coarse grids get a looser, fatter roll.
       const double ds = c.length / (n - 1);
       c.gap = std::max(jitter.scale(0.05, 0.15), 0.5 * ds);
-      c.inner_radius = std::max(jitter.scale(0.12, 0.15), 1.05 * std::max(ds * ds / (4.0 * c.gap), 2.0 * ds / kPi));
+      c.inner_radius =
+          std::max(jitter.scale(0.12, 0.15), 1.05 * std::max(ds * ds / (4.0 * c.gap), 2.0 * ds / kPi));
       break;
     }
   }
@@ -283,10 +291,18 @@ Frame ClothGenerator::frame(std::size_t i) const {
   const int n = m_params.resolution;
   frame.positions.resize(m_topology.num_vertices);
   switch (m_kind) {
-    case ClothKind::Curtain: curtain_frame(m_shape, n, t_cycle, g, frame.positions); break;
-    case ClothKind::Flag: flag_frame(m_shape, n, t_cycle, g, frame.positions); break;
-    case ClothKind::Sleeve: sleeve_frame(m_shape, n, t_cycle, g, frame.positions); break;
-    case ClothKind::Roll: roll_frame(m_shape, n, g, frame.positions); break;
+    case ClothKind::Curtain:
+      curtain_frame(m_shape, n, t_cycle, g, frame.positions);
+      break;
+    case ClothKind::Flag:
+      flag_frame(m_shape, n, t_cycle, g, frame.positions);
+      break;
+    case ClothKind::Sleeve:
+      sleeve_frame(m_shape, n, t_cycle, g, frame.positions);
+      break;
+    case ClothKind::Roll:
+      roll_frame(m_shape, n, g, frame.positions);
+      break;
   }
   return frame;
 }

@@ -37,8 +37,6 @@
 //    2*pi*b minus twice the radial growth over one chord, exceeds the sagitta ds^2/(8c)).
 #pragma once
 
-#include "sim_io/mesh.hpp"
-
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -46,11 +44,13 @@
 #include <string_view>
 #include <vector>
 
+#include "sim_io/mesh.hpp"
+
 namespace pleat {
 
 enum class ClothKind { Curtain, Roll, Flag, Sleeve };
-inline constexpr std::array<ClothKind, 4> kAllClothKinds = {ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag,
-                                                            ClothKind::Sleeve};
+inline constexpr std::array<ClothKind, 4> kAllClothKinds = {ClothKind::Curtain, ClothKind::Roll,
+                                                            ClothKind::Flag, ClothKind::Sleeve};
 
 /// "curtain", "roll" (or "spiral"), "flag", "sleeve" (or "tube"); case-sensitive; nullopt otherwise.
 std::optional<ClothKind> parse_cloth_kind(std::string_view name);
@@ -73,12 +73,13 @@ class ClothGenerator {
   /// The kind's proportions after jitter (lengths in metres; what each field means per kind is in
   /// cloth_generators.cpp). Exposed for tests and documentation; fixed at construction.
   struct Shape {
-    double length = 0, width = 0;            // sheet or tube extent
-    double count = 0;                        // pleats, waves or folds
-    double depth_lo = 0, depth_hi = 0;       // fold depth at the start and the middle of the cycle
-    double phase = 0, phase2 = 0, tilt = 0;  // radians
-    double sway = 0, squash = 0, shrink = 0; // secondary motions
-    double gap = 0, inner_radius = 0;        // roll: distance between turns, innermost radius
+    double length = 0, width = 0;             // sheet or tube extent
+    double count = 0;                         // pleats, waves or folds
+    double depth_lo = 0, depth_hi = 0;        // fold depth at the start and the middle of the cycle
+    double phase = 0, phase2 = 0, tilt = 0;   // radians
+    double sway = 0, squash = 0, shrink = 0;  // secondary motions
+    double cycles = 0;                        // flag: whole wave cycles per sequence
+    double gap = 0, inner_radius = 0;         // roll: distance between turns, innermost radius
   };
 
   /// Throws std::invalid_argument (naming the parameter) when params are out of range.
@@ -91,7 +92,6 @@ class ClothGenerator {
   /// Positions of frame i (time i / fps). Throws std::out_of_range for i >= num_frames().
   Frame frame(std::size_t i) const;
   const Shape& shape() const { return m_shape; }
-
 
  private:
   ClothKind m_kind;

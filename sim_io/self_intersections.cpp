@@ -48,7 +48,8 @@ void normalize(FacePairs& pairs) {
 }
 
 // The manifold path: Polygon_mesh_processing on a Surface_mesh whose face i is triangle i.
-FacePairs intersect_as_surface_mesh(const std::vector<Point>& points, const std::vector<Triangle>& triangles) {
+FacePairs intersect_as_surface_mesh(const std::vector<Point>& points,
+                                    const std::vector<Triangle>& triangles) {
   SurfaceMesh mesh;
   mesh.reserve(static_cast<SurfaceMesh::size_type>(points.size()),
                static_cast<SurfaceMesh::size_type>(3 * triangles.size()),
@@ -114,13 +115,15 @@ bool do_soup_faces_intersect(const Triangle& a, const Triangle& b, const std::ve
 
 // The general path: a triangle soup (non-manifold edges, inconsistent winding, repeated indices).
 FacePairs intersect_as_soup(const std::vector<Point>& points, const std::vector<Triangle>& triangles) {
-  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, Index, CGAL::Box_intersection_d::ID_EXPLICIT>;
+  using Box =
+      CGAL::Box_intersection_d::Box_with_info_d<double, 3, Index, CGAL::Box_intersection_d::ID_EXPLICIT>;
   std::vector<Box> boxes;
   boxes.reserve(triangles.size());
   for (std::size_t i = 0; i < triangles.size(); ++i) {
     const auto& t = triangles[i];
     if (has_repeated_index(t) || CGAL::collinear(points[t[0]], points[t[1]], points[t[2]])) continue;
-    boxes.emplace_back(points[t[0]].bbox() + points[t[1]].bbox() + points[t[2]].bbox(), static_cast<Index>(i));
+    boxes.emplace_back(points[t[0]].bbox() + points[t[1]].bbox() + points[t[2]].bbox(),
+                       static_cast<Index>(i));
   }
   FacePairs pairs;
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
@@ -132,7 +135,8 @@ FacePairs intersect_as_soup(const std::vector<Point>& points, const std::vector<
 
 }  // namespace
 
-std::vector<std::pair<Index, Index>> self_intersecting_faces(const MeshTopology& topology, const Frame& frame) {
+std::vector<std::pair<Index, Index>> self_intersecting_faces(const MeshTopology& topology,
+                                                             const Frame& frame) {
   // Input is validated where it enters (sim_io readers); a mismatch here is a caller's bug.
   for (const auto& t : topology.triangles)
     for (Index v : t)

@@ -1,21 +1,22 @@
-// The analytic cloth generators: no self-intersection (CGAL, exact) over frames, sizes and seeds; truly folded
-// (normals turn far and normal rays hit the cloth); consistent winding; determinism; smooth motion; and
-// `pleat generate` writing an OBJ + PC2 pair that reads back to the same frames.
+// The analytic cloth generators: no self-intersection (CGAL, exact) over frames, sizes and seeds; truly
+// folded (normals turn far and normal rays hit the cloth); consistent winding; determinism; smooth motion;
+// and `pleat generate` writing an OBJ + PC2 pair that reads back to the same frames.
 #include "sim_io/cloth_generators.hpp"
-#include "sim_io/obj_format.hpp"
-#include "sim_io/pc2_format.hpp"
-#include "sim_io/self_intersections.hpp"
-#include "test_support.hpp"
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
+#include <glm/geometric.hpp>
 #include <map>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+
+#include "sim_io/obj_format.hpp"
+#include "sim_io/pc2_format.hpp"
+#include "sim_io/self_intersections.hpp"
+#include "test_support.hpp"
 
 namespace pleat {
 namespace {
@@ -34,7 +35,8 @@ std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame
   return normals;
 }
 
-// Does the ray from vertex v in direction d hit a triangle not incident to v? (Moeller-Trumbore, brute force.)
+// Does the ray from vertex v in direction d hit a triangle not incident to v? (Moeller-Trumbore, brute
+// force.)
 bool ray_hits_cloth(const MeshTopology& topology, const Frame& frame, Index v, const glm::dvec3& d) {
   const glm::dvec3 origin = frame.positions[v];
   for (const auto& t : topology.triangles) {
@@ -72,7 +74,8 @@ TEST(ClothGenerators, SizesFollowTheResolution) {
       const ClothGenerator generator(kind, {n, 2, 24.0, 0});
       const MeshTopology& topology = generator.topology();
       EXPECT_EQ(topology.num_vertices, cloth_vertex_count(n));
-      const std::size_t cells = kind == ClothKind::Sleeve ? std::size_t(n) * (n - 1) : std::size_t(n - 1) * (n - 1);
+      const std::size_t cells =
+          kind == ClothKind::Sleeve ? std::size_t(n) * (n - 1) : std::size_t(n - 1) * (n - 1);
       EXPECT_EQ(topology.triangles.size(), 2 * cells) << name_of(kind);
       EXPECT_EQ(generator.frame(1).positions.size(), topology.num_vertices);
     }
@@ -126,13 +129,15 @@ TEST(ClothGenerators, AreTrulyFolded) {
         const auto normals = vertex_normals(generator.topology(), frame);
         double min_dot = 1.0;
         for (std::size_t a = 0; a < normals.size(); ++a)
-          for (std::size_t b = a + 1; b < normals.size(); ++b) min_dot = std::min(min_dot, glm::dot(normals[a], normals[b]));
+          for (std::size_t b = a + 1; b < normals.size(); ++b)
+            min_dot = std::min(min_dot, glm::dot(normals[a], normals[b]));
         std::size_t occluded = 0;
         for (Index v = 0; v < generator.topology().num_vertices; ++v)
           if (ray_hits_cloth(generator.topology(), frame, v, normals[v]) ||
               ray_hits_cloth(generator.topology(), frame, v, -normals[v]))
             ++occluded;
-        const std::string where = name_of(kind) + " seed " + std::to_string(seed) + " frame " + std::to_string(f);
+        const std::string where =
+            name_of(kind) + " seed " + std::to_string(seed) + " frame " + std::to_string(f);
         EXPECT_LT(min_dot, cos_limit) << where;
         EXPECT_GE(double(occluded), 0.05 * normals.size()) << where;
       }
@@ -153,7 +158,8 @@ TEST(ClothGenerators, AreConsistentlyWoundWithTheExpectedBoundary) {
       EXPECT_EQ(count, 1) << name_of(kind) << " edge " << edge.first << "-" << edge.second;
       if (!directed.count({edge.second, edge.first})) ++boundary;
     }
-    EXPECT_EQ(boundary, kind == ClothKind::Sleeve ? std::size_t(2 * n) : std::size_t(4 * (n - 1))) << name_of(kind);
+    EXPECT_EQ(boundary, kind == ClothKind::Sleeve ? std::size_t(2 * n) : std::size_t(4 * (n - 1)))
+        << name_of(kind);
     for (std::size_t f = 0; f < generator.num_frames(); ++f) {
       const Frame frame = generator.frame(f);
       for (const auto& t : generator.topology().triangles) {
@@ -170,7 +176,8 @@ TEST(ClothGenerators, AreDeterministicAndSeedsJitter) {
       const GeneratedCloth cloth = generate_cloth(kind, {11, 4, 24.0, seed});
       std::string out;
       for (const auto& frame : cloth.frames)
-        out.append(reinterpret_cast<const char*>(frame.positions.data()), frame.positions.size() * sizeof(glm::dvec3));
+        out.append(reinterpret_cast<const char*>(frame.positions.data()),
+                   frame.positions.size() * sizeof(glm::dvec3));
       return out;
     };
     EXPECT_EQ(bytes(7), bytes(7)) << name_of(kind);
@@ -194,8 +201,10 @@ TEST(ClothGenerators, MoveSmoothly) {
     double max_step = 0.0, max_total = 0.0;
     for (std::size_t f = 1; f < cloth.frames.size(); ++f)
       for (std::size_t v = 0; v < cloth.frames[f].positions.size(); ++v) {
-        max_step = std::max(max_step, glm::length(cloth.frames[f].positions[v] - cloth.frames[f - 1].positions[v]));
-        max_total = std::max(max_total, glm::length(cloth.frames[f].positions[v] - cloth.frames[0].positions[v]));
+        max_step =
+            std::max(max_step, glm::length(cloth.frames[f].positions[v] - cloth.frames[f - 1].positions[v]));
+        max_total =
+            std::max(max_total, glm::length(cloth.frames[f].positions[v] - cloth.frames[0].positions[v]));
       }
     EXPECT_LT(max_step, 0.1 * size) << name_of(kind);
     EXPECT_GT(max_total, 0.05 * size) << name_of(kind);
@@ -240,7 +249,8 @@ TEST(GenerateCommand, FilesReadBackToTheSameCloth) {
       ASSERT_EQ(frame.positions.size(), expected.frames[f].positions.size());
       for (std::size_t v = 0; v < frame.positions.size(); ++v)
         EXPECT_LT(glm::length(frame.positions[v] - expected.frames[f].positions[v]), 1e-6) << name_of(kind);
-      EXPECT_TRUE(self_intersecting_faces(expected.topology, frame).empty()) << name_of(kind) << " frame " << f;
+      EXPECT_TRUE(self_intersecting_faces(expected.topology, frame).empty())
+          << name_of(kind) << " frame " << f;
     }
   }
 }

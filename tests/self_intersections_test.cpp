@@ -67,7 +67,8 @@ TEST(SelfIntersections, SeparateTrianglesDoNotIntersect) {
 
 TEST(SelfIntersections, FlatAndFoldedGridsAreClean) {
   EXPECT_TRUE(grid(8, [](int, int) { return 0.0; }).intersections().empty());  // coplanar neighbours
-  EXPECT_TRUE(grid(8, [](int i, int j) { return std::sin(3.0 * i) * 2.0 + 0.1 * j; }).intersections().empty());
+  EXPECT_TRUE(
+      grid(8, [](int i, int j) { return std::sin(3.0 * i) * 2.0 + 0.1 * j; }).intersections().empty());
 }
 
 TEST(SelfIntersections, CoplanarNeighboursFoldedOntoEachOther) {
