@@ -253,7 +253,7 @@ MeshSequence load_sequence(const std::filesystem::path& input, const std::filesy
   }
   if (extension == ".gltf" || extension == ".glb") {
     if (!cache.empty()) throw InputError(cache.string(), "", "a cache goes with a single .obj, not with glTF");
-    return load_gltf(input);
+    return load_gltf(input, options.scene_fps);
   }
   if (extension != ".obj")
     throw InputError(name, "",
