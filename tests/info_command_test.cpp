@@ -17,7 +17,12 @@ namespace {
 using test::run_pleat;
 using test::TempDir;
 
-std::string quoted(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+std::string quoted(const std::filesystem::path& p) {
+  std::string q(1, '\'');
+  q += p.string();
+  q += '\'';
+  return q;
+}
 
 nlohmann::json info_json(const std::string& args) {
   const auto result = run_pleat("info " + args + " --json");
