@@ -1,9 +1,111 @@
-// Placeholder so the build links while the subcommand is being written; replaced in this session.
+// pleat visibility: per-vertex sky visibility A of both sides, every frame, as the visibility CSV.
+#include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/progress.hpp"
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/mesh_sequence.hpp"
+#include "sim_io/visibility_csv.hpp"
+#include "static_core/visibility.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <iostream>
+#include <memory>
 #include <stdexcept>
+
 namespace pleat::cli {
-void register_visibility_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("visibility", "(being written)");
-  cmd->callback([] { throw std::runtime_error("pleat visibility: not built yet"); });
+namespace {
+
+struct VisibilityOptions {
+  std::string input;
+  std::string cache;
+  std::string output;
+  std::string engine = "static";
+  std::string frames;
+  std::string stats;
+  PlanOptions plan;
+  bool serial = false;
+};
+
+nlohmann::json stats_json(std::size_t frame, double seconds, const VisibilityStats& s) {
+  return {{"frame", frame},
+          {"seconds", seconds},
+          {"slices", s.slices},
+          {"slice_vertices", s.slice_vertices},
+          {"regions", s.regions},
+          {"windows", s.windows},
+          {"regions_with_holes", s.regions_with_holes},
+          {"crossing_slices", s.crossing_slices},
+          {"chain_crossings", s.chain_crossings},
+          {"filled_fraction", s.filled_fraction}};
 }
+
+void run(const VisibilityOptions& options) {
+  if (options.engine != "static")
+    throw std::invalid_argument("--engine " + options.engine +
+                                ": only the static engine is available in this build (the kinetic engine is "
+                                "not built yet)");
+  const MeshSequence sequence = load_sequence(options.input, options.cache);
+  std::size_t first = 0, last = 0;
+  parse_frame_range(options.frames, sequence.num_frames(), first, last);
+  const MeshTopology& topology = sequence.topology();
+  const Frame first_frame = sequence.frame(first);
+  const SlicingPlan plan = options.plan.make(topology, first_frame);
+
+  VisibilityCsvWriter csv(options.output, sequence.welded_of_input());
+  nlohmann::json stats = {{"input", options.input},
+                          {"engine", options.engine},
+                          {"plan", options.plan.describe()},
+                          {"planes", plan.planes.size()},
+                          {"vertices", topology.num_vertices},
+                          {"faces", topology.triangles.size()},
+                          {"frames", nlohmann::json::array()}};
+  VisibilityParams params;
+  params.parallel = !options.serial;
+  Progress progress("visibility", last - first);
+  std::size_t crossing_frames = 0;
+  for (std::size_t f = first; f < last; ++f) {
+    const Frame frame = f == first ? first_frame : sequence.frame(f);
+    const auto start = std::chrono::steady_clock::now();
+    const FrameVisibility vis = compute_visibility(topology, frame, plan, params);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::vector<double> front(topology.num_vertices), back(topology.num_vertices);
+    for (Index v = 0; v < topology.num_vertices; ++v) {
+      front[v] = vis.measure(Side::Front, v).sky_visibility;
+      back[v] = vis.measure(Side::Back, v).sky_visibility;
+    }
+    csv.add_frame(f, front, back);
+    stats["frames"].push_back(stats_json(f, seconds, vis.stats));
+    crossing_frames += vis.stats.crossing_slices > 0;
+    progress.advance();
+  }
+  progress.finish();
+  if (!options.stats.empty()) write_file_atomically(options.stats, stats.dump(2) + "\n");
+  csv.commit();
+  std::cout << "wrote " << options.output << ": " << (last - first) << " frames x " << sequence.num_input_vertices()
+            << " vertices (" << plan.planes.size() << " planes: " << options.plan.describe() << ")\n";
+  if (crossing_frames > 0)
+    std::cout << "warning: chains cross in " << crossing_frames
+              << " frames (the surface self-intersects there); crossing points were inserted and counted in --stats\n";
+}
+
+}  // namespace
+
+void register_visibility_command(CLI::App& app) {
+  auto options = std::make_shared<VisibilityOptions>();
+  CLI::App* cmd = app.add_subcommand("visibility", "per-vertex sky visibility A (front, back) of every frame, as CSV");
+  cmd->add_option("INPUT", options->input, "mesh: .obj, OBJ sequence (pattern or directory), .gltf/.glb")->required();
+  cmd->add_option("--cache", options->cache, "point cache for an OBJ: .pc2 or .mdd");
+  cmd->add_option("-o,--output", options->output, "the visibility CSV (frame,vertex,front,back)")->required();
+  cmd->add_option("--engine", options->engine, "static (full recompute per frame) or kinetic")
+      ->check(CLI::IsMember({"static", "kinetic"}));
+  cmd->add_option("--frames", options->frames, "frames A:B (first A, up to but excluding B; either may be omitted) or N");
+  cmd->add_option("--stats", options->stats, "also write per-frame statistics as JSON");
+  cmd->add_flag("--serial", options->serial, "one thread (default: TBB over slices)");
+  options->plan.add_to(*cmd);
+  cmd->footer("Example:\n  pleat visibility data/drape/drape.obj --cache data/drape/drape.pc2 -o drape.csv --stats stats.json");
+  cmd->callback([options] { run(*options); });
+}
+
 }  // namespace pleat::cli

@@ -1,8 +1,5 @@
 #include "static_core/cone_assembly.hpp"
 
-#include "static_core/cgal_types.hpp"
-
-#include <CGAL/convex_hull_2.h>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -14,15 +11,19 @@ namespace {
 
 constexpr double kHalfPi = kTwoPi / 4;
 constexpr double kContainTolerance = 1e-9;
+/// Wedges of different slices are samples of one visible region when they come this close (radians):
+/// slices are a discrete sampling, so a slot seen in one plane rarely contains the exact line it shares
+/// with another plane's wedge.
+constexpr double kLinkTolerance = 0.05;
 
 struct SpatialWedge {
   const SlicingPlane* plane;
   double start, end;  // angles in the plane's frame, end > start
   glm::dvec3 direction(double angle) const { return std::cos(angle) * plane->u + std::sin(angle) * plane->w; }
-  bool contains(const glm::dvec3& d) const {
+  bool contains(const glm::dvec3& d, double tolerance = kContainTolerance) const {
     double a = std::atan2(glm::dot(d, plane->w), glm::dot(d, plane->u)) - start;
     a = a - kTwoPi * std::floor(a / kTwoPi);
-    return a <= end - start + kContainTolerance || kTwoPi - a <= kContainTolerance;
+    return a <= end - start + tolerance || kTwoPi - a <= tolerance;
   }
 };
 
@@ -33,12 +34,13 @@ bool share_more_than_apex(const SpatialWedge& a, const SpatialWedge& b) {
     for (const SpatialWedge* p : {&a, &b}) {
       const SpatialWedge* q = p == &a ? &b : &a;
       for (double t : {0.0, 0.5, 1.0})
-        if (q->contains(p->direction(p->start + t * (p->end - p->start)))) return true;
+        if (q->contains(p->direction(p->start + t * (p->end - p->start)), kLinkTolerance)) return true;
     }
     return false;
   }
   const glm::dvec3 l = glm::normalize(line);
-  return (a.contains(l) && b.contains(l)) || (a.contains(-l) && b.contains(-l));
+  return (a.contains(l, kLinkTolerance) && b.contains(l, kLinkTolerance)) ||
+         (a.contains(-l, kLinkTolerance) && b.contains(-l, kLinkTolerance));
 }
 
 int find_root(std::vector<int>& parent, int i) {
@@ -70,57 +72,46 @@ VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3
     for (int j = i + 1; j < k; ++j)
       if (find_root(parent, i) != find_root(parent, j) && share_more_than_apex(wedges[i], wedges[j]))
         parent[find_root(parent, i)] = find_root(parent, j);
-  // 3. One piece per group: project, hull, centroid, radial sort, lift.
-  const glm::dvec3 t1 = glm::normalize(std::abs(side_normal.x) < 0.9
-                                           ? glm::cross(side_normal, glm::dvec3(1, 0, 0))
-                                           : glm::cross(side_normal, glm::dvec3(0, 1, 0)));
-  const glm::dvec3 t2 = glm::cross(side_normal, t1);  // (t1, t2, side_normal) right-handed
+  // 3. One piece per group, sorted radially about the group's mean direction c (the integral of the
+  //    direction over its wedges): the directions are mapped by the azimuthal projection about c and
+  //    ordered by azimuth. The paper sorts about the centroid of the hull of the points projected onto the
+  //    tangent plane; that order breaks on the slot-shaped cones of deep folds (a thin lune from +y to -y
+  //    through the fold's opening), which are star-shaped about their own mean direction.
   VisibilityCone result;
-  std::vector<glm::dvec3> directions;
-  std::vector<cgal::Point2> projected, hull;
+  std::vector<std::pair<double, glm::dvec3>> order;
   for (int root = 0; root < k; ++root) {
     if (find_root(parent, root) != root) continue;
-    directions.clear();
+    glm::dvec3 centre(0.0);
     for (int i = 0; i < k; ++i)
       if (find_root(parent, i) == root) {
-        directions.push_back(wedges[i].direction(wedges[i].start));
-        directions.push_back(wedges[i].direction(wedges[i].end));
+        const SpatialWedge& w = wedges[i];
+        centre += 2 * std::sin(0.5 * (w.end - w.start)) * w.direction(0.5 * (w.start + w.end));
       }
-    projected.clear();
-    for (const auto& d : directions) projected.emplace_back(glm::dot(d, t1), glm::dot(d, t2));
-    hull.clear();
-    CGAL::convex_hull_2(projected.begin(), projected.end(), std::back_inserter(hull));
-    // Area centroid of the hull polygon (vertex mean when it is degenerate).
-    double area = 0, cx = 0, cy = 0;
-    for (std::size_t i = 0; i < hull.size(); ++i) {
-      const auto& p = hull[i];
-      const auto& q = hull[(i + 1) % hull.size()];
-      const double cross = p.x() * q.y() - q.x() * p.y();
-      area += cross;
-      cx += (p.x() + q.x()) * cross;
-      cy += (p.y() + q.y()) * cross;
-    }
-    if (std::abs(area) > 1e-14) {
-      cx /= 3 * area;
-      cy /= 3 * area;
-    } else {
-      cx = cy = 0;
-      for (const auto& p : projected) cx += p.x(), cy += p.y();
-      cx /= projected.size();
-      cy /= projected.size();
-    }
-    std::vector<std::pair<double, int>> order;
-    for (std::size_t i = 0; i < projected.size(); ++i)
-      order.emplace_back(std::atan2(projected[i].y() - cy, projected[i].x() - cx), static_cast<int>(i));
-    std::sort(order.begin(), order.end());
+    centre = glm::length(centre) > 1e-12 ? glm::normalize(centre) : side_normal;
+    const glm::dvec3 a1 = glm::normalize(std::abs(centre.x) < 0.9 ? glm::cross(centre, glm::dvec3(1, 0, 0))
+                                                                  : glm::cross(centre, glm::dvec3(0, 1, 0)));
+    const glm::dvec3 a2 = glm::cross(centre, a1);  // (a1, a2, centre) right-handed: counter-clockwise about c
+    order.clear();
+    for (int i = 0; i < k; ++i)
+      if (find_root(parent, i) == root)
+        for (double angle : {wedges[i].start, wedges[i].end}) {
+          const glm::dvec3 d = glm::normalize(wedges[i].direction(angle));
+          const double x = glm::dot(d, a1), y = glm::dot(d, a2);
+          if (x * x + y * y < 1e-24) continue;  // at the centre: no azimuth, and inside anyway
+          order.emplace_back(std::atan2(y, x), d);
+        }
+    std::sort(order.begin(), order.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
     SphericalPolygon piece;
-    for (const auto& [angle, i] : order) {
-      const glm::dvec3 d = glm::normalize(directions[i]);
+    for (const auto& [azimuth, d] : order) {
       if (!piece.empty() && glm::dot(piece.back(), d) > 1 - 1e-15) continue;
       piece.push_back(d);
     }
     while (piece.size() > 1 && glm::dot(piece.back(), piece.front()) > 1 - 1e-15) piece.pop_back();
-    if (piece.size() >= 3) result.pieces.push_back(std::move(piece));
+    if (piece.size() < 3) continue;
+    // Counter-clockwise about c; measure_cone and shading want counter-clockwise about the side normal,
+    // which is the same orientation whenever c is in the side's hemisphere (it is: every wedge was clipped
+    // to it).
+    result.pieces.push_back(std::move(piece));
   }
   return result;
 }

@@ -3,9 +3,10 @@
 // Each stored 2D cone is a set of wedges in a slicing plane, taken with its apex at the mesh vertex. The
 // wedges are first clipped to the side's half-space (directions d with d . side*n(v) >= 0). Two wedges are
 // linked when they share more than the apex (coplanar: their arcs overlap; otherwise the planes' common line
-// lies in both); each connected group becomes one piece: its wedges' bounding directions are projected onto
-// the tangent plane, sorted radially about the centroid of their convex hull (CGAL), and lifted back to unit
-// vectors in that order — a polygonal cone, not necessarily convex, counter-clockwise about side*n(v).
+// lies in both); each connected group becomes one piece: its wedges' bounding directions are sorted
+// radially about the group's mean direction (azimuthal projection about it) — a polygonal cone, not
+// necessarily convex, counter-clockwise. (The paper sorts about the centroid of the points projected onto
+// the tangent plane; that fails on the slot-shaped cones of deep folds — see cone_assembly.cpp.)
 // Cost: O(k^2) for k wedges at the vertex (k is a few dozen).
 #pragma once
 

@@ -1,0 +1,67 @@
+#include "cli/cli_options.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace pleat::cli {
+
+void parse_frame_range(const std::string& text, std::size_t count, std::size_t& first, std::size_t& last) {
+  first = 0;
+  last = count;
+  if (text.empty()) return;
+  auto parse = [&](const std::string& s, std::size_t fallback) -> std::size_t {
+    if (s.empty()) return fallback;
+    std::size_t used = 0;
+    long long v = 0;
+    try {
+      v = std::stoll(s, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != s.size()) throw std::invalid_argument("--frames: '" + text + "' is not A:B or N");
+    if (v < 0) v += static_cast<long long>(count);
+    if (v < 0) v = 0;
+    return std::min<std::size_t>(static_cast<std::size_t>(v), count);
+  };
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos) {
+    first = parse(text, 0);
+    last = std::min(count, first + 1);
+  } else {
+    first = parse(text.substr(0, colon), 0);
+    last = parse(text.substr(colon + 1), count);
+  }
+  if (first >= last)
+    throw std::invalid_argument("--frames: '" + text + "' selects no frame of " + std::to_string(count));
+}
+
+void PlanOptions::add_to(CLI::App& command) {
+  command.add_option("--orientations", orientations,
+                     "plane orientations (6: the paper's; other counts are spread over the sphere)")
+      ->check(CLI::Range(1, 1000));
+  command.add_option("--spacing", spacing, "distance between parallel planes (default: the average edge length)")
+      ->check(CLI::NonNegativeNumber);
+  command.add_option("--planes", planes_per_orientation, "planes per orientation (overrides --spacing)")
+      ->check(CLI::NonNegativeNumber);
+  command.add_flag("--adaptive", adaptive,
+                   "place planes by the paper's recursive median split (§2.3.3) instead of evenly");
+  command.add_option("--max-missing", max_missing,
+                     "with --adaptive: stop when at most this fraction of vertices lacks a cone")
+      ->check(CLI::Range(0.0, 1.0));
+}
+
+SlicingPlan PlanOptions::make(const MeshTopology& topology, const Frame& frame) const {
+  if (adaptive) return make_adaptive_plan(topology, frame, {orientations, max_missing});
+  return make_diffuse_plan(topology, frame, {orientations, spacing, planes_per_orientation});
+}
+
+std::string PlanOptions::describe() const {
+  if (adaptive)
+    return std::to_string(orientations) + " orientations, adaptive (max missing " + std::to_string(max_missing) + ")";
+  if (planes_per_orientation > 0)
+    return std::to_string(orientations) + " orientations x " + std::to_string(planes_per_orientation) + " planes";
+  return std::to_string(orientations) + " orientations, spacing " +
+         (spacing > 0 ? std::to_string(spacing) : std::string("= average edge length"));
+}
+
+}  // namespace pleat::cli

@@ -1,0 +1,32 @@
+// Options shared by the subcommands that compute cones: the frame range and the slicing plan.
+#pragma once
+
+#include "sim_io/mesh.hpp"
+#include "static_core/slicing_plan.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cstddef>
+#include <string>
+
+namespace pleat::cli {
+
+/// Parses "A:B" (half-open, Python style: either end may be left out, negatives count from the end) or
+/// "N" (that frame only) against `count` frames into [first, last). Throws std::invalid_argument.
+void parse_frame_range(const std::string& text, std::size_t count, std::size_t& first, std::size_t& last);
+
+/// How the slicing planes are placed (DESIGN.md §2.1); the plan is made once from the first frame used
+/// and kept for the whole sequence.
+struct PlanOptions {
+  int orientations = 6;
+  double spacing = 0.0;
+  int planes_per_orientation = 0;
+  bool adaptive = false;
+  double max_missing = 0.05;
+
+  void add_to(CLI::App& command);
+  SlicingPlan make(const MeshTopology& topology, const Frame& frame) const;
+  std::string describe() const;
+};
+
+}  // namespace pleat::cli
