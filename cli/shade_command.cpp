@@ -1,9 +1,281 @@
-// Placeholder so the build links while the subcommand is being written; replaced in this session.
+// `pleat shade`: visibility cones per frame, then shading under any number of lights (or several lighting
+// setups from the same cones), written as an animated flipbook .glb with sRGB vertex colours for both cloth
+// sides, and optionally rendered to PNG images.
+//
+// Per frame: compute_visibility with a diffuse slicing plan made once from frame 0 (the planes stay fixed
+// while the cloth moves), then shade_frame for each lighting setup (shading/shade.hpp), to_srgb, and the
+// setup's glb writer (sim_io/gltf_format.hpp) and renderer (shading/render.hpp). The cones are computed
+// once per frame whatever the number of setups: relighting costs only the shading pass.
 #include "cli/commands.hpp"
+#include "cli/progress.hpp"
+#include "shading/embree_scene.hpp"
+#include "shading/lights.hpp"
+#include "shading/render.hpp"
+#include "shading/shade.hpp"
+#include "sim_io/gltf_format.hpp"
+#include "sim_io/mesh_sequence.hpp"
+#include "static_core/slicing_plan.hpp"
+#include "static_core/visibility.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
+
 namespace pleat::cli {
-void register_shade_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("shade", "(being written)");
-  cmd->callback([] { throw std::runtime_error("pleat shade: not built yet"); });
+
+namespace {
+
+struct ShadeOptions {
+  std::string input;
+  std::string cache;
+  std::string output;
+  std::vector<std::string> light_specs;
+  std::string lights_file;
+  std::string relight_file;
+  double albedo = 0.6;
+  double exposure = 1.0;
+  bool no_interreflection = false;
+  std::string frames;  // "A:B"
+  std::string render_dir;
+  int width = 800;
+  int height = 600;
+  std::string camera;
+  std::string up = "0,1,0";
+  int render_every = 1;
+  int turntable = 0;
+  bool quiet = false;
+};
+
+/// Parses "A:B" (Python-style half-open; either end may be left out; negative counts from the end) or
+/// "N" (that frame only) into [first, last).
+void parse_frame_range(const std::string& text, std::size_t count, std::size_t& first, std::size_t& last) {
+  first = 0;
+  last = count;
+  if (text.empty()) return;
+  auto parse = [&](const std::string& s, std::size_t fallback) -> std::size_t {
+    if (s.empty()) return fallback;
+    std::size_t used = 0;
+    long long v = 0;
+    try {
+      v = std::stoll(s, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != s.size()) throw std::invalid_argument("--frames: '" + text + "' is not A:B or N");
+    if (v < 0) v += static_cast<long long>(count);
+    if (v < 0) v = 0;
+    return std::min<std::size_t>(static_cast<std::size_t>(v), count);
+  };
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos) {
+    first = parse(text, 0);
+    last = std::min(count, first + 1);
+  } else {
+    first = parse(text.substr(0, colon), 0);
+    last = parse(text.substr(colon + 1), count);
+  }
+  if (first >= last)
+    throw std::invalid_argument("--frames: '" + text + "' selects no frame of " + std::to_string(count));
 }
+
+glm::dvec3 parse_vec3(const std::string& text, const char* option) {
+  glm::dvec3 v;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &v.x, &v.y, &v.z, &tail) != 3)
+    throw std::invalid_argument(std::string(option) + ": expected x,y,z, got '" + text + "'");
+  return v;
+}
+
+/// OUT.glb -> OUT_NAME.glb
+std::filesystem::path setup_output(const std::filesystem::path& output, const std::string& name) {
+  std::filesystem::path p = output;
+  p.replace_filename(output.stem().string() + "_" + name + output.extension().string());
+  return p;
+}
+
+std::vector<Lighting> gather_lightings(const ShadeOptions& options) {
+  std::vector<Lighting> setups;
+  if (!options.relight_file.empty()) {
+    if (!options.light_specs.empty() || !options.lights_file.empty())
+      throw std::invalid_argument("--relight replaces --light/--lights: give the lights inside the setups file");
+    setups = load_lighting_setups(options.relight_file);
+  } else {
+    Lighting lighting;
+    if (!options.lights_file.empty()) lighting = load_lighting(options.lights_file);
+    for (const std::string& spec : options.light_specs) add_light_spec(lighting, spec);
+    if (lighting.empty()) add_light_spec(lighting, "sky:1");
+    setups.push_back(std::move(lighting));
+  }
+  return setups;
+}
+
+void run_shade(const ShadeOptions& options) {
+  const std::vector<Lighting> setups = gather_lightings(options);
+  const bool relight = !options.relight_file.empty();
+  const MeshSequence sequence = load_sequence(options.input, options.cache);
+  const MeshTopology& topology = sequence.topology();
+  std::size_t first = 0, last = 0;
+  parse_frame_range(options.frames, sequence.num_frames(), first, last);
+  std::vector<std::size_t> frame_ids;
+  for (std::size_t i = first; i < last; ++i) frame_ids.push_back(i);
+
+  ShadeParams shade_params;
+  shade_params.albedo = options.albedo;
+  shade_params.exposure = options.exposure;
+  shade_params.interreflection = !options.no_interreflection;
+  ToneMapParams tone;
+  tone.exposure = options.exposure;
+
+  // Outputs: one glb per setup (streamed frame by frame), and optionally images.
+  const std::filesystem::path output(options.output);
+  std::vector<std::filesystem::path> outputs;
+  std::vector<std::unique_ptr<ShadedGlbWriter>> writers;
+  const double fps = sequence.frame_rate() > 0.0 ? sequence.frame_rate() : kDefaultSceneFps;
+  if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
+  for (const Lighting& setup : setups) {
+    outputs.push_back(relight ? setup_output(output, setup.name) : output);
+    writers.push_back(std::make_unique<ShadedGlbWriter>(outputs.back(), sequence, frame_ids, fps));
+  }
+
+  const bool render = !options.render_dir.empty();
+  std::optional<Camera> camera;
+  std::unique_ptr<EmbreeScene> scene;
+  std::vector<std::filesystem::path> render_dirs;
+  if (render) {
+    for (const Lighting& setup : setups) {
+      render_dirs.push_back(relight ? std::filesystem::path(options.render_dir) / setup.name
+                                    : std::filesystem::path(options.render_dir));
+      std::filesystem::create_directories(render_dirs.back());
+    }
+    if (!options.camera.empty()) {
+      camera = parse_camera(options.camera);
+    } else {
+      SceneBounds bounds;  // the whole selection, so the camera stays put while the cloth moves
+      for (std::size_t i : frame_ids) bounds.extend(sequence.frame(i));
+      AutoFrameParams framing;
+      framing.up = parse_vec3(options.up, "--up");
+      framing.aspect = double(options.width) / options.height;
+      camera = auto_frame(bounds, framing);
+    }
+  }
+
+  const SlicingPlan plan = make_diffuse_plan(topology, sequence.frame(0), {});
+  double cone_seconds = 0.0, shade_seconds = 0.0;
+  Progress progress("shading frames", frame_ids.size());
+  for (std::size_t j = 0; j < frame_ids.size(); ++j) {
+    const Frame frame = sequence.frame(frame_ids[j]);
+    const auto t0 = std::chrono::steady_clock::now();
+    const FrameVisibility visibility = compute_visibility(topology, frame, plan);
+    const auto t1 = std::chrono::steady_clock::now();
+    const bool render_this = render && (j % static_cast<std::size_t>(options.render_every) == 0);
+    if (render_this) {
+      if (!scene)
+        scene = std::make_unique<EmbreeScene>(topology, frame);
+      else
+        scene->update(frame);
+    }
+    for (std::size_t s = 0; s < setups.size(); ++s) {
+      const auto s0 = std::chrono::steady_clock::now();
+      const ShadedFrame shaded = shade_frame(topology, frame, visibility, setups[s], shade_params);
+      shade_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+      const std::vector<glm::vec3> front = to_srgb(shaded.front(), tone);
+      const std::vector<glm::vec3> back = to_srgb(shaded.back(), tone);
+      writers[s]->add_frame(front, back);
+      if (render_this) {
+        char name[64];
+        std::snprintf(name, sizeof name, "frame_%04zu.png", frame_ids[j]);
+        if (options.turntable > 0 && frame_ids.size() == 1) {
+          render_turntable(render_dirs[s], "turntable", topology, frame, front, back, *camera, options.turntable,
+                           options.width, options.height);
+        } else {
+          write_png(render_dirs[s] / name,
+                    render_image(*scene, frame, front, back, *camera, options.width, options.height));
+        }
+      }
+    }
+    cone_seconds += std::chrono::duration<double>(t1 - t0).count();
+    progress.advance();
+  }
+  progress.finish();
+  for (auto& writer : writers) writer->finish();
+
+  if (!options.quiet) {
+    std::ostringstream out;
+    const double n = double(frame_ids.size());
+    out << "shaded " << frame_ids.size() << " frames of " << topology.num_vertices << " vertices: cones "
+        << 1e3 * cone_seconds / n << " ms/frame, shading " << 1e3 * shade_seconds / (n * setups.size())
+        << " ms/frame per setup\n";
+    for (std::size_t s = 0; s < setups.size(); ++s) {
+      out << "wrote " << outputs[s].string();
+      if (render) out << " and images in " << render_dirs[s].string();
+      out << (setups[s].name.empty() ? "" : " (setup " + setups[s].name + ")") << '\n';
+      std::istringstream lights(setups[s].describe());
+      for (std::string line; std::getline(lights, line);) out << "  " << line << '\n';
+    }
+    std::cout << out.str();
+  }
+}
+
+}  // namespace
+
+void register_shade_command(CLI::App& app) {
+  auto options = std::make_shared<ShadeOptions>();
+  auto* cmd = app.add_subcommand(
+      "shade",
+      "Shade an animated cloth from its visibility cones (both sides, Stewart-Langer inter-reflection) under "
+      "any lights, and write an animated .glb with sRGB vertex colours (and PNG renders).");
+  cmd->add_option("input", options->input, "mesh or sequence (.obj [+ --cache], numbered OBJs, .gltf/.glb)")
+      ->required();
+  cmd->add_option("--cache", options->cache, "PC2 or MDD point cache for an OBJ input");
+  cmd->add_option("-o,--output", options->output, "output .glb (with --relight: OUT_<setup>.glb per setup)")
+      ->required();
+  cmd->add_option("--light", options->light_specs,
+                  "a light (repeatable): sky:L | cloudy:L,up=X,Y,Z | dir:DX,DY,DZ,E=e (D: direction of travel) | "
+                  "point:X,Y,Z,I=i | area:X,Y,Z;X,Y,Z;X,Y,Z[;...],L=l[,sided=1] (planar convex) | "
+                  "env:FILE.hdr|.png[,scale=s,up=X,Y,Z,rotate=DEG,maxres=W]; any but env take rgb=R,G,B. "
+                  "Default: sky:1");
+  cmd->add_option("--lights", options->lights_file,
+                  "JSON lighting file: {\"lights\": [\"sky:0.5\", {\"type\": \"point\", \"position\": [0,2,1], "
+                  "\"intensity\": 10}, ...]} (combined with --light)");
+  cmd->add_option("--relight", options->relight_file,
+                  "JSON file of several setups, {\"setups\": [{\"name\": \"noon\", \"lights\": [...]}, ...]}: one cone "
+                  "computation per frame, one output per setup");
+  cmd->add_option("--albedo", options->albedo, "cloth albedo rho in [0, 1)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.999));
+  cmd->add_option("--exposure", options->exposure, "multiplies the radiance before tone mapping (Reinhard, white 4)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--no-interreflection", options->no_interreflection, "direct light only: B = rho E / pi");
+  cmd->add_option("--frames", options->frames, "frames A:B (first A, up to but excluding B; either may be omitted) or N");
+  cmd->add_option("--render", options->render_dir, "also write PNG images of the shaded frames into DIR");
+  cmd->add_option("--width", options->width, "image width")->capture_default_str()->check(CLI::Range(16, 16384));
+  cmd->add_option("--height", options->height, "image height")->capture_default_str()->check(CLI::Range(16, 16384));
+  cmd->add_option("--camera", options->camera, "ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov] (default: auto-framed 3/4 view)");
+  cmd->add_option("--up", options->up, "world up for the auto-framed camera (Blender data: 0,0,1)")->capture_default_str();
+  cmd->add_option("--render-every", options->render_every, "render every N-th shaded frame")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--turntable", options->turntable, "with a single frame: N images turning about the up axis")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
+  cmd->footer(
+      "Examples:\n"
+      "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --light cloudy:1,up=0,0,1 --render renders/\n"
+      "  pleat shade curtain.obj --cache curtain.pc2 -o lit.glb --light sky:0.3 --light point:0,-2,1.5,I=8 \\\n"
+      "      --light 'area:-1,-3,2;1,-3,2;1,-3,3;-1,-3,3,L=4' --albedo 0.5 --frames 0:30\n"
+      "  pleat shade flag.glb -o flag.glb --light env:studio.hdr,up=0,0,1,scale=1.5\n"
+      "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --relight setups.json   # curtain_<name>.glb\n"
+      "Radiance: B = rho (E/pi) / (1 - rho (1 - A)) per vertex and side, E the direct irradiance through the "
+      "cone, A its sky visibility; colours are Reinhard-tone-mapped sRGB.");
+  cmd->callback([options] { run_shade(*options); });
+}
+
 }  // namespace pleat::cli

@@ -158,7 +158,8 @@ glm::dvec3 EnvironmentMap::radiance(const glm::dvec3& w) const {
   return glm::dvec3(m_texels[static_cast<std::size_t>(r) * m_width + c]);
 }
 
-glm::dvec3 EnvironmentMap::edge_integral(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& nl) const {
+glm::dvec3 EnvironmentMap::edge_integral(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& nl,
+                                         bool from_bottom) const {
   const glm::dvec3 g = glm::cross(a, b);
   if (g.z == 0.0) return glm::dvec3(0.0);  // on a meridian: psi does not change (a pole crossing adds 0)
   // Travel direction about U from the orientation of the arc, not from a principal value: robust for arcs
@@ -186,7 +187,12 @@ glm::dvec3 EnvironmentMap::edge_integral(const glm::dvec3& a, const glm::dvec3& 
     const glm::dvec3 s2 = glm::dvec3(m_prefix_s2[c * stride + r]) + L * (integral_sin2(theta) - integral_sin2(t0));
     const glm::dvec3 sc =
         glm::dvec3(m_prefix_sc[c * stride + r]) + L * (integral_sincos(theta) - integral_sincos(t0));
-    return (nl.x * std::cos(psi) + nl.y * std::sin(psi)) * s2 + nl.z * sc;
+    if (!from_bottom) return (nl.x * std::cos(psi) + nl.y * std::sin(psi)) * s2 + nl.z * sc;
+    // Swept from the bottom pole: G_bottom = -(column total - G_top), the sign making the contour integral
+    // of a counter-clockwise polygon positive again.
+    const glm::dvec3 s2_total(m_prefix_s2[c * stride + m_height]);
+    const glm::dvec3 sc_total(m_prefix_sc[c * stride + m_height]);
+    return (nl.x * std::cos(psi) + nl.y * std::sin(psi)) * (s2 - s2_total) + nl.z * (sc - sc_total);
   };
 
   // Walk in u = (rotation - psi) / 2 pi (unwrapped), cutting at column boundaries k / width.
@@ -225,19 +231,30 @@ glm::dvec3 EnvironmentMap::edge_integral(const glm::dvec3& a, const glm::dvec3& 
 
 glm::dvec3 EnvironmentMap::integrate_cosine(const SphericalPolygon& poly, const glm::dvec3& n) const {
   if (empty() || poly.size() < 3) return glm::dvec3(0.0);
+  // Sweep from the pole outside the hemisphere of n (the polygon lies within it): then that pole is neither
+  // inside the polygon nor on its boundary, and no whole-sphere correction is needed. When both poles are
+  // within 1e-9 of the horizon of n (e.g. a vertical surface under a map whose up is vertical), the
+  // polygon is first pulled 1e-7 rad towards n, off the poles, which changes the result by O(1e-7).
+  constexpr double kPoleMargin = 1e-9;
+  constexpr double kNudge = 1e-7;
+  const double nu = glm::dot(n, m_u);
+  const SphericalPolygon* source = &poly;
+  thread_local SphericalPolygon nudged;
+  if (std::abs(nu) < kPoleMargin) {
+    nudged.resize(poly.size());
+    for (std::size_t i = 0; i < poly.size(); ++i) nudged[i] = glm::normalize(poly[i] + kNudge * n);
+    source = &nudged;
+  }
+  const bool from_bottom = nu < -kPoleMargin;
   const glm::dvec3 nl = to_local(n);
   glm::dvec3 sum(0.0);
-  const std::size_t count = poly.size();
-  glm::dvec3 a = to_local(poly[0]);
+  const std::size_t count = source->size();
+  glm::dvec3 a = to_local((*source)[0]);
   for (std::size_t i = 0; i < count; ++i) {
-    const glm::dvec3 b = to_local(poly[(i + 1) % count]);
-    sum += edge_integral(a, b, nl);
+    const glm::dvec3 b = to_local((*source)[(i + 1) % count]);
+    sum += edge_integral(a, b, nl, from_bottom);
     a = b;
   }
-  // The contour integral counts the region swept from the top pole; a polygon holding the bottom pole
-  // (-U) is missing the whole sphere's integral once (see header).
-  if (contains_direction(poly, -m_u))
-    sum += n.x * m_sphere_moment[0] + n.y * m_sphere_moment[1] + n.z * m_sphere_moment[2];
   return sum;
 }
 

@@ -9,9 +9,11 @@
 // about U. .hdr files load as linear floats (stbi_loadf), 8-bit images (.png, .jpg) as sRGB -> linear.
 //
 // Integration method (exact for the piecewise-constant map up to edge-quadrature round-off). By Green's
-// theorem in (psi, theta), for P counter-clockwise:
-//   integral_P g dw = sum_edges integral G(psi, theta_edge(psi)) dpsi + [P contains -U] integral_S2 g dw,
-//   G(psi, theta) = integral_0^theta g(psi, t) sin t dt.
+// theorem in (psi, theta), for P counter-clockwise and not holding the bottom pole -U:
+//   integral_P g dw = sum_edges integral G(psi, theta_edge(psi)) dpsi,
+//   G(psi, theta) = integral_0^theta g(psi, t) sin t dt   (the region swept from the top pole U);
+// a polygon in the hemisphere of n with n.U < 0 is swept from -U instead (G replaced by minus the integral
+// from theta to pi), so the pole used is never inside the polygon nor on its boundary.
 // With g = L (n.w), n.w = sin t (n'_x cos psi + n'_y sin psi) + n'_z cos t, and L constant per texel, G is
 //   (n'_x cos psi + n'_y sin psi) S2_c(theta) + n'_z SC_c(theta),
 // where S2_c, SC_c are per-column prefix sums over rows of L * integral sin^2 and L * integral sin cos (exact
@@ -56,8 +58,9 @@ class EnvironmentMap {
   /// The texel (column, row) that direction w falls in.
   void texel_of(const glm::dvec3& w, int& column, int& row) const;
 
-  /// integral over `poly` of L(w) (n.w) dw (signed cosine; clip to the hemisphere of n first for irradiance).
-  /// poly: simple or weakly simple, counter-clockwise, minor-arc edges. Thread-safe (const).
+  /// integral over `poly` of L(w) (n.w) dw: the irradiance from the map through poly.
+  /// Precondition: poly lies in the closed hemisphere of n (clip_to_hemisphere / HemisphereClipper), is
+  /// simple or weakly simple, counter-clockwise, with minor-arc edges. Thread-safe (const).
   glm::dvec3 integrate_cosine(const SphericalPolygon& poly, const glm::dvec3& n) const;
 
   /// integral over the whole sphere of L(w) w dw (per channel: x, y, z components as three RGB vectors).
@@ -68,7 +71,8 @@ class EnvironmentMap {
   glm::dvec3 to_local(const glm::dvec3& w) const;
   int column_of_psi(double psi) const;
   /// Contribution of the edge a -> b (local coordinates) to the contour integral, for local normal nl.
-  glm::dvec3 edge_integral(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& nl) const;
+  /// from_bottom: G swept from the bottom pole -U instead of the top pole U.
+  glm::dvec3 edge_integral(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& nl, bool from_bottom) const;
 
   int m_width = 0;
   int m_height = 0;

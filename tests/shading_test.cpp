@@ -341,11 +341,15 @@ TEST(EnvironmentMap, TexturedMapAgainstBruteForceBelowOnePercent) {
   tilted.up = glm::normalize(glm::dvec3(0.3, 1.0, 0.2));
   tilted.rotation_degrees = 40.0;
   const EnvironmentMap maps[2] = {procedural_map(256, 128), procedural_map(200, 100, tilted)};
-  for (int trial = 0; trial < 8; ++trial) {
+  for (int trial = 0; trial < 10; ++trial) {
     const EnvironmentMap& map = maps[trial % 2];
+    // Trial 0: the hemisphere around the bottom pole; trials 8, 9: vertical normals (n.U = 0, the poles on
+    // the horizon and on the polygon's boundary), as for a hanging cloth under an upright map.
     glm::dvec3 m = trial == 0 ? glm::dvec3(0, 0, -1) : random_unit(rng);
+    if (trial == 8) m = glm::dvec3(1, 0, 0);
+    if (trial == 9) m = glm::normalize(glm::cross(tilted.up, glm::dvec3(0.3, -0.5, 0.8)));
     std::vector<SphericalPolygon> pieces;
-    if (trial == 0) {
+    if (trial == 0 || trial >= 8) {
       pieces = {hemisphere_polygon(m)};
     } else {
       const glm::dvec3 c = glm::normalize(m + 0.5 * random_unit(rng));
