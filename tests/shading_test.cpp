@@ -7,12 +7,15 @@
 #include "shading/shade.hpp"
 #include "sim_io/input_error.hpp"
 #include "static_core/spherical_polygon.hpp"
+#include "test_support.hpp"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <random>
 #include <vector>
 
@@ -468,6 +471,36 @@ TEST(Lights, JsonFilesAndSetups) {
   EXPECT_THROW(parse_lighting_setups_json(
                    R"({"setups": [{"name": "a", "lights": []}, {"name": "a", "lights": []}]})", "s.json"),
                InputError);
+}
+
+// ---- pleat shade ------------------------------------------------------------------------------------
+
+TEST(ShadeCommand, RelightWritesOneOutputPerSetupAndRejectsBadLights) {
+  test::TempDir dir;
+  const std::string d = dir.path().string();
+  ASSERT_EQ(test::run_pleat("generate curtain -o " + d + "/c.obj --resolution 12 --frames 3").exit_code, 0);
+  {
+    std::ofstream setups(dir / "setups.json");
+    setups << R"({"setups": [{"name": "overcast", "lights": ["cloudy:1,up=0,1,0"]},
+                             {"name": "lamp", "lights": ["sky:0.1", "point:0,-1,2,I=4"]}]})";
+  }
+  const auto relit = test::run_pleat("shade " + d + "/c.obj --cache " + d + "/c.pc2 -o " + d +
+                                     "/out/c.glb --relight " + d + "/setups.json --frames 1:3");
+  ASSERT_EQ(relit.exit_code, 0) << relit.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out/c_overcast.glb"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "out/c_lamp.glb"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "out/c.glb"));
+
+  const auto single = test::run_pleat("shade " + d + "/c.obj --cache " + d + "/c.pc2 -o " + d +
+                                      "/one.glb --light sky:0.5 --light 'dir:0,-1,0,E=2' --frames 2");
+  ASSERT_EQ(single.exit_code, 0) << single.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "one.glb"));
+
+  const auto bad = test::run_pleat("shade " + d + "/c.obj --cache " + d + "/c.pc2 -o " + d +
+                                   "/bad.glb --light lamp:3");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("lamp:3"), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.glb"));
 }
 
 }  // namespace
