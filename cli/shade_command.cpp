@@ -240,7 +240,8 @@ void register_shade_command(CLI::App& app) {
                   "a light (repeatable): sky:L | cloudy:L,up=X,Y,Z | dir:DX,DY,DZ,E=e (D: direction of travel) | "
                   "point:X,Y,Z,I=i | area:X,Y,Z;X,Y,Z;X,Y,Z[;...],L=l[,sided=1] (planar convex) | "
                   "env:FILE.hdr|.png[,scale=s,up=X,Y,Z,rotate=DEG,maxres=W]; any but env take rgb=R,G,B. "
-                  "Default: sky:1");
+                  "Default: sky:1")
+      ->allow_extra_args(false);  // one spec per --light: `--light sky:1 cloth.obj` keeps cloth.obj positional
   cmd->add_option("--lights", options->lights_file,
                   "JSON lighting file: {\"lights\": [\"sky:0.5\", {\"type\": \"point\", \"position\": [0,2,1], "
                   "\"intensity\": 10}, ...]} (combined with --light)");
@@ -268,10 +269,10 @@ void register_shade_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
   cmd->footer(
       "Examples:\n"
-      "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --light cloudy:1,up=0,0,1 --render renders/\n"
-      "  pleat shade curtain.obj --cache curtain.pc2 -o lit.glb --light sky:0.3 --light point:0,-2,1.5,I=8 \\\n"
-      "      --light 'area:-1,-3,2;1,-3,2;1,-3,3;-1,-3,3,L=4' --albedo 0.5 --frames 0:30\n"
-      "  pleat shade flag.glb -o flag.glb --light env:studio.hdr,up=0,0,1,scale=1.5\n"
+      "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --light cloudy:1,up=0,1,0 --render renders/\n"
+      "  pleat shade curtain.obj --cache curtain.pc2 -o lit.glb --light sky:0.15 --light point:0.6,-0.8,1.2,I=3 \\\n"
+      "      --light 'area:-0.5,-1.5,2;0.5,-1.5,2;0.5,-0.5,2;-0.5,-0.5,2,L=4' --albedo 0.5 --frames 0:30\n"
+      "  pleat shade flag.glb -o flag.glb --light env:studio.hdr,up=0,1,0,scale=1.5 --render renders/ --up 0,1,0\n"
       "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --relight setups.json   # curtain_<name>.glb\n"
       "Radiance: B = rho (E/pi) / (1 - rho (1 - A)) per vertex and side, E the direct irradiance through the "
       "cone, A its sky visibility; colours are Reinhard-tone-mapped sRGB.");
