@@ -125,6 +125,23 @@ int projected_winding(const SphericalPolygon& poly, const glm::dvec3& n) {
 
 }  // namespace
 
+/// Counter-clockwise angle about n along the horizon from crossing x to crossing e, in [0, 2 pi]. Two
+/// crossings that round to (nearly) the same point, e.g. where a polygon dips 1e-20 below the horizon at
+/// one vertex, are ordered by the exact sign of n . (x' x e') expanded over the unrounded arcs they lie on
+/// (x' = wa a + wb b never formed, so the tiny weights keep their relative precision): e just
+/// counter-clockwise of x gives ~0, just clockwise gives the full turn.
+double HemisphereClipper::crossing_ccw_angle(const Node& x, const Node& e, const glm::dvec3& n) {
+  constexpr double kTie = 1e-9;
+  const double angle = ccw_angle(x.azimuth, e.azimuth);
+  if (angle > kTie && angle < kTwoPi - kTie) return angle;
+  auto det = [&](const glm::dvec3& u, const glm::dvec3& v) { return glm::dot(n, glm::cross(u, v)); };
+  const double orientation = x.wa * e.wa * det(x.a, e.a) + x.wa * e.wb * det(x.a, e.b) +
+                             x.wb * e.wa * det(x.b, e.a) + x.wb * e.wb * det(x.b, e.b);
+  if (orientation > 0.0) return angle <= kTie ? angle : 0.0;
+  if (orientation < 0.0) return angle >= kTwoPi - kTie ? angle : kTwoPi;
+  return 0.0;
+}
+
 SphericalPolygon hemisphere_polygon(const glm::dvec3& n) {
   glm::dvec3 e1, e2;
   horizon_frame(n, e1, e2);
@@ -191,12 +208,13 @@ std::size_t HemisphereClipper::clip(const SphericalPolygon& poly, const glm::dve
     const std::size_t j = (i + 1) % count;
     const bool in_a = m_dots[i] >= 0.0;
     const bool in_b = m_dots[j] >= 0.0;
-    if (in_a) m_nodes.push_back({poly[i], kVertex, 0.0, -1});
+    if (in_a) m_nodes.push_back({poly[i], kVertex, 0.0, -1, 0.0, {}, {}, 0.0, 0.0});
     if (in_a != in_b) {
       const glm::dvec3 p = horizon_crossing(poly[i], poly[j], m_dots[i], m_dots[j], n);
       const double azimuth = std::atan2(glm::dot(p, e2), glm::dot(p, e1));
       if (!in_a) m_entries.push_back(static_cast<int>(m_nodes.size()));
-      m_nodes.push_back({p, in_a ? kExit : kEntry, azimuth, -1});
+      m_nodes.push_back({p, in_a ? kExit : kEntry, azimuth, -1, 0.0, poly[i], poly[j], std::abs(m_dots[j]),
+                         std::abs(m_dots[i])});
     }
   }
 
@@ -211,10 +229,11 @@ std::size_t HemisphereClipper::clip(const SphericalPolygon& poly, const glm::dve
     int best = -1;
     double best_angle = kTwoPi + 1.0;
     for (int e : m_entries) {
-      const double a = ccw_angle(m_nodes[x].azimuth, m_nodes[e].azimuth);
+      const double a = crossing_ccw_angle(m_nodes[x], m_nodes[e], n);
       if (a < best_angle) best_angle = a, best = e;
     }
     m_nodes[x].partner = best;
+    m_nodes[x].arc = best_angle;
     if (m_used[best]) one_to_one = false;
     m_used[best] = 1;
   }
@@ -224,6 +243,7 @@ std::size_t HemisphereClipper::clip(const SphericalPolygon& poly, const glm::dve
       int e = (x + 1) % num_nodes;
       while (m_nodes[e].kind != kEntry) e = (e + 1) % num_nodes;
       m_nodes[x].partner = e;
+      m_nodes[x].arc = crossing_ccw_angle(m_nodes[x], m_nodes[e], n);
     }
   }
 
@@ -243,7 +263,7 @@ std::size_t HemisphereClipper::clip(const SphericalPolygon& poly, const glm::dve
         j = (j + 1) % num_nodes;
       }
       const int next = m_nodes[j].partner;
-      append_horizon_arc(m_nodes[j].p, n, ccw_angle(m_nodes[j].azimuth, m_nodes[next].azimuth), piece);
+      append_horizon_arc(m_nodes[j].p, n, m_nodes[j].arc, piece);
       if (next == start || m_used[next]) break;
       cur = next;
     }

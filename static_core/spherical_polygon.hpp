@@ -58,7 +58,12 @@ class HemisphereClipper {
     int kind;        // 0 vertex, 1 entry crossing, 2 exit crossing
     double azimuth;  // about n, for crossings
     int partner;     // exit -> index of its entry node
+    double arc;      // exit -> counter-clockwise angle along the horizon to its entry
+    glm::dvec3 a, b; // crossing: on the arc a -> b, proportional to wa * a + wb * b (kept unrounded for
+    double wa, wb;   //   the exact ordering of nearly coincident crossings)
   };
+  static double crossing_ccw_angle(const Node& x, const Node& e, const glm::dvec3& n);
+
   std::vector<double> m_dots;
   std::vector<Node> m_nodes;
   std::vector<int> m_entries;

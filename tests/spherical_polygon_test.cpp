@@ -340,6 +340,48 @@ TEST(SphericalPolygon, ClipBoundaryBelowHorizon) {
   EXPECT_TRUE(clip_to_hemisphere(small.vertices, n).empty());
 }
 
+TEST(SphericalPolygon, ClipVertexJustBelowOrAboveTheHorizon) {
+  // Regression (a cone of the 'drape' sequence): a near-hemisphere piece with one vertex 1e-20 below the
+  // horizon. Its exit and entry crossings round to the same point in the wrong order; taken naively the
+  // horizon arc between them went the full turn and doubled A.
+  const glm::dvec3 n(1.5565402379239612e-05, 0.99999999986710997, -4.8475113438766443e-06);
+  const SphericalPolygon piece = {
+      {0, 0.031844367089983082, 0.99949283953645129},
+      {0.29734291146679481, 0, 0.95477075416062585},
+      {0.99976488384278173, 0.021683566008145336, 0},
+      {0.99975657383635863, 0.015601170965442949, -0.015601170965442949},
+      {0.70701251913179874, 0.016327754953319285, -0.70701251913179897},
+      {0.70703830931603395, 0.013916117240398247, -0.70703830931603417},
+      {0.49085002261344934, 0, -0.87124408480079607},
+      {0, 0.010288411339643018, -0.99994707289541396},
+      {-0.005494162079855887, 0.0054941620798558887, -0.99996981372743476},
+      {-0.99996423648657029, 0.0059802068455218436, -0.0059802068455218436},
+      {-0.9999824026120866, 0.0059324924069702363, 0},
+      {-0.7070991497368454, 0.0046459533855062246, 0.70709914973684562},
+      {-0.70707267842148158, 0.0098211435049045774, 0.7070726784214818},
+      {-0.03700559691884605, 0.037005596918846063, 0.99862964686281963}};
+  const double unclipped = projected_solid_angle(piece, n);
+  EXPECT_NEAR(projected_solid_angle(clip_to_hemisphere(piece, n), n), unclipped, 1e-12);
+
+  // Synthetic: the hemisphere about z with one vertex dipping 1e-20 below, or a polygon below the horizon
+  // with one vertex 1e-20 above (a bump of no area), in many rotations.
+  std::mt19937 rng(8);
+  for (int trial = 0; trial < 200; ++trial) {
+    const double phase = 2 * kPi * trial / 200.0;
+    SphericalPolygon dip, bump;
+    for (int k = 0; k < 8; ++k) {
+      const double a = phase + 2 * kPi * k / 8;
+      const double z = k == 3 ? -1e-20 * (1 + trial) : 0.0;
+      dip.push_back(glm::normalize(glm::dvec3(std::cos(a), std::sin(a), z)));
+      bump.push_back(glm::normalize(glm::dvec3(std::cos(a), std::sin(a), k == 3 ? 1e-20 * (1 + trial) : -0.3)));
+    }
+    const glm::dvec3 z(0, 0, 1);
+    EXPECT_NEAR(projected_solid_angle(clip_to_hemisphere(dip, z), z), kPi, 1e-12) << trial;
+    std::reverse(bump.begin(), bump.end());  // counter-clockwise about its interior, below the horizon
+    EXPECT_NEAR(projected_solid_angle(clip_to_hemisphere(bump, z), z), 0.0, 1e-12) << trial;
+  }
+}
+
 TEST(SphericalPolygon, ClipperReusesStorage) {
   std::mt19937 rng(5);
   HemisphereClipper clipper;
