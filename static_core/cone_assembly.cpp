@@ -48,6 +48,63 @@ int find_root(std::vector<int>& parent, int i) {
   return i;
 }
 
+/// One piece from a group of wedges: their bounding directions sorted radially about the group's mean
+/// direction c (the integral of the direction over its wedges), by azimuth in the projection about c. The
+/// paper sorts about the centroid of the points projected onto the tangent plane; that order breaks on the
+/// slot-shaped cones of deep folds (a thin lune from +y to -y through the fold's opening), which are
+/// star-shaped about their own mean direction. Every direction is in the side's closed hemisphere (the
+/// wedges were clipped to it); rounding below the horizon is snapped just above it, a pair of antipodal
+/// neighbours is bridged through c, and the result is counter-clockwise about the side normal.
+SphericalPolygon build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3& side_normal) {
+  glm::dvec3 centre(0.0);
+  for (const SpatialWedge* w : group)
+    centre += 2 * std::sin(0.5 * (w->end - w->start)) * w->direction(0.5 * (w->start + w->end));
+  centre = glm::length(centre) > 1e-12 ? glm::normalize(centre) : side_normal;
+  const glm::dvec3 a1 = glm::normalize(std::abs(centre.x) < 0.9 ? glm::cross(centre, glm::dvec3(1, 0, 0))
+                                                                : glm::cross(centre, glm::dvec3(0, 1, 0)));
+  const glm::dvec3 a2 = glm::cross(centre, a1);
+  std::vector<std::pair<double, glm::dvec3>> order;
+  for (const SpatialWedge* w : group)
+    for (double angle : {w->start, w->end}) {
+      glm::dvec3 d = glm::normalize(w->direction(angle));
+      const double up = glm::dot(d, side_normal);
+      if (up < 1e-15) {
+        const glm::dvec3 flat = d - up * side_normal;
+        if (glm::length(flat) == 0) continue;
+        d = glm::normalize(glm::normalize(flat) + 1e-15 * side_normal);
+      }
+      const double x = glm::dot(d, a1), y = glm::dot(d, a2);
+      if (x * x + y * y < 1e-24) continue;  // at the centre: no azimuth, and inside anyway
+      order.emplace_back(std::atan2(y, x), d);
+    }
+  std::sort(order.begin(), order.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
+  SphericalPolygon piece;
+  for (const auto& [azimuth, d] : order) {
+    if (!piece.empty() && glm::dot(piece.back(), d) > 1 - 1e-15) continue;
+    piece.push_back(d);
+  }
+  while (piece.size() > 1 && glm::dot(piece.back(), piece.front()) > 1 - 1e-15) piece.pop_back();
+  if (piece.size() < 3) return {};
+  SphericalPolygon bridged;
+  for (std::size_t i = 0; i < piece.size(); ++i) {
+    bridged.push_back(piece[i]);
+    if (glm::dot(piece[i], piece[(i + 1) % piece.size()]) < -1 + 1e-9 && glm::dot(centre, side_normal) > 0)
+      bridged.push_back(centre);
+  }
+  if (projected_solid_angle(bridged, side_normal) < 0) std::reverse(bridged.begin(), bridged.end());
+  return bridged;
+}
+
+/// True when one piece holds a vertex of the other strictly inside.
+bool pieces_overlap(const SphericalPolygon& a, const SphericalPolygon& b) {
+  if (a.size() < 3 || b.size() < 3) return false;
+  for (const auto& p : a)
+    if (contains_direction(b, p)) return true;
+  for (const auto& p : b)
+    if (contains_direction(a, p)) return true;
+  return false;
+}
+
 }  // namespace
 
 VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal) {
@@ -72,60 +129,51 @@ VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3
     for (int j = i + 1; j < k; ++j)
       if (find_root(parent, i) != find_root(parent, j) && share_more_than_apex(wedges[i], wedges[j]))
         parent[find_root(parent, i)] = find_root(parent, j);
-  // 3. One piece per group, sorted radially about the group's mean direction c (the integral of the
-  //    direction over its wedges): the directions are mapped by the azimuthal projection about c and
-  //    ordered by azimuth. The paper sorts about the centroid of the hull of the points projected onto the
-  //    tangent plane; that order breaks on the slot-shaped cones of deep folds (a thin lune from +y to -y
-  //    through the fold's opening), which are star-shaped about their own mean direction.
-  VisibilityCone result;
-  std::vector<std::pair<double, glm::dvec3>> order;
-  for (int root = 0; root < k; ++root) {
-    if (find_root(parent, root) != root) continue;
-    glm::dvec3 centre(0.0);
-    for (int i = 0; i < k; ++i)
-      if (find_root(parent, i) == root) {
-        const SpatialWedge& w = wedges[i];
-        centre += 2 * std::sin(0.5 * (w.end - w.start)) * w.direction(0.5 * (w.start + w.end));
-      }
-    centre = glm::length(centre) > 1e-12 ? glm::normalize(centre) : side_normal;
-    const glm::dvec3 a1 = glm::normalize(std::abs(centre.x) < 0.9 ? glm::cross(centre, glm::dvec3(1, 0, 0))
-                                                                  : glm::cross(centre, glm::dvec3(0, 1, 0)));
-    const glm::dvec3 a2 = glm::cross(centre, a1);  // (a1, a2, centre) right-handed: counter-clockwise about c
-    order.clear();
-    for (int i = 0; i < k; ++i)
-      if (find_root(parent, i) == root)
-        for (double angle : {wedges[i].start, wedges[i].end}) {
-          const glm::dvec3 d = glm::normalize(wedges[i].direction(angle));
-          const double x = glm::dot(d, a1), y = glm::dot(d, a2);
-          if (x * x + y * y < 1e-24) continue;  // at the centre: no azimuth, and inside anyway
-          order.emplace_back(std::atan2(y, x), d);
-        }
-    std::sort(order.begin(), order.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
-    SphericalPolygon piece;
-    for (const auto& [azimuth, d] : order) {
-      if (!piece.empty() && glm::dot(piece.back(), d) > 1 - 1e-15) continue;
-      piece.push_back(d);
-    }
-    while (piece.size() > 1 && glm::dot(piece.back(), piece.front()) > 1 - 1e-15) piece.pop_back();
-    if (piece.size() < 3) continue;
-    // Counter-clockwise about c; measure_cone and shading want counter-clockwise about the side normal,
-    // which is the same orientation whenever c is in the side's hemisphere (it is: every wedge was clipped
-    // to it).
-    result.pieces.push_back(std::move(piece));
+  // 3. One piece per group (see build_piece); groups whose pieces overlap are merged and rebuilt, so the
+  //    pieces of a cone are disjoint and their integrals add up.
+  std::vector<int> group_of(k);
+  std::vector<int> roots;
+  for (int i = 0; i < k; ++i) {
+    group_of[i] = find_root(parent, i);
+    if (group_of[i] == i) roots.push_back(i);
   }
+  auto members = [&](int root) {
+    std::vector<const SpatialWedge*> m;
+    for (int i = 0; i < k; ++i)
+      if (group_of[i] == root) m.push_back(&wedges[i]);
+    return m;
+  };
+  std::vector<SphericalPolygon> pieces;
+  for (int r : roots) pieces.push_back(build_piece(members(r), side_normal));
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (std::size_t i = 0; i < roots.size() && !merged; ++i)
+      for (std::size_t j = i + 1; j < roots.size() && !merged; ++j)
+        if (pieces_overlap(pieces[i], pieces[j])) {
+          for (int& g : group_of)
+            if (g == roots[j]) g = roots[i];
+          pieces[i] = build_piece(members(roots[i]), side_normal);
+          pieces.erase(pieces.begin() + static_cast<long>(j));
+          roots.erase(roots.begin() + static_cast<long>(j));
+          merged = true;
+        }
+  }
+  VisibilityCone result;
+  for (auto& piece : pieces)
+    if (piece.size() >= 3) result.pieces.push_back(std::move(piece));
   return result;
 }
 
 ConeMeasures measure_cone(const VisibilityCone& cone, const glm::dvec3& side_normal) {
+  // The pieces lie in the side's closed hemisphere and are counter-clockwise about it (assemble_cone), so
+  // Lambert's formula applies to them directly; clip_to_hemisphere would only add rounding trouble for
+  // vertices that lie on the horizon.
   ConeMeasures m;
   glm::dvec3 moment(0.0);
   double projected = 0.0;
   for (const auto& piece : cone.pieces) {
-    const SphericalPolygon clipped = clip_to_hemisphere(piece, side_normal);
-    if (clipped.size() >= 3) {
-      projected += projected_solid_angle(clipped, side_normal);
-      moment += cosine_weighted_moment(clipped, side_normal);
-    }
+    projected += projected_solid_angle(piece, side_normal);
+    moment += cosine_weighted_moment(piece, side_normal);
     m.solid_angle += solid_angle(piece);
   }
   m.sky_visibility = std::clamp(projected / (kTwoPi / 2), 0.0, 1.0);

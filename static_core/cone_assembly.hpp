@@ -28,7 +28,7 @@ struct PlanarCone {
 /// The 3D visibility cone of a vertex on one side from its 2D cones. `side_normal` = side * n(v), unit.
 VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal);
 
-/// A, bent normal and solid angle of a cone (Lambert's formula on each piece clipped to the hemisphere).
+/// A, bent normal and solid angle of a cone from assemble_cone (Lambert's formula on each piece).
 ConeMeasures measure_cone(const VisibilityCone& cone, const glm::dvec3& side_normal);
 
 }  // namespace pleat
