@@ -1,0 +1,307 @@
+#include "kinetic/certificate_polynomial.hpp"
+
+#include <CGAL/FPU.h>
+
+#include <utility>
+
+#include "static_core/assert.hpp"
+
+namespace pleat::kinetic {
+namespace {
+
+constexpr long kBinomial[kMaxCertificateDegree + 2][kMaxCertificateDegree + 2] = {
+    {1, 0, 0, 0, 0, 0, 0}, {1, 1, 0, 0, 0, 0, 0},   {1, 2, 1, 0, 0, 0, 0},   {1, 3, 3, 1, 0, 0, 0},
+    {1, 4, 6, 4, 1, 0, 0}, {1, 5, 10, 10, 5, 1, 0}, {1, 6, 15, 20, 15, 6, 1}};
+
+long binomial(int n, int k) {
+  PLEAT_ASSERT(n >= 0 && n <= kMaxCertificateDegree + 1 && k >= 0 && k <= n, "binomial out of table");
+  return kBinomial[n][k];
+}
+
+// ---- Homogeneous Bernstein arithmetic, generic in the number type (Interval or Rational) ----------------
+// An array of N coefficients h is the polynomial sum_k h[k] t^k (1 - t)^(N - 1 - k). Products are
+// convolutions; sums need equal degree. The interval and exact paths run the very same expression.
+
+template <class T, std::size_t A, std::size_t B>
+std::array<T, A + B - 1> mul(const std::array<T, A>& a, const std::array<T, B>& b) {
+  std::array<T, A + B - 1> r;
+  for (auto& x : r) x = T(0);
+  for (std::size_t i = 0; i < A; ++i)
+    for (std::size_t j = 0; j < B; ++j) r[i + j] += a[i] * b[j];
+  return r;
+}
+
+template <class T, std::size_t N>
+std::array<T, N> sub(const std::array<T, N>& a, const std::array<T, N>& b) {
+  std::array<T, N> r;
+  for (std::size_t i = 0; i < N; ++i) r[i] = a[i] - b[i];
+  return r;
+}
+
+template <class T, std::size_t N>
+std::array<T, N> add(const std::array<T, N>& a, const std::array<T, N>& b) {
+  std::array<T, N> r;
+  for (std::size_t i = 0; i < N; ++i) r[i] = a[i] + b[i];
+  return r;
+}
+
+template <class T>
+T dot(const glm::dvec3& a, const glm::dvec3& p) {
+  return T(a.x) * T(p.x) + T(a.y) * T(p.y) + T(a.z) * T(p.z);
+}
+
+template <class T>
+struct Homogeneous {
+  std::array<T, 3> x, y;
+  std::array<T, 2> w;
+};
+
+/// X = s_a U_b - s_b U_a, Y = s_a V_b - s_b V_a, W = s_a - s_b (each linear factor as its values at 0, 1).
+template <class T>
+Homogeneous<T> slice_vertex(const SlicingPlane& plane, const SliceVertexMotion& m) {
+  const T d(plane.offset);
+  const std::array<T, 2> sa{dot<T>(plane.normal, m.above0) - d, dot<T>(plane.normal, m.above1) - d};
+  const std::array<T, 2> sb{dot<T>(plane.normal, m.below0) - d, dot<T>(plane.normal, m.below1) - d};
+  const std::array<T, 2> ua{dot<T>(plane.u, m.above0), dot<T>(plane.u, m.above1)};
+  const std::array<T, 2> ub{dot<T>(plane.u, m.below0), dot<T>(plane.u, m.below1)};
+  const std::array<T, 2> va{dot<T>(plane.w, m.above0), dot<T>(plane.w, m.above1)};
+  const std::array<T, 2> vb{dot<T>(plane.w, m.below0), dot<T>(plane.w, m.below1)};
+  return {sub(mul(sa, ub), mul(sb, ua)), sub(mul(sa, vb), mul(sb, va)), sub(sa, sb)};
+}
+
+/// det[[X1, Y1, W1], [X2, Y2, W2], [X3, Y3, W3]], expanded along the first row; degree 5 homogeneous.
+template <class T>
+std::array<T, 6> orientation_det(const Homogeneous<T>& p, const Homogeneous<T>& q, const Homogeneous<T>& r) {
+  const std::array<T, 4> m_x = sub(mul(q.y, r.w), mul(r.y, q.w));  // Y2 W3 - Y3 W2
+  const std::array<T, 4> m_y = sub(mul(q.x, r.w), mul(r.x, q.w));  // X2 W3 - X3 W2
+  const std::array<T, 5> m_w = sub(mul(q.x, r.y), mul(r.x, q.y));  // X2 Y3 - X3 Y2
+  return add(sub(mul(p.x, m_x), mul(p.y, m_y)), mul(m_w, p.w));
+}
+
+Homogeneous<Interval> as_homogeneous(const SliceVertexTrack& t) { return {t.x, t.y, t.w}; }
+
+}  // namespace
+
+// ---- ExactPolynomial ------------------------------------------------------------------------------------
+
+ExactPolynomial::ExactPolynomial(std::vector<Rational> coefficients) : m_c(std::move(coefficients)) {
+  normalize();
+}
+
+void ExactPolynomial::normalize() {
+  while (!m_c.empty() && CGAL::is_zero(m_c.back())) m_c.pop_back();
+}
+
+ExactPolynomial ExactPolynomial::from_roots(const std::vector<Rational>& roots, const Rational& c) {
+  ExactPolynomial p(std::vector<Rational>{c});
+  for (const Rational& r : roots) p = p * ExactPolynomial(std::vector<Rational>{-r, Rational(1)});
+  return p;
+}
+
+ExactPolynomial ExactPolynomial::from_homogeneous_bernstein(const std::vector<Rational>& h) {
+  const int n = static_cast<int>(h.size()) - 1;
+  std::vector<Rational> c(h.size(), Rational(0));
+  for (int k = 0; k <= n; ++k) {
+    if (CGAL::is_zero(h[k])) continue;
+    // t^k (1 - t)^(n - k) = sum_i C(n - k, i) (-1)^i t^(k + i)
+    for (int i = 0; i <= n - k; ++i) {
+      const Rational term = h[k] * Rational(binomial(n - k, i));
+      if (i % 2 == 0)
+        c[k + i] += term;
+      else
+        c[k + i] -= term;
+    }
+  }
+  return ExactPolynomial(std::move(c));
+}
+
+Rational ExactPolynomial::coefficient(int i) const {
+  return i >= 0 && i < static_cast<int>(m_c.size()) ? m_c[i] : Rational(0);
+}
+
+Rational ExactPolynomial::evaluate(const Rational& t) const {
+  Rational r(0);
+  for (auto it = m_c.rbegin(); it != m_c.rend(); ++it) r = r * t + *it;
+  return r;
+}
+
+int ExactPolynomial::sign_at(const Rational& t) const { return static_cast<int>(CGAL::sign(evaluate(t))); }
+
+ExactPolynomial ExactPolynomial::derivative() const {
+  std::vector<Rational> c;
+  for (std::size_t i = 1; i < m_c.size(); ++i) c.push_back(m_c[i] * Rational(static_cast<long>(i)));
+  return ExactPolynomial(std::move(c));
+}
+
+ExactPolynomial ExactPolynomial::compose_affine(const Rational& a, const Rational& b) const {
+  const ExactPolynomial line(std::vector<Rational>{a, b - a});
+  ExactPolynomial r;
+  for (auto it = m_c.rbegin(); it != m_c.rend(); ++it)
+    r = r * line + ExactPolynomial(std::vector<Rational>{*it});
+  return r;
+}
+
+std::vector<Rational> ExactPolynomial::bernstein(const Rational& a, const Rational& b) const {
+  const ExactPolynomial q = compose_affine(a, b);
+  const int n = std::max(degree(), 0);
+  std::vector<Rational> out(n + 1, Rational(0));
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j <= std::min(k, q.degree()); ++j)
+      out[k] += q.m_c[j] * Rational(binomial(k, j)) / Rational(binomial(n, j));
+  return out;
+}
+
+std::vector<Rational> ExactPolynomial::homogeneous_bernstein(int n) const {
+  PLEAT_ASSERT(n >= degree() && n <= kMaxCertificateDegree, "Bernstein degree below the polynomial's");
+  std::vector<Rational> h(n + 1, Rational(0));
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j <= std::min(k, degree()); ++j) h[k] += m_c[j] * Rational(binomial(n - j, k - j));
+  return h;
+}
+
+ExactPolynomial operator+(const ExactPolynomial& a, const ExactPolynomial& b) {
+  std::vector<Rational> c(std::max(a.m_c.size(), b.m_c.size()), Rational(0));
+  for (std::size_t i = 0; i < a.m_c.size(); ++i) c[i] += a.m_c[i];
+  for (std::size_t i = 0; i < b.m_c.size(); ++i) c[i] += b.m_c[i];
+  return ExactPolynomial(std::move(c));
+}
+
+ExactPolynomial operator-(const ExactPolynomial& a, const ExactPolynomial& b) {
+  std::vector<Rational> c(std::max(a.m_c.size(), b.m_c.size()), Rational(0));
+  for (std::size_t i = 0; i < a.m_c.size(); ++i) c[i] += a.m_c[i];
+  for (std::size_t i = 0; i < b.m_c.size(); ++i) c[i] -= b.m_c[i];
+  return ExactPolynomial(std::move(c));
+}
+
+ExactPolynomial operator*(const ExactPolynomial& a, const ExactPolynomial& b) {
+  if (a.is_zero() || b.is_zero()) return {};
+  std::vector<Rational> c(a.m_c.size() + b.m_c.size() - 1, Rational(0));
+  for (std::size_t i = 0; i < a.m_c.size(); ++i)
+    for (std::size_t j = 0; j < b.m_c.size(); ++j) c[i + j] += a.m_c[i] * b.m_c[j];
+  return ExactPolynomial(std::move(c));
+}
+
+void ExactPolynomial::divide(const ExactPolynomial& a, const ExactPolynomial& divisor,
+                             ExactPolynomial& quotient, ExactPolynomial& remainder) {
+  PLEAT_ASSERT(!divisor.is_zero(), "division by the zero polynomial");
+  std::vector<Rational> r = a.m_c;
+  const int db = divisor.degree();
+  std::vector<Rational> q(std::max(a.degree() - db + 1, 0), Rational(0));
+  const Rational& lead = divisor.m_c.back();
+  for (int i = a.degree() - db; i >= 0; --i) {
+    const Rational f = r[i + db] / lead;
+    q[i] = f;
+    if (CGAL::is_zero(f)) continue;
+    for (int j = 0; j <= db; ++j) r[i + j] -= f * divisor.m_c[j];
+  }
+  if (static_cast<int>(r.size()) > db) r.resize(std::max(db, 0));
+  quotient = ExactPolynomial(std::move(q));
+  remainder = ExactPolynomial(std::move(r));
+}
+
+ExactPolynomial ExactPolynomial::gcd(ExactPolynomial a, ExactPolynomial b) {
+  while (!b.is_zero()) {
+    ExactPolynomial q, r;
+    divide(a, b, q, r);
+    a = std::move(b);
+    b = std::move(r);
+  }
+  if (a.is_zero()) return a;
+  const Rational lead = a.m_c.back();
+  for (Rational& c : a.m_c) c /= lead;
+  return a;
+}
+
+ExactPolynomial ExactPolynomial::squarefree_part() const {
+  if (degree() <= 0) return *this;
+  const ExactPolynomial g = gcd(*this, derivative());
+  if (g.degree() == 0) return *this;
+  ExactPolynomial q, r;
+  divide(*this, g, q, r);
+  PLEAT_ASSERT(r.is_zero(), "gcd does not divide");
+  return q;
+}
+
+ExactPolynomial ExactPolynomial::deflate(const Rational& root) const {
+  ExactPolynomial q, r;
+  divide(*this, ExactPolynomial(std::vector<Rational>{-root, Rational(1)}), q, r);
+  PLEAT_ASSERT(r.is_zero(), "deflation by a non-root");
+  return q;
+}
+
+// ---- Certificates ---------------------------------------------------------------------------------------
+
+SliceVertexTrack track_slice_vertex(const SlicingPlane& plane, const SliceVertexMotion& motion) {
+  CGAL::Protect_FPU_rounding<true> upward;
+  const Homogeneous<Interval> h = slice_vertex<Interval>(plane, motion);
+  return {motion, h.x, h.y, h.w};
+}
+
+CertificatePolynomial orientation_certificate(const SlicingPlane& plane, const SliceVertexTrack& a,
+                                              const SliceVertexTrack& b, const SliceVertexTrack& c) {
+  CertificatePolynomial out;
+  {
+    CGAL::Protect_FPU_rounding<true> upward;
+    const std::array<Interval, 6> h =
+        orientation_det(as_homogeneous(a), as_homogeneous(b), as_homogeneous(c));
+    for (int k = 0; k < 6; ++k) out.m_h[k] = h[k];
+  }
+  out.m_degree = 5;
+  out.m_source = CertificatePolynomial::Orientation{plane, {a.motion, b.motion, c.motion}};
+  return out;
+}
+
+CertificatePolynomial orientation_certificate(const SlicingPlane& plane, const SliceVertexMotion& a,
+                                              const SliceVertexMotion& b, const SliceVertexMotion& c) {
+  return orientation_certificate(plane, track_slice_vertex(plane, a), track_slice_vertex(plane, b),
+                                 track_slice_vertex(plane, c));
+}
+
+CertificatePolynomial plane_side_certificate(const SlicingPlane& plane, const glm::dvec3& p0,
+                                             const glm::dvec3& p1) {
+  CertificatePolynomial out;
+  {
+    CGAL::Protect_FPU_rounding<true> upward;
+    const Interval d(plane.offset);
+    out.m_h[0] = dot<Interval>(plane.normal, p0) - d;
+    out.m_h[1] = dot<Interval>(plane.normal, p1) - d;
+  }
+  out.m_degree = 1;
+  out.m_source = CertificatePolynomial::PlaneSide{plane, p0, p1};
+  return out;
+}
+
+std::array<Rational, 6> exact_orientation_coefficients(const SlicingPlane& plane, const SliceVertexMotion& a,
+                                                       const SliceVertexMotion& b,
+                                                       const SliceVertexMotion& c) {
+  return orientation_det(slice_vertex<Rational>(plane, a), slice_vertex<Rational>(plane, b),
+                         slice_vertex<Rational>(plane, c));
+}
+
+CertificatePolynomial CertificatePolynomial::from_exact(const ExactPolynomial& p) {
+  PLEAT_ASSERT(p.degree() <= kMaxCertificateDegree, "certificate degree above 5");
+  CertificatePolynomial out;
+  out.m_degree = std::max(p.degree(), 0);
+  const std::vector<Rational> h = p.homogeneous_bernstein(out.m_degree);
+  for (int k = 0; k <= out.m_degree; ++k) out.m_h[k] = Interval(CGAL::to_interval(h[k]));
+  out.m_source = p;
+  return out;
+}
+
+ExactPolynomial CertificatePolynomial::exact() const {
+  if (const auto* o = std::get_if<Orientation>(&m_source)) {
+    const std::array<Rational, 6> h =
+        exact_orientation_coefficients(o->plane, o->vertices[0], o->vertices[1], o->vertices[2]);
+    return ExactPolynomial::from_homogeneous_bernstein({h.begin(), h.end()});
+  }
+  if (const auto* s = std::get_if<PlaneSide>(&m_source)) {
+    const Rational d(s->plane.offset);
+    return ExactPolynomial::from_homogeneous_bernstein(
+        {dot<Rational>(s->plane.normal, s->p0) - d, dot<Rational>(s->plane.normal, s->p1) - d});
+  }
+  if (const auto* p = std::get_if<ExactPolynomial>(&m_source)) return *p;
+  PLEAT_ASSERT(false, "exact() of an empty certificate");
+  return {};
+}
+
+}  // namespace pleat::kinetic
