@@ -19,8 +19,18 @@
 // fan from -l, exact for any polygon) decides.
 // Limitation: a cone says which directions escape to infinity; a point or area light closer than an
 // occluder in that direction is still treated as blocked (use light-specific slicing plans for that).
-// Cost: O(cone edges x (#lights + light edges)); environment maps add O(map columns spanned by the edges).
-// Allocation: none once each scratch list has grown to its working size. One instance per thread.
+// Fast paths (exact, no accuracy lost): the cones of compute_visibility already lie in the closed hemisphere
+// of their side axis (assemble_cone), so clipping them is the identity; a piece is used in place (no copy,
+// no clip) when all its vertices have axis.v >= 0 and its projected winding about the axis is 0 or 1 (the
+// clipper's own test), and clipped otherwise. Given the cone's ConeMeasures (measure_cone: Lambert's
+// formula on the same pieces), A and the uniform sky's E = pi L A cost nothing per edge, and a lighting of
+// skies only never looks at the pieces. The cloudy sky clips a piece by the up hemisphere only when the piece
+// straddles its horizon: a piece with every vertex above (below) lies in it (outside it) entirely, since a
+// region within the axis hemisphere cannot hold the whole opposite up-hemisphere unless axis = -up (checked
+// with a margin), so it adds its unclipped Lambert integral (nothing).
+// Cost: O(cone edges x (#lights + light edges)) at most; skies O(1) with measures; environment maps add
+// O(map columns spanned by the edges). Allocation: none once each scratch list has grown to its working
+// size. One instance per thread.
 #pragma once
 
 #include "shading/lights.hpp"
@@ -28,6 +38,8 @@
 #include "static_core/visibility_cone.hpp"
 
 #include <glm/vec3.hpp>
+
+#include <vector>
 
 namespace pleat {
 
@@ -39,16 +51,21 @@ struct ConeIrradiance {
 class ConeLighting {
  public:
   /// `lighting` must outlive this object.
-  explicit ConeLighting(const Lighting& lighting) : m_lighting(&lighting) {}
+  explicit ConeLighting(const Lighting& lighting);
 
-  /// All lights through `cone` at `position`, for the side axis `axis` (unit, side * n(v)).
-  ConeIrradiance evaluate(const VisibilityCone& cone, const glm::dvec3& position, const glm::dvec3& axis);
+  /// All lights through `cone` at `position`, for the side axis `axis` (unit, side * n(v)). `measures`, if
+  /// given, must be measure_cone(cone, axis) (FrameVisibility::measures): A is then read from it, not
+  /// recomputed. The cone must outlive the call only.
+  ConeIrradiance evaluate(const VisibilityCone& cone, const glm::dvec3& position, const glm::dvec3& axis,
+                          const ConeMeasures* measures = nullptr);
 
   // The steps of evaluate(), usable one by one (tests, tools): clip first, then any light.
   /// Clips the cone to the hemisphere of `axis` (a copy: the cone need not outlive the call); returns A.
   /// The per-light functions below use that clip.
   double set_cone(const VisibilityCone& cone, const glm::dvec3& axis);
-  const SphericalPolygonList& clipped() const { return m_clipped; }
+  /// The pieces the per-light functions integrate over (the cone clipped to the axis hemisphere).
+  std::size_t num_pieces() const { return m_pieces.size(); }
+  const SphericalPolygon& piece(std::size_t k) const { return *m_pieces[k]; }
 
   glm::dvec3 uniform_sky(const UniformSkyLight& light) const;
   glm::dvec3 hemisphere_sky(const HemisphereSkyLight& light);
@@ -60,10 +77,20 @@ class ConeLighting {
  private:
   /// Whether unit direction l (with axis.l > 0) lies in one of the cone's pieces.
   bool sees(const glm::dvec3& l) const;
+  /// Sets m_pieces: the cone's pieces that lie in the axis hemisphere in place, the others clipped into
+  /// m_clipped (or, with copy, every piece clipped into m_clipped). Returns whether all were in place.
+  bool prepare(const VisibilityCone& cone, const glm::dvec3& axis, bool copy);
+  /// proj(piece k, axis), computed once per cone.
+  double piece_projection(std::size_t k);
 
   const Lighting* m_lighting;
+  bool m_needs_pieces = true;  // some light other than a uniform sky
   glm::dvec3 m_axis{0.0, 0.0, 1.0};
-  double m_projected = 0.0;  // sum of proj(piece_k, axis)
+  double m_projected = 0.0;     // sum of proj(piece_k, axis)
+  bool m_all_in_place = false;  // m_pieces are the cone's own pieces (so m_projected is their sum)
+  std::vector<const SphericalPolygon*> m_pieces;
+  std::vector<double> m_piece_projected;  // per piece; NaN until computed
+  std::vector<char> m_in_place;
   HemisphereClipper m_clipper;
   SphericalPolygonList m_clipped;
   SphericalPolygonList m_work_a, m_work_b;

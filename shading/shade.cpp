@@ -24,8 +24,8 @@ glm::dvec3 stewart_langer_radiance(double albedo, const glm::dvec3& irradiance, 
   return (albedo / (1.0 - albedo * (1.0 - a))) * (irradiance / kPi);
 }
 
-ShadedFrame shade_frame(const MeshTopology& topology, const Frame& frame, const FrameVisibility& visibility,
-                        const Lighting& lighting, const ShadeParams& params) {
+void shade_frame(const MeshTopology& topology, const Frame& frame, const FrameVisibility& visibility,
+                 const Lighting& lighting, const ShadeParams& params, ShadedFrame& out) {
   const std::size_t n = topology.num_vertices;
   if (frame.positions.size() != n || visibility.normals.size() != n || visibility.cones[0].size() != n ||
       visibility.cones[1].size() != n)
@@ -33,21 +33,21 @@ ShadedFrame shade_frame(const MeshTopology& topology, const Frame& frame, const 
                                 " vertices");
   if (!(params.albedo >= 0.0 && params.albedo < 1.0))
     throw std::invalid_argument("shade_frame: albedo must be in [0, 1)");
+  const bool have_measures = visibility.measures[0].size() == n && visibility.measures[1].size() == n;
 
-  ShadedFrame out;
   for (int s = 0; s < 2; ++s) {
-    out.radiance[s].assign(n, glm::vec3(0.0f));
-    out.irradiance[s].assign(n, glm::vec3(0.0f));
-    out.sky_visibility[s].assign(n, 0.0f);
+    out.radiance[s].resize(n);
+    out.irradiance[s].resize(n);
+    out.sky_visibility[s].resize(n);
   }
   tbb::enumerable_thread_specific<ConeLighting> scratch([&] { return ConeLighting(lighting); });
-  auto shade_range = [&](const tbb::blocked_range<std::size_t>& range) {
-    ConeLighting& cone_lighting = scratch.local();
+  auto shade_range = [&](const tbb::blocked_range<std::size_t>& range, ConeLighting& cone_lighting) {
     for (std::size_t v = range.begin(); v != range.end(); ++v) {
       for (Side side : kBothSides) {
         const int s = static_cast<int>(side);
         const glm::dvec3 axis = side_sign(side) * visibility.normals[v];
-        const ConeIrradiance e = cone_lighting.evaluate(visibility.cones[s][v], frame.positions[v], axis);
+        const ConeIrradiance e = cone_lighting.evaluate(visibility.cones[s][v], frame.positions[v], axis,
+                                                        have_measures ? &visibility.measures[s][v] : nullptr);
         const glm::dvec3 b = params.interreflection
                                  ? stewart_langer_radiance(params.albedo, e.irradiance, e.sky_visibility)
                                  : (params.albedo / kPi) * e.irradiance;
@@ -57,11 +57,19 @@ ShadedFrame shade_frame(const MeshTopology& topology, const Frame& frame, const 
       }
     }
   };
-  const tbb::blocked_range<std::size_t> all(0, n, 64);
-  if (params.parallel)
-    tbb::parallel_for(all, shade_range);
-  else
-    shade_range(all);
+  const tbb::blocked_range<std::size_t> all(0, n, 256);
+  if (params.parallel) {
+    tbb::parallel_for(all, [&](const tbb::blocked_range<std::size_t>& range) { shade_range(range, scratch.local()); });
+  } else {
+    ConeLighting cone_lighting(lighting);
+    shade_range(all, cone_lighting);
+  }
+}
+
+ShadedFrame shade_frame(const MeshTopology& topology, const Frame& frame, const FrameVisibility& visibility,
+                        const Lighting& lighting, const ShadeParams& params) {
+  ShadedFrame out;
+  shade_frame(topology, frame, visibility, lighting, params, out);
   return out;
 }
 

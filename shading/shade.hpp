@@ -15,8 +15,9 @@
 // 1), scale the colour by Y'/Y (hue kept), clamp to [0,1] and encode with the sRGB transfer function.
 // ToneMap::Clamp skips the curve (exposure, clamp, sRGB): for checking exact values.
 //
-// Cost: O(sum of cone edges x lights) per frame, TBB-parallel over vertices, one ConeLighting (scratch)
-// per thread: no allocation per vertex once warm. Preconditions: visibility was computed for this frame
+// Cost: O(sum of cone edges x lights) per frame at most, O(1) per vertex and side for uniform skies (A read
+// from FrameVisibility::measures); TBB-parallel over vertices, one ConeLighting (scratch) per thread: no
+// allocation per vertex once warm. Measured in bench/shading_bench.cpp (bench/results/shading.md). Preconditions: visibility was computed for this frame
 // (normals and cones sized to the topology's vertices).
 #pragma once
 
@@ -50,8 +51,13 @@ struct ShadedFrame {
 /// Stewart–Langer radiance for direct irradiance E and sky visibility A (see above); albedo in [0, 1).
 glm::dvec3 stewart_langer_radiance(double albedo, const glm::dvec3& irradiance, double sky_visibility);
 
+/// Shades every vertex on both sides. When visibility.measures are present (compute_visibility fills
+/// them), A is read from them rather than recomputed (see cone_lighting.hpp's fast paths).
 ShadedFrame shade_frame(const MeshTopology& topology, const Frame& frame, const FrameVisibility& visibility,
                         const Lighting& lighting, const ShadeParams& params = {});
+/// The same into `out`, reusing its storage (no allocation per frame once sized).
+void shade_frame(const MeshTopology& topology, const Frame& frame, const FrameVisibility& visibility,
+                 const Lighting& lighting, const ShadeParams& params, ShadedFrame& out);
 
 enum class ToneMap { Reinhard, Clamp };
 

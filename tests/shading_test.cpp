@@ -5,8 +5,10 @@
 #include "shading/environment_map.hpp"
 #include "shading/lights.hpp"
 #include "shading/shade.hpp"
+#include "sim_io/cloth_generators.hpp"
 #include "sim_io/input_error.hpp"
 #include "static_core/spherical_polygon.hpp"
+#include "static_core/visibility.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -179,6 +181,43 @@ TEST(ShadeFrame, FlatSheetUnderUniformSkyIsRhoL) {
   const ShadedFrame shaded = shade_frame(sheet.topology, sheet.frame, sheet.visibility, cloudy, params);
   EXPECT_NEAR(shaded.radiance[0][2].y, 0.6, 1e-6);
   EXPECT_NEAR(shaded.radiance[1][2].y, 0.0, 1e-6);
+}
+
+TEST(ShadeFrame, FastPathsEqualClippingEveryPiece) {
+  // shade_frame's shortcuts (pieces used in place, A from the measures, the cloudy sky's whole-piece
+  // cases) against the general path: every piece clipped (set_cone) and each light evaluated on the clip.
+  GeneratorParams gen;
+  gen.resolution = 14;
+  gen.frames = 4;
+  for (ClothKind kind : {ClothKind::Curtain, ClothKind::Roll}) {
+    const ClothGenerator generator(kind, gen);
+    const Frame frame = generator.frame(2);
+    const FrameVisibility vis =
+        compute_visibility(generator.topology(), frame, make_diffuse_plan(generator.topology(), frame, {}));
+    for (const char* spec : {"sky:1.5", "cloudy:1,up=0,1,0", "cloudy:1,up=0,0,1", "dir:0.3,-0.5,-1,E=3",
+                             "point:0.3,-0.8,1.2,I=3", "area:-0.5,-1.5,2;0.5,-1.5,2;0.5,-0.5,2;-0.5,-0.5,2,L=4"}) {
+      Lighting lighting;
+      add_light_spec(lighting, spec);
+      ShadeParams params;
+      params.parallel = false;
+      const ShadedFrame fast = shade_frame(generator.topology(), frame, vis, lighting, params);
+      ConeLighting reference(lighting);
+      for (int s = 0; s < 2; ++s)
+        for (Index v = 0; v < generator.topology().num_vertices; ++v) {
+          const glm::dvec3 axis = (s == 0 ? 1.0 : -1.0) * vis.normals[v];
+          const double a = reference.set_cone(vis.cones[s][v], axis);
+          glm::dvec3 e(0.0);
+          for (const auto& l : lighting.skies) e += reference.uniform_sky(l);
+          for (const auto& l : lighting.cloudy_skies) e += reference.hemisphere_sky(l);
+          for (const auto& l : lighting.directional) e += reference.directional(l);
+          for (const auto& l : lighting.points) e += reference.point(l, frame.positions[v]);
+          for (const auto& l : lighting.areas) e += reference.area(l, frame.positions[v]);
+          SCOPED_TRACE(std::string(spec) + " side " + std::to_string(s) + " vertex " + std::to_string(v));
+          EXPECT_NEAR(fast.sky_visibility[s][v], a, 1e-6);
+          EXPECT_NEAR(fast.irradiance[s][v].x, e.x, 1e-5 * (1.0 + std::abs(e.x)));
+        }
+    }
+  }
 }
 
 TEST(ShadeFrame, RejectsMismatchedInput) {
