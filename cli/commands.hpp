@@ -9,5 +9,6 @@ void register_info_command(CLI::App& app);
 void register_generate_command(CLI::App& app);
 void register_visibility_command(CLI::App& app);
 void register_shade_command(CLI::App& app);
+void register_compare_command(CLI::App& app);
 
 }  // namespace pleat::cli

@@ -2,10 +2,12 @@
 // setups from the same cones), written as an animated flipbook .glb with sRGB vertex colours for both cloth
 // sides, and optionally rendered to PNG images.
 //
-// Per frame: compute_visibility with a diffuse slicing plan made once from frame 0 (the planes stay fixed
-// while the cloth moves), then shade_frame for each lighting setup (shading/shade.hpp), to_srgb, and the
-// setup's glb writer (sim_io/gltf_format.hpp) and renderer (shading/render.hpp). The cones are computed
-// once per frame whatever the number of setups: relighting costs only the shading pass.
+// Per frame: compute_visibility with a slicing plan (cli_options.hpp; the paper's diffuse plan by default)
+// made once from the first selected frame (the planes stay fixed while the cloth moves), then shade_frame
+// for each lighting setup (shading/shade.hpp), to_srgb, and the setup's glb writer (sim_io/gltf_format.hpp)
+// and renderer (shading/render.hpp). The cones are computed once per frame whatever the number of setups:
+// relighting costs only the shading pass.
+#include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "shading/embree_scene.hpp"
@@ -50,40 +52,9 @@ struct ShadeOptions {
   std::string up = "0,1,0";
   int render_every = 1;
   int turntable = 0;
+  PlanOptions plan;
   bool quiet = false;
 };
-
-/// Parses "A:B" (Python-style half-open; either end may be left out; negative counts from the end) or
-/// "N" (that frame only) into [first, last).
-void parse_frame_range(const std::string& text, std::size_t count, std::size_t& first, std::size_t& last) {
-  first = 0;
-  last = count;
-  if (text.empty()) return;
-  auto parse = [&](const std::string& s, std::size_t fallback) -> std::size_t {
-    if (s.empty()) return fallback;
-    std::size_t used = 0;
-    long long v = 0;
-    try {
-      v = std::stoll(s, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != s.size()) throw std::invalid_argument("--frames: '" + text + "' is not A:B or N");
-    if (v < 0) v += static_cast<long long>(count);
-    if (v < 0) v = 0;
-    return std::min<std::size_t>(static_cast<std::size_t>(v), count);
-  };
-  const std::size_t colon = text.find(':');
-  if (colon == std::string::npos) {
-    first = parse(text, 0);
-    last = std::min(count, first + 1);
-  } else {
-    first = parse(text.substr(0, colon), 0);
-    last = parse(text.substr(colon + 1), count);
-  }
-  if (first >= last)
-    throw std::invalid_argument("--frames: '" + text + "' selects no frame of " + std::to_string(count));
-}
 
 glm::dvec3 parse_vec3(const std::string& text, const char* option) {
   glm::dvec3 v;
@@ -166,7 +137,7 @@ void run_shade(const ShadeOptions& options) {
     }
   }
 
-  const SlicingPlan plan = make_diffuse_plan(topology, sequence.frame(0), {});
+  const SlicingPlan plan = options.plan.make(topology, sequence.frame(frame_ids.front()));
   double cone_seconds = 0.0, shade_seconds = 0.0;
   Progress progress("shading frames", frame_ids.size());
   for (std::size_t j = 0; j < frame_ids.size(); ++j) {
@@ -266,6 +237,7 @@ void register_shade_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--turntable", options->turntable, "with a single frame: N images turning about the up axis")
       ->check(CLI::NonNegativeNumber);
+  options->plan.add_to(*cmd);
   cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
   cmd->footer(
       "Examples:\n"

@@ -1,0 +1,300 @@
+// `pleat compare`: how close is pleat's cone shading to a path-traced reference? One frame, one lighting:
+// (left) the Stewart–Langer shading from the frame's visibility cones (shading/shade.hpp), (middle) an
+// Embree path-traced reference of the same frame, lights and albedo (shading/path_trace.hpp, per vertex and
+// side, in the same units), both tone-mapped alike and rendered from the same camera, and (right) the
+// per-vertex absolute difference of their luminances as a colour map with a legend. One summary line on
+// stdout: the mean and 95th percentile of |cone - reference| over every vertex and both sides, relative to
+// the reference's mean luminance, the mean signed difference (bias), and the reference's own Monte-Carlo
+// noise (estimated from two independent halves of the paths, so the floor under which a difference means
+// nothing is printed beside it).
+//
+// Luminance: Rec. 709 weights of linear RGB radiance (the tone mapping's Y). Cost: one compute_visibility,
+// one shade_frame, and paths x (mean depth ~ 1/(1 - albedo)) rays per vertex and side.
+#include "cli/cli_options.hpp"
+#include "cli/commands.hpp"
+#include "shading/embree_scene.hpp"
+#include "shading/lights.hpp"
+#include "shading/path_trace.hpp"
+#include "shading/render.hpp"
+#include "shading/shade.hpp"
+#include "sim_io/mesh_sequence.hpp"
+#include "static_core/visibility.hpp"
+
+#include <glm/common.hpp>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace pleat::cli {
+
+namespace {
+
+struct CompareOptions {
+  std::string input;
+  std::string cache;
+  std::string frame = "0";
+  std::vector<std::string> light_specs;
+  std::string lights_file;
+  std::string output;
+  int paths = 1024;
+  double albedo = 0.6;
+  double exposure = 1.0;
+  std::uint64_t seed = 1;
+  int width = 480;
+  int height = 360;
+  std::string camera;
+  std::string up = "0,1,0";
+  PlanOptions plan;
+  bool quiet = false;
+};
+
+double luminance(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+glm::dvec3 parse_up(const std::string& text) {
+  glm::dvec3 v;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &v.x, &v.y, &v.z, &tail) != 3)
+    throw std::invalid_argument("--up: expected x,y,z, got '" + text + "'");
+  return v;
+}
+
+/// Viridis (matplotlib's perceptually uniform map), sampled at 9 stops, in sRGB; t in [0, 1].
+glm::vec3 viridis(double t) {
+  static const std::array<glm::vec3, 9> stops = {
+      glm::vec3(68, 1, 84),    glm::vec3(71, 44, 122),  glm::vec3(59, 81, 139),
+      glm::vec3(44, 113, 142), glm::vec3(33, 144, 141), glm::vec3(39, 173, 129),
+      glm::vec3(92, 200, 99),  glm::vec3(170, 220, 50), glm::vec3(253, 231, 37)};
+  const double x = std::clamp(t, 0.0, 1.0) * (stops.size() - 1);
+  const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(x), stops.size() - 2);
+  const float f = static_cast<float>(x - double(i));
+  return glm::mix(stops[i], stops[i + 1], f) / 255.0f;
+}
+
+/// The smallest of 1, 2, 2.5, 5 x 10^k that is >= x (a legend's end value).
+double nice_ceiling(double x) {
+  if (!(x > 0.0)) return 1.0;
+  const double p = std::pow(10.0, std::floor(std::log10(x)));
+  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
+    if (m * p >= x * (1 - 1e-12)) return m * p;
+  return 10.0 * p;
+}
+
+std::string format_number(double x) {
+  std::ostringstream s;
+  s.precision(3);
+  s << x;
+  return s.str();
+}
+
+/// Appends a legend under `image`: a colour bar from 0 to `top` with end and middle labels and a title.
+Image with_legend(const Image& image, double top, const std::string& title) {
+  constexpr int kScale = 2, kPad = 8, kBar = 14, kText = 7 * kScale;
+  const int height = image.height + kPad + kBar + 4 + kText + kPad + kText + kPad;
+  Image out(image.width, height, {40, 40, 40});
+  std::copy(image.rgb.begin(), image.rgb.end(), out.rgb.begin());
+  const int x0 = kPad, x1 = image.width - kPad;
+  const int y0 = image.height + kPad;
+  for (int x = x0; x < x1; ++x) {
+    const glm::vec3 c = viridis(double(x - x0) / std::max(1, x1 - x0 - 1));
+    const glm::u8vec3 rgb(static_cast<std::uint8_t>(std::lround(255 * c.x)),
+                          static_cast<std::uint8_t>(std::lround(255 * c.y)),
+                          static_cast<std::uint8_t>(std::lround(255 * c.z)));
+    for (int y = y0; y < y0 + kBar; ++y) out.set_pixel(x, y, rgb);
+  }
+  const int ty = y0 + kBar + 4;
+  const glm::u8vec3 ink(235, 235, 235);
+  const std::string lo = "0", mid = format_number(top / 2), hi = format_number(top);
+  draw_text(out, x0, ty, lo, ink, kScale);
+  draw_text(out, (x0 + x1 - text_width(mid, kScale)) / 2, ty, mid, ink, kScale);
+  draw_text(out, x1 - text_width(hi, kScale), ty, hi, ink, kScale);
+  draw_text(out, std::max(kPad, (image.width - text_width(title, kScale)) / 2), ty + kText + kPad, title, ink, kScale);
+  return out;
+}
+
+double percentile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  const std::size_t k = std::min(values.size() - 1, static_cast<std::size_t>(std::ceil(q * values.size())) - 1);
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
+void run_compare(const CompareOptions& options) {
+  Lighting lighting;
+  if (!options.lights_file.empty()) lighting = load_lighting(options.lights_file);
+  for (const std::string& spec : options.light_specs) add_light_spec(lighting, spec);
+  if (lighting.empty()) throw std::invalid_argument("give at least one --light (or --lights FILE)");
+  if (std::filesystem::path(options.output).extension() != ".png")
+    throw std::invalid_argument("-o: the comparison is a .png image, got '" + options.output + "'");
+
+  const MeshSequence sequence = load_sequence(options.input, options.cache);
+  const MeshTopology& topology = sequence.topology();
+  std::size_t first = 0, last = 0;
+  parse_frame_range(options.frame, sequence.num_frames(), first, last);
+  if (last != first + 1) throw std::invalid_argument("--frame: give one frame N, got '" + options.frame + "'");
+  const Frame frame = sequence.frame(first);
+
+  // pleat: cones, then the shading pass.
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  const SlicingPlan plan = options.plan.make(topology, frame);
+  const FrameVisibility visibility = compute_visibility(topology, frame, plan);
+  const auto t1 = Clock::now();
+  ShadeParams shade_params;
+  shade_params.albedo = options.albedo;
+  ShadedFrame shaded;
+  double shade_seconds = 1e300;  // the fastest of three passes (the first also starts TBB's threads)
+  for (int pass = 0; pass < 3; ++pass) {
+    const auto s0 = Clock::now();
+    shade_frame(topology, frame, visibility, lighting, shade_params, shaded);
+    shade_seconds = std::min(shade_seconds, std::chrono::duration<double>(Clock::now() - s0).count());
+  }
+  const auto t2 = Clock::now();
+
+  // The reference: two independent halves of the paths (their difference measures the noise), averaged.
+  EmbreeScene scene(topology, frame);
+  PathTraceParams trace;
+  trace.albedo = options.albedo;
+  trace.paths_per_vertex = std::max(1, options.paths / 2);
+  trace.seed = options.seed;
+  const PathTracedFrame half_a = path_trace_vertices(scene, topology, frame, visibility.normals, lighting, trace);
+  trace.seed = options.seed + 0x9e3779b97f4a7c15ULL;
+  const PathTracedFrame half_b = path_trace_vertices(scene, topology, frame, visibility.normals, lighting, trace);
+  const auto t3 = Clock::now();
+
+  const std::size_t n = topology.num_vertices;
+  std::array<std::vector<glm::vec3>, 2> reference;
+  std::array<std::vector<double>, 2> difference;
+  std::vector<double> all_differences;
+  all_differences.reserve(2 * n);
+  double reference_sum = 0.0, signed_sum = 0.0, noise_squares = 0.0;
+  for (int s = 0; s < 2; ++s) {
+    reference[s].resize(n);
+    difference[s].resize(n);
+    for (std::size_t v = 0; v < n; ++v) {
+      reference[s][v] = 0.5f * (half_a.radiance[s][v] + half_b.radiance[s][v]);
+      const double ref = luminance(reference[s][v]);
+      const double ours = luminance(shaded.radiance[s][v]);
+      const double half_gap = 0.5 * (luminance(half_a.radiance[s][v]) - luminance(half_b.radiance[s][v]));
+      difference[s][v] = std::abs(ours - ref);
+      all_differences.push_back(difference[s][v]);
+      reference_sum += ref;
+      signed_sum += ours - ref;
+      noise_squares += half_gap * half_gap;  // E[(a - b)^2 / 4] = variance of the mean of a and b
+    }
+  }
+  const double count = 2.0 * double(n);
+  const double reference_mean = reference_sum / count;
+  const double scale = reference_mean > 0.0 ? reference_mean : 1.0;
+  double mean_difference = 0.0;
+  for (double d : all_differences) mean_difference += d;
+  mean_difference /= count;
+  const double p95 = percentile(all_differences, 0.95);
+  const double p99 = percentile(all_differences, 0.99);
+  const double noise = std::sqrt(noise_squares / count);
+
+  // Images: same camera, same tone mapping; the difference map from 0 to a round value above its p99.
+  Camera camera;
+  if (!options.camera.empty()) {
+    camera = parse_camera(options.camera);
+  } else {
+    AutoFrameParams framing;
+    framing.up = parse_up(options.up);
+    framing.aspect = double(options.width) / options.height;
+    camera = auto_frame(frame, framing);
+  }
+  ToneMapParams tone;
+  tone.exposure = options.exposure;
+  const Image ours_image = render_image(scene, frame, to_srgb(shaded.front(), tone), to_srgb(shaded.back(), tone),
+                                        camera, options.width, options.height);
+  const Image reference_image = render_image(scene, frame, to_srgb(reference[0], tone), to_srgb(reference[1], tone),
+                                             camera, options.width, options.height);
+  const double top = nice_ceiling(std::max(p99, 1e-12));
+  std::array<std::vector<glm::vec3>, 2> heat;
+  for (int s = 0; s < 2; ++s) {
+    heat[s].resize(n);
+    for (std::size_t v = 0; v < n; ++v) heat[s][v] = viridis(difference[s][v] / top);
+  }
+  const Image heat_image = with_legend(render_image(scene, frame, heat[0], heat[1], camera, options.width,
+                                                    options.height),
+                                       top, "LUMINANCE, REF MEAN " + format_number(reference_mean));
+  char pt_label[64];
+  std::snprintf(pt_label, sizeof pt_label, "PATH TRACED (%d PATHS)", 2 * trace.paths_per_vertex);
+  const std::array<LabeledImage, 3> panels = {LabeledImage{&ours_image, "PLEAT CONES"},
+                                              LabeledImage{&reference_image, pt_label},
+                                              LabeledImage{&heat_image, "ABS DIFFERENCE"}};
+  const std::filesystem::path output(options.output);
+  if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
+  write_png(output, side_by_side(panels));
+
+  if (!options.quiet) {
+    const double ms = 1e3;
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "frame %zu, %zu vertices x 2 sides: |cones - path traced| mean %.1f%%, p95 %.1f%% of the "
+                  "reference mean %.4g (bias %+.1f%%, reference noise %.1f%% rms at %d paths); cones %.0f ms, "
+                  "shading %.2f ms, path tracing %.1f s; wrote %s\n",
+                  first, n, 100 * mean_difference / scale, 100 * p95 / scale, reference_mean,
+                  100 * signed_sum / count / scale, 100 * noise / scale, 2 * trace.paths_per_vertex,
+                  ms * std::chrono::duration<double>(t1 - t0).count(), ms * shade_seconds,
+                  std::chrono::duration<double>(t3 - t2).count(), output.string().c_str());
+    std::cout << line;
+  }
+}
+
+}  // namespace
+
+void register_compare_command(CLI::App& app) {
+  auto options = std::make_shared<CompareOptions>();
+  auto* cmd = app.add_subcommand(
+      "compare",
+      "Side-by-side PNG of pleat's cone shading, an Embree path-traced reference of the same frame and lights, "
+      "and their per-vertex difference; prints the mean and 95th-percentile difference.");
+  cmd->add_option("input", options->input, "mesh or sequence (.obj [+ --cache], numbered OBJs, .gltf/.glb)")
+      ->required();
+  cmd->add_option("--cache", options->cache, "PC2 or MDD point cache for an OBJ input");
+  cmd->add_option("--frame", options->frame, "the frame to compare (negative counts from the end)")
+      ->capture_default_str();
+  cmd->add_option("--light", options->light_specs,
+                  "a light (repeatable), as for `pleat shade`: sky:L | cloudy:L,up=X,Y,Z | dir:DX,DY,DZ,E=e | "
+                  "point:X,Y,Z,I=i | area:X,Y,Z;X,Y,Z;X,Y,Z[;...],L=l | env:FILE[,scale=s,up=X,Y,Z]")
+      ->allow_extra_args(false);
+  cmd->add_option("--lights", options->lights_file, "JSON lighting file (combined with --light)");
+  cmd->add_option("-o,--output", options->output, "output .png")->required();
+  cmd->add_option("--paths", options->paths, "path-traced samples per vertex and side")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 1 << 20));
+  cmd->add_option("--albedo", options->albedo, "cloth albedo rho in [0, 1), for both")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.999));
+  cmd->add_option("--exposure", options->exposure, "multiplies the radiance before tone mapping")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--seed", options->seed, "path tracer seed")->capture_default_str();
+  cmd->add_option("--width", options->width, "width of each panel")->capture_default_str()->check(CLI::Range(16, 8192));
+  cmd->add_option("--height", options->height, "height of each panel")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 8192));
+  cmd->add_option("--camera", options->camera, "ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov] (default: auto-framed 3/4 view)");
+  cmd->add_option("--up", options->up, "world up for the auto-framed camera")->capture_default_str();
+  options->plan.add_to(*cmd);
+  cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
+  cmd->footer(
+      "Examples:\n"
+      "  pleat compare data/drape/drape.obj --cache data/drape/drape.pc2 --frame 60 --light cloudy:1,up=0,1,0 "
+      "-o compare.png\n"
+      "  pleat compare curtain.obj --cache curtain.pc2 --frame 20 --light sky:0.2 --light point:0.3,-0.8,1.2,I=3 "
+      "--paths 4096 -o lamp.png");
+  cmd->callback([options] { run_compare(*options); });
+}
+
+}  // namespace pleat::cli
