@@ -102,6 +102,12 @@ EnvironmentMap EnvironmentMap::load(const std::filesystem::path& path, const Env
 
 void EnvironmentMap::build_tables() {
   const std::size_t stride = static_cast<std::size_t>(m_height) + 1;
+  m_row_sin2.resize(stride);
+  m_row_sincos.resize(stride);
+  for (int r = 0; r <= m_height; ++r) {
+    m_row_sin2[r] = integral_sin2(kPi * r / m_height);
+    m_row_sincos[r] = integral_sincos(kPi * r / m_height);
+  }
   m_prefix_s2.assign(stride * m_width, glm::vec3(0.0f));
   m_prefix_sc.assign(stride * m_width, glm::vec3(0.0f));
   glm::dvec3 local_moment[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
@@ -180,19 +186,27 @@ glm::dvec3 EnvironmentMap::edge_integral(const glm::dvec3& a, const glm::dvec3& 
   };
   const std::size_t stride = static_cast<std::size_t>(m_height) + 1;
   const double row_height = kPi / m_height;
-  auto contour = [&](int c, double psi, double theta) {
+  // G at azimuth psi on the arc: theta = atan2(y, x) with y = |g.z| > 0 and x = -sign(g.z) (g.x cos psi +
+  // g.y sin psi), so sin(2 theta) = 2xy/r^2 and sin^2 theta = y^2/r^2 come without more trigonometry, and
+  // the row boundaries' integrals are tabulated: one sincos and one atan2 per quadrature point.
+  auto contour = [&](int c, double psi) {
+    const double cos_psi = std::cos(psi), sin_psi = std::sin(psi);
+    const double x = -sign_gz * (g.x * cos_psi + g.y * sin_psi), y = abs_gz;
+    const double theta = std::atan2(y, x);
+    const double r2 = x * x + y * y;
     const int r = std::min(m_height - 1, static_cast<int>(theta / row_height));
-    const double t0 = r * row_height;
     const glm::dvec3 L(m_texels[static_cast<std::size_t>(r) * m_width + c]);
-    const glm::dvec3 s2 = glm::dvec3(m_prefix_s2[c * stride + r]) + L * (integral_sin2(theta) - integral_sin2(t0));
-    const glm::dvec3 sc =
-        glm::dvec3(m_prefix_sc[c * stride + r]) + L * (integral_sincos(theta) - integral_sincos(t0));
-    if (!from_bottom) return (nl.x * std::cos(psi) + nl.y * std::sin(psi)) * s2 + nl.z * sc;
+    const double sin2 = 0.5 * theta - 0.5 * x * y / r2;  // integral_sin2(theta)
+    const double sincos = 0.5 * y * y / r2;               // integral_sincos(theta)
+    const glm::dvec3 s2 = glm::dvec3(m_prefix_s2[c * stride + r]) + L * (sin2 - m_row_sin2[r]);
+    const glm::dvec3 sc = glm::dvec3(m_prefix_sc[c * stride + r]) + L * (sincos - m_row_sincos[r]);
+    const double across = nl.x * cos_psi + nl.y * sin_psi;
+    if (!from_bottom) return across * s2 + nl.z * sc;
     // Swept from the bottom pole: G_bottom = -(column total - G_top), the sign making the contour integral
     // of a counter-clockwise polygon positive again.
     const glm::dvec3 s2_total(m_prefix_s2[c * stride + m_height]);
     const glm::dvec3 sc_total(m_prefix_sc[c * stride + m_height]);
-    return (nl.x * std::cos(psi) + nl.y * std::sin(psi)) * (s2 - s2_total) + nl.z * (sc - sc_total);
+    return across * (s2 - s2_total) + nl.z * (sc - sc_total);
   };
 
   // Walk in u = (rotation - psi) / 2 pi (unwrapped), cutting at column boundaries k / width.
@@ -220,7 +234,7 @@ glm::dvec3 EnvironmentMap::edge_integral(const glm::dvec3& a, const glm::dvec3& 
       const double centre = psi0 + h * (p + 0.5);
       for (int q = 0; q < 3; ++q) {
         const double psi = centre + 0.5 * h * kGaussX[q];
-        sum += (0.5 * h * kGaussW[q]) * contour(c, psi, theta_at(psi));
+        sum += (0.5 * h * kGaussW[q]) * contour(c, psi);
       }
     }
     theta_prev = theta_end;

@@ -82,6 +82,7 @@ class EnvironmentMap {
   std::vector<glm::vec3> m_texels;                     // width * height, row-major from the top
   std::vector<glm::vec3> m_prefix_s2;                  // (height + 1) per column, column-major
   std::vector<glm::vec3> m_prefix_sc;
+  std::vector<double> m_row_sin2, m_row_sincos;      // integral_0^t sin^2, sin cos at row boundaries t
   glm::dvec3 m_sphere_moment[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};  // world axes
 };
 
