@@ -1,6 +1,7 @@
 #include "kinetic/certificate_polynomial.hpp"
 
 #include <CGAL/FPU.h>
+#include <CGAL/Gmpzf.h>
 
 #include <utility>
 
@@ -79,6 +80,43 @@ std::array<T, 6> orientation_det(const Homogeneous<T>& p, const Homogeneous<T>& 
 }
 
 Homogeneous<Interval> as_homogeneous(const SliceVertexTrack& t) { return {t.x, t.y, t.w}; }
+
+/// The exact coefficients are built in CGAL::Gmpzf (GMP mantissa times a power of two): the expression only
+/// adds, subtracts and multiplies doubles, so it is exact there and needs no gcd per operation (about 20x
+/// cheaper than Gmpq); converted to Gmpq once at the end.
+using Dyadic = CGAL::Gmpzf;
+
+Rational to_rational(const Dyadic& x) {
+  mpq_t q;
+  mpq_init(q);
+  mpq_set_z(q, x.man());
+  if (x.exp() >= 0)
+    mpq_mul_2exp(q, q, static_cast<mp_bitcnt_t>(x.exp()));
+  else
+    mpq_div_2exp(q, q, static_cast<mp_bitcnt_t>(-x.exp()));
+  Rational r(q);
+  mpq_clear(q);
+  return r;
+}
+
+/// Monomial coefficients of sum_k h[k] t^k (1 - t)^(n - k), in the ring type T.
+template <class T, std::size_t N>
+std::vector<Rational> monomial_from_homogeneous(const std::array<T, N>& h) {
+  const int n = static_cast<int>(N) - 1;
+  std::array<T, N> c;
+  for (auto& x : c) x = T(0);
+  for (int k = 0; k <= n; ++k)
+    for (int i = 0; i <= n - k; ++i) {
+      const T term = h[k] * T(static_cast<int>(binomial(n - k, i)));
+      if (i % 2 == 0)
+        c[k + i] += term;
+      else
+        c[k + i] -= term;
+    }
+  std::vector<Rational> out;
+  for (const T& x : c) out.push_back(to_rational(x));
+  return out;
+}
 
 }  // namespace
 
@@ -290,14 +328,14 @@ CertificatePolynomial CertificatePolynomial::from_exact(const ExactPolynomial& p
 
 ExactPolynomial CertificatePolynomial::exact() const {
   if (const auto* o = std::get_if<Orientation>(&m_source)) {
-    const std::array<Rational, 6> h =
-        exact_orientation_coefficients(o->plane, o->vertices[0], o->vertices[1], o->vertices[2]);
-    return ExactPolynomial::from_homogeneous_bernstein({h.begin(), h.end()});
+    return ExactPolynomial(monomial_from_homogeneous(orientation_det(
+        slice_vertex<Dyadic>(o->plane, o->vertices[0]), slice_vertex<Dyadic>(o->plane, o->vertices[1]),
+        slice_vertex<Dyadic>(o->plane, o->vertices[2]))));
   }
   if (const auto* s = std::get_if<PlaneSide>(&m_source)) {
-    const Rational d(s->plane.offset);
-    return ExactPolynomial::from_homogeneous_bernstein(
-        {dot<Rational>(s->plane.normal, s->p0) - d, dot<Rational>(s->plane.normal, s->p1) - d});
+    const Dyadic d(s->plane.offset);
+    return ExactPolynomial(monomial_from_homogeneous(std::array<Dyadic, 2>{
+        dot<Dyadic>(s->plane.normal, s->p0) - d, dot<Dyadic>(s->plane.normal, s->p1) - d}));
   }
   if (const auto* p = std::get_if<ExactPolynomial>(&m_source)) return *p;
   PLEAT_ASSERT(false, "exact() of an empty certificate");

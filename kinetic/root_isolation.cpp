@@ -5,20 +5,35 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <utility>
 
 #include "static_core/assert.hpp"
 
 namespace pleat::kinetic {
 
-/// A rational value, or the unique simple root of `p` in (lo, hi) with p(lo) of sign `sign_lo`.
+/// A rational value, or the unique simple root of p in (lo, hi) with p(lo) of sign `sign_lo`. p is either
+/// given, or built on first use from `source` (a certificate: most event times are ordered by their double
+/// enclosures alone and never need the exact polynomial).
 struct RootTime::Exact {
   bool rational = false;
   Rational value;
-  ExactPolynomial p;
   std::vector<Interval> p_interval;  ///< enclosures of p's monomial coefficients (filtered evaluation)
   Rational lo, hi;
   int sign_lo = 0;
+  std::optional<CertificatePolynomial> source;
+
+  const ExactPolynomial& poly() const {
+    std::call_once(m_once, [this] {
+      if (source) m_p = source->exact();
+    });
+    return m_p;
+  }
+  void set_poly(ExactPolynomial p) { m_p = std::move(p); }
+
+ private:
+  mutable std::once_flag m_once;
+  mutable ExactPolynomial m_p;
 };
 
 struct RootTimeAccess {
@@ -55,23 +70,28 @@ Interval horner(const std::vector<Interval>& c, const Interval& x) {
 /// Sign of the enclosure (0: undecided), under upward rounding.
 int certain_sign(const Interval& v) { return v.inf() > 0 ? 1 : (v.sup() < 0 ? -1 : 0); }
 
-/// Exact sign of e.p at the double x: interval Horner first, Gmpq when it cannot decide.
-int filtered_sign(const RootTime::Exact& e, double x) {
+constexpr int kUndecided = 2;
+
+/// Exact sign of e's polynomial at the double x: interval Horner first, then Gmpq, unless `allow_exact` is
+/// false (then kUndecided when the intervals cannot decide).
+int filtered_sign(const RootTime::Exact& e, double x, bool allow_exact = true) {
   {
     CGAL::Protect_FPU_rounding<true> upward;
     const int s = certain_sign(horner(e.p_interval, Interval(x)));
     if (s != 0) return s;
   }
-  return e.p.sign_at(Rational(x));
+  return allow_exact ? e.poly().sign_at(Rational(x)) : kUndecided;
 }
 
 /// Narrows e's isolating interval to a few ulps: a guess from plain double bisection (untrusted), then a
 /// bracket around it whose signs are verified exactly (filtered), widened by 8x until it holds. Every tested
 /// point shrinks the interval on its side, so the result is always a valid isolating interval. Returns the
-/// root when a tested double is exactly a root.
+/// root when a tested double is exactly a root. For a lazy time (exact polynomial not built), only interval
+/// evaluation is used, and narrowing stops where it cannot decide (the enclosure stays a little wider).
 std::optional<double> narrow(RootTime::Exact& e) {
+  const bool allow_exact = !e.source.has_value();
   std::vector<double> pd;
-  for (const Rational& c : e.p.coefficients()) pd.push_back(CGAL::to_double(c));
+  for (const Interval& c : e.p_interval) pd.push_back(c.inf() + (c.sup() - c.inf()) / 2);
   const auto eval = [&](double x) {
     double r = 0.0;
     for (auto it = pd.rbegin(); it != pd.rend(); ++it) r = r * x + *it;
@@ -99,7 +119,8 @@ std::optional<double> narrow(RootTime::Exact& e) {
     moved = false;
     const Rational q(x);
     if (!(q > e.lo && q < e.hi)) return;
-    const int s = filtered_sign(e, x);
+    const int s = filtered_sign(e, x, allow_exact);
+    if (s == kUndecided) return;
     if (s == 0) {
       root = x;
       return;
@@ -140,6 +161,36 @@ RootTime from_exact(std::shared_ptr<RootTime::Exact> e) {
   return RootTimeAccess::make(std::move(e), lo, hi);
 }
 
+/// Monomial coefficient enclosures of sum_k h[k] t^k (1 - t)^(n - k); under upward rounding.
+std::vector<Interval> monomial_enclosure(const CertificatePolynomial& c) {
+  static constexpr long kC[6][6] = {{1, 0, 0, 0, 0, 0}, {1, 1, 0, 0, 0, 0}, {1, 2, 1, 0, 0, 0},
+                                    {1, 3, 3, 1, 0, 0}, {1, 4, 6, 4, 1, 0}, {1, 5, 10, 10, 5, 1}};
+  const int n = c.degree();
+  std::vector<Interval> a(n + 1, Interval(0));
+  for (int k = 0; k <= n; ++k)
+    for (int i = 0; i <= n - k; ++i) {
+      const Interval term = c.enclosure()[k] * Interval(static_cast<double>(kC[n - k][i]));
+      a[k + i] = i % 2 == 0 ? a[k + i] + term : a[k + i] - term;
+    }
+  return a;
+}
+
+/// The root of certificate c in (a, b), certified simple and unique by interval Bernstein coefficients
+/// (c(a) of sign sign_a, c(b) of the other); the exact polynomial is built only if ever needed.
+RootTime lazy_root(const CertificatePolynomial& c, double a, double b, int sign_a) {
+  auto e = std::make_shared<RootTime::Exact>();
+  {
+    CGAL::Protect_FPU_rounding<true> upward;
+    e->p_interval = monomial_enclosure(c);
+  }
+  e->source = c;
+  e->lo = Rational(a);
+  e->hi = Rational(b);
+  e->sign_lo = sign_a;
+  if (const std::optional<double> root = narrow(*e)) return RootTime(*root);
+  return from_exact(std::move(e));
+}
+
 /// An exact-arithmetic view of a time: a rational, or a bracket that bisection refines (local copies).
 struct Bracket {
   bool rational = false;
@@ -161,7 +212,7 @@ struct Bracket {
   /// One exact bisection step.
   void refine() {
     const Rational m = (lo + hi) / Rational(2);
-    const int s = e->p.sign_at(m);
+    const int s = e->poly().sign_at(m);
     if (s == 0) {
       rational = true;
       value = m;
@@ -177,7 +228,7 @@ struct Bracket {
 int compare_bracket_rational(const Bracket& a, const Rational& r) {
   if (r <= a.lo) return 1;
   if (r >= a.hi) return -1;
-  const int s = a.e->p.sign_at(r);
+  const int s = a.e->poly().sign_at(r);
   if (s == 0) return 0;
   return s == a.e->sign_lo ? 1 : -1;  // same sign as at lo: the root lies in (r, hi)
 }
@@ -190,7 +241,7 @@ int compare_brackets(Bracket a, Bracket b) {
   if (b.hi <= a.lo) return 1;
   // Overlapping isolating intervals: equal iff the gcd vanishes in the overlap (it has at most one root
   // there, and none at its ends since those are ends of isolating intervals).
-  const ExactPolynomial g = ExactPolynomial::gcd(a.e->p, b.e->p);
+  const ExactPolynomial g = ExactPolynomial::gcd(a.e->poly(), b.e->poly());
   if (g.degree() >= 1) {
     const Rational lo = std::max(a.lo, b.lo), hi = std::min(a.hi, b.hi);
     if (g.sign_at(lo) * g.sign_at(hi) < 0) return 0;
@@ -275,7 +326,7 @@ enum class Subdivision { no_root, found, unknown };
 
 /// Stage (b): interval de Casteljau on [0, 1], left first, depth-limited, no allocation.
 Subdivision subdivide(const CertificatePolynomial& p, double t0_lo, double t0_hi, double& found_a,
-                      double& found_b) {
+                      double& found_b, int& found_sign) {
   struct Piece {
     double a, b;
     int depth;
@@ -312,6 +363,7 @@ Subdivision subdivide(const CertificatePolynomial& p, double t0_lo, double t0_hi
     if (piece.a > t0_hi && all_certain && v == 1) {
       found_a = piece.a;
       found_b = piece.b;
+      found_sign = certain_sign(piece.c[0]);
       return Subdivision::found;
     }
     if (piece.depth >= kSubdivisionDepth) return Subdivision::unknown;
@@ -354,7 +406,7 @@ RootTime RootTime::algebraic(const ExactPolynomial& p, const Rational& lo, const
   PLEAT_ASSERT(s_lo * p.sign_at(hi) < 0, "no sign change over the isolating interval");
   if (p.degree() == 1) return rational(-p.coefficient(0) / p.coefficient(1));
   auto e = std::make_shared<Exact>();
-  e->p = p;
+  e->set_poly(p);
   e->p_interval = interval_coefficients(p);
   e->lo = lo;
   e->hi = hi;
@@ -378,7 +430,7 @@ double RootTime::approximate() const {
 
 const ExactPolynomial& RootTime::polynomial() const {
   PLEAT_ASSERT(!is_rational(), "polynomial() of a rational time");
-  return m_exact->p;
+  return m_exact->poly();
 }
 const Rational& RootTime::isolating_lower() const {
   PLEAT_ASSERT(!is_rational(), "isolating_lower() of a rational time");
@@ -400,7 +452,7 @@ std::ostream& operator<<(std::ostream& out, const RootTime& t) {
   out << "t~" << t.approximate();
   if (t.m_exact == nullptr) return out << " (double)";
   if (t.m_exact->rational) return out << " (rational " << t.m_exact->value << ")";
-  out << " (root of degree " << t.m_exact->p.degree() << " in [" << t.m_lo << ", " << t.m_hi << "])";
+  out << " (root of degree " << t.m_exact->poly().degree() << " in [" << t.m_lo << ", " << t.m_hi << "])";
   return out;
 }
 
@@ -418,7 +470,7 @@ int sign_at(const ExactPolynomial& p, const RootTime& t) {
     if (s != 0) return s;
   }
   // t is a root of p iff gcd(p, e.p) changes sign over the isolating interval (its ends are no roots).
-  const ExactPolynomial g = ExactPolynomial::gcd(p, e->p);
+  const ExactPolynomial g = ExactPolynomial::gcd(p, e->poly());
   if (g.degree() >= 1 && g.sign_at(e->lo) * g.sign_at(e->hi) < 0) return 0;
   // p(t) != 0: refine until p's Bernstein coefficients on the bracket share one strict sign.
   Bracket b(t);
@@ -472,11 +524,13 @@ std::optional<RootTime> first_root_after(const CertificatePolynomial& p, const R
   if (t0.lower_bound() >= 1.0 && compare(t0, RootTime::one()) >= 0) return std::nullopt;
   if (stage) *stage = IsolationStage::subdivision;
   double a = 0.0, b = 0.0;
-  switch (subdivide(p, t0.lower_bound(), t0.upper_bound(), a, b)) {
+  int sign_a = 0;
+  switch (subdivide(p, t0.lower_bound(), t0.upper_bound(), a, b, sign_a)) {
     case Subdivision::no_root:
       return std::nullopt;
     case Subdivision::found:
-      return make_root(p.exact(), Rational(a), Rational(b));
+      if (p.degree() == 1) return make_root(p.exact(), Rational(a), Rational(b));  // rational, cheap
+      return lazy_root(p, a, b, sign_a);
     case Subdivision::unknown:
       break;
   }

@@ -20,9 +20,11 @@
 //       root-free, or the first one with exactly one certain sign variation holds exactly one simple root;
 //   (c) exact: squarefree part of the rational polynomial, exact Bernstein subdivision with Descartes' rule
 //       of signs (0 variations: no root, 1: one root), exact deflation of rational roots hit by a midpoint.
-// Every algebraic RootTime is then narrowed to an isolating interval a few ulps wide (Newton-type guess in
-// doubles, bracket verified by interval evaluation, exact evaluation when the interval cannot decide), so
-// most comparisons are decided by two double comparisons.
+// Every algebraic RootTime is then narrowed to a tight isolating interval (a guess by double bisection, a
+// bracket around it verified by interval evaluation, exact evaluation when that cannot decide), so most
+// comparisons are decided by two double comparisons. A root found in stage (b) keeps only the certificate
+// and builds its exact polynomial on first need (a tie, or a sign the intervals cannot decide): an event
+// then costs ~6 us instead of ~45 us.
 //
 // Exactness: every decision rests on interval arithmetic with outward rounding or on Gmpq arithmetic, never
 // on an epsilon. Equal event times from different certificates compare equal (gcd of their polynomials).
@@ -52,7 +54,9 @@ class RootTime {
   bool is_rational() const;
   /// Precondition: is_rational().
   Rational rational_value() const;
-  /// Nearest double (within a few ulps).
+  /// A double within the enclosure: a few ulps from the value when the exact polynomial was built; when an
+  /// event was isolated by intervals alone (its exact polynomial is built lazily, on the first tie or
+  /// ambiguous sign), the enclosure is as narrow as interval evaluation can certify (typically 1e-15..1e-11).
   double approximate() const;
   /// Doubles enclosing the exact value: lower_bound() <= value <= upper_bound().
   double lower_bound() const { return m_lo; }
