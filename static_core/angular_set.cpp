@@ -30,15 +30,17 @@ Wedge thin_wedge_between(const glm::dvec2& from, const glm::dvec2& to) {
   return {direction_angle(from), width};
 }
 
-std::vector<std::pair<double, double>> AngularSet::to_intervals(const std::vector<Wedge>& wedges) {
-  std::vector<std::pair<double, double>> out;
-  out.reserve(wedges.size() + 1);
+namespace {
+
+/// Splits wedges into linear intervals of [0, 2pi], sorted; a full turn gives [0, 2pi] alone.
+void split_into_intervals(std::span<const Wedge> wedges, std::vector<std::pair<double, double>>& out) {
+  out.clear();
   for (const Wedge& w : wedges) {
     if (!(w.width > 0)) continue;
     if (w.width >= kTwoPi - kAngleTolerance) {
       out.clear();
       out.emplace_back(0.0, kTwoPi);
-      return out;
+      return;
     }
     const double s = wrap_angle(w.start), e = s + w.width;
     if (e <= kTwoPi) {
@@ -49,31 +51,51 @@ std::vector<std::pair<double, double>> AngularSet::to_intervals(const std::vecto
     }
   }
   std::sort(out.begin(), out.end());
+}
+
+/// Merges sorted intervals in place (touching within kAngleTolerance), then appends them to `out` as
+/// wedges, joining the interval that ends at 2pi with the one that starts at 0.
+void merge_into_wedges(std::vector<std::pair<double, double>>& iv, std::vector<Wedge>& out) {
+  std::size_t m = 0;
+  for (std::size_t i = 0; i < iv.size(); ++i) {
+    if (m > 0 && iv[i].first <= iv[m - 1].second + kAngleTolerance)
+      iv[m - 1].second = std::max(iv[m - 1].second, iv[i].second);
+    else
+      iv[m++] = iv[i];
+  }
+  iv.resize(m);
+  if (m == 0) return;
+  if (m == 1 && iv[0].first <= kAngleTolerance && iv[0].second >= kTwoPi - kAngleTolerance) {
+    out.push_back({0.0, kTwoPi});
+    return;
+  }
+  const bool wraps = m > 1 && iv.front().first <= kAngleTolerance && iv.back().second >= kTwoPi - kAngleTolerance;
+  for (std::size_t i = wraps ? 1 : 0; i < m; ++i) {
+    auto [a, b] = iv[i];
+    if (wraps && i + 1 == m) b = kTwoPi + iv.front().second;
+    if (b - a > 0) out.push_back({a, b - a});
+  }
+  // Sorted by start: the intervals were, and the wrapping wedge is the last one.
+}
+
+}  // namespace
+
+void unite_wedges(std::span<const Wedge> wedges, std::vector<std::pair<double, double>>& scratch,
+                  std::vector<Wedge>& out) {
+  split_into_intervals(wedges, scratch);
+  merge_into_wedges(scratch, out);
+}
+
+std::vector<std::pair<double, double>> AngularSet::to_intervals(std::span<const Wedge> wedges) {
+  std::vector<std::pair<double, double>> out;
+  split_into_intervals(wedges, out);
   return out;
 }
 
 AngularSet AngularSet::from_intervals(std::vector<std::pair<double, double>> iv) {
   std::sort(iv.begin(), iv.end());
-  std::vector<std::pair<double, double>> merged;
-  for (const auto& [a, b] : iv) {
-    if (!merged.empty() && a <= merged.back().second + kAngleTolerance)
-      merged.back().second = std::max(merged.back().second, b);
-    else
-      merged.emplace_back(a, b);
-  }
   AngularSet set;
-  if (merged.empty()) return set;
-  // Join the interval ending at 2pi with the one starting at 0 (the wedge that wraps around).
-  const bool wraps = merged.size() > 1 && merged.front().first <= kAngleTolerance &&
-                     merged.back().second >= kTwoPi - kAngleTolerance;
-  if (merged.size() == 1 && merged[0].first <= kAngleTolerance && merged[0].second >= kTwoPi - kAngleTolerance)
-    return full();
-  for (std::size_t i = wraps ? 1 : 0; i < merged.size(); ++i) {
-    auto [a, b] = merged[i];
-    if (wraps && i + 1 == merged.size()) b = kTwoPi + merged.front().second;
-    if (b - a > 0) set.m_wedges.push_back({a, b - a});
-  }
-  std::sort(set.m_wedges.begin(), set.m_wedges.end(), [](const Wedge& x, const Wedge& y) { return x.start < y.start; });
+  merge_into_wedges(iv, set.m_wedges);
   return set;
 }
 

@@ -9,6 +9,8 @@
 
 #include <glm/vec2.hpp>
 
+#include <span>
+#include <utility>
 #include <vector>
 
 namespace pleat {
@@ -34,6 +36,11 @@ Wedge wedge_between(const glm::dvec2& from, const glm::dvec2& to);
 /// angle's rounding stays thin and never wraps around to a full turn.
 Wedge thin_wedge_between(const glm::dvec2& from, const glm::dvec2& to);
 
+/// Appends the union of `wedges` to `out` (disjoint, sorted by start), using `scratch` for the intervals:
+/// no allocation once the buffers have grown. The one implementation of the union (AngularSet uses it).
+void unite_wedges(std::span<const Wedge> wedges, std::vector<std::pair<double, double>>& scratch,
+                  std::vector<Wedge>& out);
+
 class AngularSet {
  public:
   AngularSet() = default;
@@ -54,7 +61,7 @@ class AngularSet {
 
  private:
   // Linear intervals [a, b] within [0, 2pi], sorted and disjoint; the wedges are derived from them.
-  static std::vector<std::pair<double, double>> to_intervals(const std::vector<Wedge>& wedges);
+  static std::vector<std::pair<double, double>> to_intervals(std::span<const Wedge> wedges);
   static AngularSet from_intervals(std::vector<std::pair<double, double>> intervals);
   std::vector<std::pair<double, double>> intervals() const { return to_intervals(m_wedges); }
 

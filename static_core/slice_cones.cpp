@@ -297,8 +297,7 @@ void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, Slice
         walker.collect_ccw(xv, walker.clockwise_boundary(xv, cw_of), s.range_wedges);
       else
         walker.collect_ccw(xv, VertexHandle(), s.range_wedges);
-      const AngularSet cone = AngularSet::from_wedges(s.range_wedges);
-      out.wedges.insert(out.wedges.end(), cone.wedges().begin(), cone.wedges().end());
+      unite_wedges(s.range_wedges, s.intervals, out.wedges);
       out.offsets.push_back(static_cast<std::uint32_t>(out.wedges.size()));
     }
   }

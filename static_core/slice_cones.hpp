@@ -46,6 +46,7 @@ struct SliceConeScratch {
   std::vector<int> corner_stamp;
   std::vector<int> region_corners;
   std::vector<Wedge> range_wedges;
+  std::vector<std::pair<double, double>> intervals;
 };
 
 void compute_slice_cones(const Slice& slice, const SliceTriangulation& triangulation, SliceConeScratch& scratch,

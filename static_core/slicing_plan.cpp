@@ -42,16 +42,20 @@ std::pair<double, double> extent_along(const Frame& frame, const glm::dvec3& n) 
   return {lo, hi};
 }
 
-/// Parallel planes one `spacing` apart, centred on the extent [lo, hi].
+/// Parallel planes exactly `spacing` apart, centred on the extent [lo, hi] (the outermost ones within
+/// spacing/2 of its ends), or `count` planes spread evenly over it when count > 0.
 void add_parallel_planes(SlicingPlan& plan, int orientation, double lo, double hi, double spacing,
                          int count) {
   const glm::dvec3 n = plan.orientations[orientation];
-  if (count <= 0) count = std::max(1, static_cast<int>(std::floor((hi - lo) / spacing)));
-  const double step = count > 1 ? (hi - lo) / count : 0.0;
-  for (int k = 0; k < count; ++k) {
-    const double offset = count > 1 ? lo + step * (k + 0.5) : 0.5 * (lo + hi);
-    plan.planes.push_back(make_plane(n, offset, orientation));
+  const double centre = 0.5 * (lo + hi);
+  if (count > 0) {
+    const double step = (hi - lo) / count;
+    for (int k = 0; k < count; ++k) plan.planes.push_back(make_plane(n, lo + step * (k + 0.5), orientation));
+    return;
   }
+  const int planes = static_cast<int>(std::floor((hi - lo) / spacing)) + 1;
+  for (int k = 0; k < planes; ++k)
+    plan.planes.push_back(make_plane(n, centre + (k - 0.5 * (planes - 1)) * spacing, orientation));
 }
 
 }  // namespace

@@ -1,0 +1,87 @@
+// Slicing plans: the paper's diffuse families, the adaptive median split, point- and area-light pencils.
+#include "oracles/test_meshes.hpp"
+#include "sim_io/cloth_generators.hpp"
+#include "static_core/mesh_slicer.hpp"
+#include "static_core/slicing_plan.hpp"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace pleat {
+namespace {
+
+TEST(SlicingPlan, PlaneFramesAreRightHandedAndOrthonormal) {
+  for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 1), glm::dvec3(-0.3, 0.2, 0.9)}) {
+    const SlicingPlane p = make_plane(n, 0.5, 0);
+    EXPECT_NEAR(glm::length(p.u), 1.0, 1e-15);
+    EXPECT_NEAR(glm::length(p.w), 1.0, 1e-15);
+    EXPECT_NEAR(glm::dot(p.u, p.w), 0.0, 1e-15);
+    EXPECT_NEAR(glm::distance(glm::cross(p.u, p.w), p.normal), 0.0, 1e-15);
+  }
+}
+
+TEST(SlicingPlan, DiffusePlanHasThePapersSixFamiliesOneEdgeApart) {
+  const ClothGenerator cloth(ClothKind::Curtain, {30, 2, 24.0, 0});
+  const Frame frame = cloth.frame(0);
+  const SlicingPlan plan = make_diffuse_plan(cloth.topology(), frame, {});
+  ASSERT_EQ(plan.orientations.size(), 6u);
+  EXPECT_NEAR(plan.orientations[3].x, std::sqrt(0.5), 1e-15);  // (1,1,0) normalized
+  const double spacing = average_edge_length(cloth.topology(), frame);
+  for (int o = 0; o < 6; ++o) {
+    std::vector<double> offsets;
+    for (const auto& p : plan.planes)
+      if (p.orientation == o) offsets.push_back(p.offset);
+    ASSERT_GE(offsets.size(), 1u);
+    std::sort(offsets.begin(), offsets.end());
+    for (std::size_t i = 1; i < offsets.size(); ++i) EXPECT_NEAR(offsets[i] - offsets[i - 1], spacing, 1e-12);
+  }
+  const SlicingPlan counted = make_diffuse_plan(cloth.topology(), frame, {12, 0.0, 7});
+  EXPECT_EQ(counted.orientations.size(), 12u);
+  EXPECT_EQ(counted.planes.size(), 12u * 7u);
+}
+
+TEST(SlicingPlan, AdaptivePlanLeavesAtMostTheAllowedFractionWithoutCone) {
+  const ClothGenerator cloth(ClothKind::Flag, {25, 2, 24.0, 3});
+  const Frame frame = cloth.frame(1);
+  const MeshEdges edges(cloth.topology());
+  for (double allowed : {0.05, 0.2}) {
+    const SlicingPlan plan = make_adaptive_plan(cloth.topology(), frame, {6, allowed});
+    for (int o = 0; o < 6; ++o) {
+      std::set<Index> covered;
+      for (const auto& p : plan.planes)
+        if (p.orientation == o)
+          for (Index v : cone_recipients(cloth.topology(), edges, frame, p)) covered.insert(v);
+      const double missing = 1.0 - double(covered.size()) / cloth.topology().num_vertices;
+      EXPECT_LE(missing, allowed + 1e-12) << "orientation " << o;
+    }
+  }
+}
+
+TEST(SlicingPlan, PointLightPlanesContainTheLight) {
+  const ClothGenerator cloth(ClothKind::Roll, {20, 2, 24.0, 0});
+  const Frame frame = cloth.frame(0);
+  const glm::dvec3 light(0.3, 2.0, -1.0);
+  const SlicingPlan plan = make_point_light_plan(cloth.topology(), frame, light);
+  ASSERT_GT(plan.planes.size(), 5u);
+  for (const auto& p : plan.planes) EXPECT_NEAR(glm::dot(p.normal, light), p.offset, 1e-12);
+}
+
+TEST(SlicingPlan, AreaLightPlanesRotateAboutLinesJoiningOppositeCorners) {
+  const ClothGenerator cloth(ClothKind::Curtain, {20, 2, 24.0, 0});
+  const Frame frame = cloth.frame(0);
+  const std::vector<glm::dvec3> quad = {{-1, 3, -1}, {1, 3, -1}, {1, 3, 1}, {-1, 3, 1}};
+  const SlicingPlan plan = make_area_light_plan(cloth.topology(), frame, quad);
+  ASSERT_EQ(plan.orientations.size(), 2u);  // diagonals 0-2 and 1-3
+  for (const auto& p : plan.planes) {
+    const glm::dvec3 a = quad[p.orientation], b = quad[p.orientation + 2];
+    EXPECT_NEAR(glm::dot(p.normal, a), p.offset, 1e-12);
+    EXPECT_NEAR(glm::dot(p.normal, b), p.offset, 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace pleat
