@@ -3,6 +3,7 @@
 #include <CGAL/FPU.h>
 #include <CGAL/Gmpzf.h>
 
+#include <stdexcept>
 #include <utility>
 
 #include "static_core/assert.hpp"
@@ -317,7 +318,8 @@ std::array<Rational, 6> exact_orientation_coefficients(const SlicingPlane& plane
 }
 
 CertificatePolynomial CertificatePolynomial::from_exact(const ExactPolynomial& p) {
-  PLEAT_ASSERT(p.degree() <= kMaxCertificateDegree, "certificate degree above 5");
+  if (p.degree() > kMaxCertificateDegree)
+    throw std::invalid_argument("CertificatePolynomial::from_exact: degree above 5");
   CertificatePolynomial out;
   out.m_degree = std::max(p.degree(), 0);
   const std::vector<Rational> h = p.homogeneous_bernstein(out.m_degree);

@@ -520,6 +520,7 @@ std::optional<RootTime> first_root_after(const CertificatePolynomial& p, const R
                                          IsolationStage* stage) {
   if (stage) *stage = IsolationStage::filter;
   PLEAT_ASSERT(p.degree() >= 0, "first_root_after on an empty certificate");
+  if (p.degree() < 0) return std::nullopt;
   if (certainly_no_root(p)) return std::nullopt;
   if (t0.lower_bound() >= 1.0 && compare(t0, RootTime::one()) >= 0) return std::nullopt;
   if (stage) *stage = IsolationStage::subdivision;
