@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <unordered_map>
 
 namespace pleat {
 namespace {
@@ -161,8 +162,18 @@ Wedge corner_sector(const Cdt& cdt, FaceHandle f, int corner) {
                      last->vertex(cdt.cw(last->index(x)))->point());
 }
 
-void cones_of_simple_region(const SliceTriangulation& st, const SliceRegion& region, SliceConeScratch& s) {
-  const Cdt& cdt = st.cdt();
+/// Funnel-tree cones of every corner of a region without holes: for each window, the wedge between the
+/// first segments of the shortest paths to its two endpoints, when they turn the right way.
+void cones_of_simple_region(const SliceTriangulation& st, const SliceRegion& region, int region_index,
+                            SliceConeScratch& s) {
+  s.region_corners.clear();
+  for (const FaceHandle f : region.faces)
+    for (int k = 0; k < 3; ++k) {
+      const int c = f->info().corner[k];
+      if (s.corner_stamp[c] == region_index) continue;
+      s.corner_stamp[c] = region_index;
+      s.region_corners.push_back(c);
+    }
   for (const SliceWindow& window : region.windows) {
     grow_shortest_path_tree(st, window, false, s.parent_a, s.stack);
     grow_shortest_path_tree(st, window, true, s.parent_b, s.stack);
@@ -174,16 +185,37 @@ void cones_of_simple_region(const SliceTriangulation& st, const SliceRegion& reg
         s.corner_wedges[c].push_back(thin_wedge_between(direction(x, pa), direction(x, pb)));
     }
   }
-  (void)cdt;
 }
 
-void cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion& region, SliceConeScratch& s) {
-  const Cdt& cdt = st.cdt();
-  // The chain edges bounding the region: the only things a ray from inside can meet before a window.
-  std::vector<std::pair<VertexHandle, VertexHandle>> segments;
-  for (const FaceHandle f : region.faces)
-    for (int i = 0; i < 3; ++i)
-      if (f->is_constrained(i)) segments.emplace_back(f->vertex(cdt.ccw(i)), f->vertex(cdt.cw(i)));
+/// Resets the per-corner scratch for a triangulation with `corners` corners.
+void prepare_scratch(std::size_t corners, SliceConeScratch& s) {
+  if (s.corner_wedges.size() < corners) s.corner_wedges.resize(corners);
+  for (std::size_t c = 0; c < corners; ++c) s.corner_wedges[c].clear();
+  s.parent_a.assign(corners, -1);
+  s.parent_b.assign(corners, -1);
+  s.corner_stamp.assign(corners, -1);
+}
+
+/// The spans blocked, seen from x, by the given segments (those not incident to x).
+void blocked_spans(VertexHandle xv, const std::vector<std::pair<VertexHandle, VertexHandle>>& segments,
+                   std::vector<Wedge>& blocked) {
+  const Point2& x = xv->point();
+  blocked.clear();
+  for (const auto& [p, q] : segments) {
+    if (p == xv || q == xv) continue;
+    switch (CGAL::orientation(x, p->point(), q->point())) {
+      case CGAL::LEFT_TURN: blocked.push_back(thin_wedge_between(direction(x, p->point()), direction(x, q->point()))); break;
+      case CGAL::RIGHT_TURN: blocked.push_back(thin_wedge_between(direction(x, q->point()), direction(x, p->point()))); break;
+      default: break;  // seen edge-on: blocks a single direction
+    }
+  }
+}
+
+/// Exact angular sweep of the region's corners (all, or those not on component `skip_component`): the
+/// corner's sector minus what the region's chain edges block. O(n) per corner.
+void swept_cones(const Cdt& cdt, const SliceTriangulation& st, const SliceRegion& region,
+                 const std::vector<std::pair<VertexHandle, VertexHandle>>& segments,
+                 const std::unordered_map<const void*, int>* component_of, int skip_component, SliceConeScratch& s) {
   std::vector<Wedge> blocked;
   std::vector<char> done(st.num_corners(), 0);
   for (const FaceHandle f : region.faces)
@@ -192,20 +224,139 @@ void cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion&
       if (done[c]) continue;
       done[c] = 1;
       const VertexHandle xv = f->vertex(k);
-      const Point2& x = xv->point();
-      blocked.clear();
-      for (const auto& [p, q] : segments) {
-        if (p == xv || q == xv) continue;
-        switch (CGAL::orientation(x, p->point(), q->point())) {
-          case CGAL::LEFT_TURN: blocked.push_back(thin_wedge_between(direction(x, p->point()), direction(x, q->point()))); break;
-          case CGAL::RIGHT_TURN: blocked.push_back(thin_wedge_between(direction(x, q->point()), direction(x, p->point()))); break;
-          default: break;  // seen edge-on: blocks a single direction
-        }
-      }
+      if (component_of && component_of->at(&*xv) == skip_component) continue;
+      blocked_spans(xv, segments, blocked);
       const AngularSet visible =
           AngularSet::from_wedges({corner_sector(cdt, f, c)}).subtract(AngularSet::from_wedges(blocked));
       s.corner_wedges[c].assign(visible.wedges().begin(), visible.wedges().end());
     }
+}
+
+/// A region with holes (Stewart 1999 §2.3.2): the funnel trees run in the outer polygon with the holes
+/// ignored — a triangulation of the outer boundary alone — and each hole's angular span, seen from an
+/// outer corner, is subtracted from that corner's cone; corners on the holes get cones by the exact sweep.
+/// Falls back to the sweep for every corner when the outer boundary is not one simple component (and
+/// returns false then).
+bool cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion& region, SliceConeScratch& s) {
+  const Cdt& cdt = st.cdt();
+  // Boundary components of the region: chain edges and windows, joined at shared vertices.
+  std::vector<std::pair<VertexHandle, VertexHandle>> segments;  // chain edges bounding the region
+  std::unordered_map<const void*, int> index;
+  std::vector<VertexHandle> vertices;
+  std::vector<int> parent;
+  auto id = [&](VertexHandle v) {
+    auto [it, fresh] = index.emplace(&*v, static_cast<int>(vertices.size()));
+    if (fresh) {
+      vertices.push_back(v);
+      parent.push_back(it->second);
+    }
+    return it->second;
+  };
+  auto root = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  auto join = [&](VertexHandle a, VertexHandle b) { parent[root(id(a))] = root(id(b)); };
+  for (const FaceHandle f : region.faces)
+    for (int i = 0; i < 3; ++i)
+      if (f->is_constrained(i)) {
+        segments.emplace_back(f->vertex(cdt.ccw(i)), f->vertex(cdt.cw(i)));
+        join(segments.back().first, segments.back().second);
+      } else {
+        for (int k = 0; k < 3; ++k) id(f->vertex(k));  // isolated vertices are components too
+      }
+  for (const SliceWindow& w : region.windows) join(w.face->vertex(cdt.ccw(w.index)), w.face->vertex(cdt.cw(w.index)));
+  const int outer = root(id(region.windows.front().face->vertex(cdt.ccw(region.windows.front().index))));
+  std::unordered_map<const void*, int> component_of;
+  for (std::size_t i = 0; i < vertices.size(); ++i) component_of[&*vertices[i]] = root(static_cast<int>(i));
+
+  // The outer polygon alone, as a slice of its own.
+  Slice outer_slice;
+  std::vector<VertexHandle> original;  // outer_slice vertex -> original CDT vertex
+  std::unordered_map<const void*, Index> outer_index;
+  auto outer_id = [&](VertexHandle v) {
+    auto [it, fresh] = outer_index.emplace(&*v, static_cast<Index>(original.size()));
+    if (fresh) {
+      original.push_back(v);
+      SliceVertex sv;
+      sv.point = cgal::to_glm(v->point());
+      outer_slice.vertices.push_back(sv);
+    }
+    return it->second;
+  };
+  std::vector<std::pair<VertexHandle, VertexHandle>> hole_segments;
+  for (const auto& [p, q] : segments) {
+    if (component_of.at(&*p) == outer) outer_slice.edges.push_back({outer_id(p), outer_id(q), 0});
+    else hole_segments.emplace_back(p, q);
+  }
+  for (const SliceWindow& w : region.windows) {
+    outer_id(w.face->vertex(cdt.ccw(w.index)));
+    outer_id(w.face->vertex(cdt.cw(w.index)));
+  }
+  outer_slice.out_edge.assign(outer_slice.vertices.size(), -1);
+  outer_slice.in_edge.assign(outer_slice.vertices.size(), -1);
+  SliceTriangulation outer_st;
+  outer_st.build(outer_slice);
+  // The outer polygon is the sub-region on the inner side of the first window.
+  int polygon = -1;
+  if (outer_st.dimension() == 2) {
+    const SliceWindow& w = region.windows.front();
+    cgal::FaceHandle fr;
+    int i = 0;
+    const VertexHandle a = outer_st.vertex_of(outer_index.at(&*w.face->vertex(cdt.ccw(w.index))));
+    const VertexHandle b = outer_st.vertex_of(outer_index.at(&*w.face->vertex(cdt.cw(w.index))));
+    if (outer_st.cdt().is_edge(a, b, fr, i)) {
+      // fr is on the right of a->b; the region is on the left of its windows (a, b).
+      const FaceHandle inside = fr->neighbor(i);
+      if (!outer_st.cdt().is_infinite(inside)) polygon = inside->info().region;
+    }
+  }
+  if (polygon < 0 || outer_st.regions()[polygon].has_holes ||
+      outer_st.regions()[polygon].windows.size() != region.windows.size()) {
+    swept_cones(cdt, st, region, segments, nullptr, -1, s);
+    return false;
+  }
+  SliceConeScratch sub;
+  prepare_scratch(outer_st.num_corners(), sub);
+  cones_of_simple_region(outer_st, outer_st.regions()[polygon], polygon, sub);
+
+  // Each outer corner: the cone of the outer polygon's corner holding it, minus the holes' spans.
+  std::vector<Wedge> blocked;
+  std::vector<char> done(st.num_corners(), 0);
+  for (const FaceHandle f : region.faces)
+    for (int k = 0; k < 3; ++k) {
+      const int c = f->info().corner[k];
+      if (done[c]) continue;
+      done[c] = 1;
+      const VertexHandle xv = f->vertex(k);
+      if (component_of.at(&*xv) != outer) continue;
+      // The same corner in the outer polygon's triangulation, found exactly: both begin, turning
+      // counter-clockwise about x, at the chain or hull edge (x, w) that bounds the corner clockwise.
+      cgal::FaceHandle first = f;
+      for (int turns = 0; !is_separator(cdt, first, cdt.cw(first->index(xv))); ++turns) {
+        PLEAT_ASSERT(turns < 1000000, "a corner of an outer vertex has no bounding edge");
+        first = first->neighbor(cdt.cw(first->index(xv)));
+      }
+      const VertexHandle w = first->vertex(cdt.ccw(first->index(xv)));
+      int sub_corner = -1;
+      const auto w_index = outer_index.find(&*w);
+      if (w_index != outer_index.end()) {
+        cgal::FaceHandle fr;
+        int i = 0;
+        const VertexHandle x2 = outer_st.vertex_of(outer_index.at(&*xv)), w2 = outer_st.vertex_of(w_index->second);
+        if (outer_st.cdt().is_edge(x2, w2, fr, i)) {
+          const cgal::FaceHandle g = fr->neighbor(i);  // left of x2 -> w2: the face that begins at (x, w)
+          if (!outer_st.cdt().is_infinite(g) && g->info().region == polygon) sub_corner = g->info().corner[g->index(x2)];
+        }
+      }
+      PLEAT_ASSERT(sub_corner >= 0, "an outer corner is not inside the outer polygon");
+      blocked_spans(xv, hole_segments, blocked);
+      const AngularSet visible = AngularSet::from_wedges(sub.corner_wedges[sub_corner]).subtract(AngularSet::from_wedges(blocked));
+      s.corner_wedges[c].assign(visible.wedges().begin(), visible.wedges().end());
+    }
+  // Corners on the holes: the exact sweep against every chain edge of the region.
+  swept_cones(cdt, st, region, segments, &component_of, outer, s);
+  return true;
 }
 
 /// Collinear or tiny slices (dimension < 2): nothing lies off the line, so a side sees its whole range:
@@ -244,19 +395,13 @@ void collinear_slice_cones(const Slice& slice, const SliceTriangulation& st, Sli
 void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, SliceConeScratch& s, SliceCones& out) {
   out.wedges.clear();
   out.offsets.assign(1, 0);
-  out.windows = out.regions = out.regions_with_holes = 0;
+  out.windows = out.regions = out.regions_with_holes = out.holes_swept = 0;
   if (st.dimension() < 2) {
     collinear_slice_cones(slice, st, out);
     return;
   }
   const Cdt& cdt = st.cdt();
-  const std::size_t corners = st.num_corners();
-  if (s.corner_wedges.size() < corners) s.corner_wedges.resize(corners);
-  for (std::size_t c = 0; c < corners; ++c) s.corner_wedges[c].clear();
-  s.parent_a.assign(corners, -1);
-  s.parent_b.assign(corners, -1);
-  s.corner_stamp.assign(corners, -1);
-
+  prepare_scratch(st.num_corners(), s);
   out.regions = st.regions().size();
   for (std::size_t r = 0; r < st.regions().size(); ++r) {
     const SliceRegion& region = st.regions()[r];
@@ -264,18 +409,10 @@ void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, Slice
     out.windows += region.windows.size();
     if (region.has_holes) {
       ++out.regions_with_holes;
-      cones_of_region_with_holes(st, region, s);
-      continue;
+      if (!cones_of_region_with_holes(st, region, s)) ++out.holes_swept;
+    } else {
+      cones_of_simple_region(st, region, static_cast<int>(r), s);
     }
-    s.region_corners.clear();
-    for (const FaceHandle f : region.faces)
-      for (int k = 0; k < 3; ++k) {
-        const int c = f->info().corner[k];
-        if (s.corner_stamp[c] == static_cast<int>(r)) continue;
-        s.corner_stamp[c] = static_cast<int>(r);
-        s.region_corners.push_back(c);
-      }
-    cones_of_simple_region(st, region, s);
   }
 
   const RangeWalker walker(cdt, s);

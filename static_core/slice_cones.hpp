@@ -31,6 +31,7 @@ struct SliceCones {
   std::size_t windows = 0;
   std::size_t regions = 0;
   std::size_t regions_with_holes = 0;
+  std::size_t holes_swept = 0;  ///< regions with holes whose outer boundary was not simple: swept entirely
 
   std::span<const Wedge> cone(Index slice_vertex, Side side) const {
     const std::size_t k = 2 * slice_vertex + static_cast<std::size_t>(side);
