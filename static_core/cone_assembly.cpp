@@ -11,10 +11,11 @@ namespace {
 
 constexpr double kHalfPi = kTwoPi / 4;
 constexpr double kContainTolerance = 1e-9;
-/// Wedges of different slices are samples of one visible region when they come this close (radians):
-/// slices are a discrete sampling, so a slot seen in one plane rarely contains the exact line it shares
-/// with another plane's wedge.
-constexpr double kLinkTolerance = 0.05;
+/// Wedges of different slices are samples of one visible region when their arcs come this close on the
+/// sphere (radians). Measured against 2048-ray casting (drape frame 60 and the four generated kinds):
+/// 0.05 -> 0.25 -> 0.5 moves the drape's mean |dA| 0.041 -> 0.040 -> 0.039 and leaves the others within
+/// noise; arcs of separate openings are usually much farther apart.
+constexpr double kLinkTolerance = 0.25;
 
 struct SpatialWedge {
   const SlicingPlane* plane;
@@ -27,20 +28,34 @@ struct SpatialWedge {
   }
 };
 
-bool share_more_than_apex(const SpatialWedge& a, const SpatialWedge& b) {
+/// Angular distance from a unit direction to a wedge's arc.
+double distance_to_arc(const glm::dvec3& d, const SpatialWedge& w) {
+  if (w.contains(d)) return 0.0;
+  const glm::dvec3& m = w.plane->normal;
+  const glm::dvec3 in_plane = d - glm::dot(d, m) * m;
+  double best = std::min(std::acos(std::clamp(glm::dot(d, w.direction(w.start)), -1.0, 1.0)),
+                         std::acos(std::clamp(glm::dot(d, w.direction(w.end)), -1.0, 1.0)));
+  if (glm::length(in_plane) > 1e-12 && w.contains(glm::normalize(in_plane)))
+    best = std::min(best, std::asin(std::min(1.0, std::abs(glm::dot(d, m)))));
+  return best;
+}
+
+/// True when two wedges belong to one visible region: their arcs cross (the paper's test: the cones share
+/// more than the apex) or come within kLinkTolerance of each other on the sphere. Slices sample a visible
+/// region along a few great circles, so two arcs of one narrow opening rarely cross exactly; the distance
+/// is taken between sample points of one arc (ends, quarters, middle) and the other arc, both ways.
+bool same_region(const SpatialWedge& a, const SpatialWedge& b) {
   const glm::dvec3 line = glm::cross(a.plane->normal, b.plane->normal);
-  if (glm::length(line) < 1e-12) {
-    // Coplanar: the arcs overlap when one holds a point of the other.
-    for (const SpatialWedge* p : {&a, &b}) {
-      const SpatialWedge* q = p == &a ? &b : &a;
-      for (double t : {0.0, 0.5, 1.0})
-        if (q->contains(p->direction(p->start + t * (p->end - p->start)), kLinkTolerance)) return true;
-    }
-    return false;
+  if (glm::length(line) > 1e-12) {
+    const glm::dvec3 l = glm::normalize(line);
+    if ((a.contains(l) && b.contains(l)) || (a.contains(-l) && b.contains(-l))) return true;
   }
-  const glm::dvec3 l = glm::normalize(line);
-  return (a.contains(l, kLinkTolerance) && b.contains(l, kLinkTolerance)) ||
-         (a.contains(-l, kLinkTolerance) && b.contains(-l, kLinkTolerance));
+  for (const SpatialWedge* p : {&a, &b}) {
+    const SpatialWedge* q = p == &a ? &b : &a;
+    for (double t : {0.0, 0.25, 0.5, 0.75, 1.0})
+      if (distance_to_arc(p->direction(p->start + t * (p->end - p->start)), *q) < kLinkTolerance) return true;
+  }
+  return false;
 }
 
 int find_root(std::vector<int>& parent, int i) {
@@ -127,7 +142,7 @@ VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3
   std::iota(parent.begin(), parent.end(), 0);
   for (int i = 0; i < k; ++i)
     for (int j = i + 1; j < k; ++j)
-      if (find_root(parent, i) != find_root(parent, j) && share_more_than_apex(wedges[i], wedges[j]))
+      if (find_root(parent, i) != find_root(parent, j) && same_region(wedges[i], wedges[j]))
         parent[find_root(parent, i)] = find_root(parent, j);
   // 3. One piece per group (see build_piece); groups whose pieces overlap are merged and rebuilt, so the
   //    pieces of a cone are disjoint and their integrals add up.
