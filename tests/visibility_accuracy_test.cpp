@@ -3,6 +3,8 @@
 #include "oracles/test_meshes.hpp"
 #include "shading/ray_visibility.hpp"
 #include "sim_io/cloth_generators.hpp"
+#include "sim_io/mesh_sequence.hpp"
+#include "test_support.hpp"
 #include "static_core/visibility.hpp"
 
 #include <gtest/gtest.h>
@@ -66,10 +68,7 @@ struct ErrorStats {
   double mean = 0, p95 = 0, bias = 0;
 };
 
-ErrorStats compare_with_rays(ClothKind kind, int resolution, std::size_t frame_index) {
-  const ClothGenerator generator(kind, {resolution, 12, 24.0, 0});
-  const Frame frame = generator.frame(frame_index);
-  const MeshTopology& topology = generator.topology();
+ErrorStats compare_with_rays(const MeshTopology& topology, const Frame& frame) {
   const SlicingPlan plan = make_diffuse_plan(topology, frame, {});
   const FrameVisibility vis = compute_visibility(topology, frame, plan);
   EmbreeScene scene(topology, frame);
@@ -95,12 +94,26 @@ TEST(VisibilityAccuracy, ConesAgreeWithRayCastingOnGeneratedCloth) {
   // mean |dA| 0.014-0.037 and p95 0.05-0.13 over the four kinds (the 4096-ray reference itself has
   // sigma <= 0.008). The bounds leave room for noise and guard against regressions of the method.
   for (ClothKind kind : kAllClothKinds) {
-    const ErrorStats e = compare_with_rays(kind, 40, 6);
+    const ClothGenerator generator(kind, {40, 12, 24.0, 0});
+    const ErrorStats e = compare_with_rays(generator.topology(), generator.frame(6));
     std::printf("%-8s mean |A_cone - A_rays| %.4f  p95 %.4f  bias %+.4f\n",
                 std::string(cloth_kind_name(kind)).c_str(), e.mean, e.p95, e.bias);
     EXPECT_LT(e.mean, 0.06) << cloth_kind_name(kind);
     EXPECT_LT(e.p95, 0.2) << cloth_kind_name(kind);
     EXPECT_LT(std::abs(e.bias), 0.05) << cloth_kind_name(kind);
+  }
+}
+
+TEST(VisibilityAccuracy, ConesAgreeWithRayCastingOnTheBundledBlenderDrape) {
+  // Measured 2026-11-21 on frame 60 (3,111 vertices): mean 0.040, p95 0.138, bias -0.025 (2048 rays).
+  const MeshSequence drape = load_sequence(test::source_dir() / "data/drape/drape.obj",
+                                           test::source_dir() / "data/drape/drape.pc2");
+  for (std::size_t f : {20, 60, 99}) {
+    const ErrorStats e = compare_with_rays(drape.topology(), drape.frame(f));
+    std::printf("drape frame %zu  mean |A_cone - A_rays| %.4f  p95 %.4f  bias %+.4f\n", f, e.mean, e.p95, e.bias);
+    EXPECT_LT(e.mean, 0.06) << f;
+    EXPECT_LT(e.p95, 0.2) << f;
+    EXPECT_LT(std::abs(e.bias), 0.05) << f;
   }
 }
 
