@@ -86,6 +86,24 @@ void unite_wedges(std::span<const Wedge> wedges, std::vector<std::pair<double, d
   merge_into_wedges(scratch, out);
 }
 
+void intersect_wedges(std::span<const Wedge> a, std::span<const Wedge> b, WedgeScratch& s, std::vector<Wedge>& out) {
+  // Normalize each side (union), split both into sorted intervals of [0, 2pi], intersect pairwise.
+  s.a.clear();
+  unite_wedges(a, s.intervals, s.a);
+  split_into_intervals(s.a, s.x);
+  s.b.clear();
+  unite_wedges(b, s.intervals, s.b);
+  split_into_intervals(s.b, s.y);
+  s.z.clear();
+  std::size_t i = 0, j = 0;
+  while (i < s.x.size() && j < s.y.size()) {
+    const double lo = std::max(s.x[i].first, s.y[j].first), hi = std::min(s.x[i].second, s.y[j].second);
+    if (hi - lo > kAngleTolerance) s.z.emplace_back(lo, hi);
+    (s.x[i].second < s.y[j].second) ? ++i : ++j;
+  }
+  merge_into_wedges(s.z, out);
+}
+
 std::vector<std::pair<double, double>> AngularSet::to_intervals(std::span<const Wedge> wedges) {
   std::vector<std::pair<double, double>> out;
   split_into_intervals(wedges, out);
@@ -133,15 +151,10 @@ AngularSet AngularSet::complement() const {
 }
 
 AngularSet AngularSet::intersect(const AngularSet& other) const {
-  const auto x = intervals(), y = other.intervals();
-  std::vector<std::pair<double, double>> out;
-  std::size_t i = 0, j = 0;
-  while (i < x.size() && j < y.size()) {
-    const double a = std::max(x[i].first, y[j].first), b = std::min(x[i].second, y[j].second);
-    if (b - a > kAngleTolerance) out.emplace_back(a, b);
-    (x[i].second < y[j].second) ? ++i : ++j;
-  }
-  return from_intervals(std::move(out));
+  WedgeScratch scratch;
+  AngularSet set;
+  intersect_wedges(m_wedges, other.m_wedges, scratch, set.m_wedges);
+  return set;
 }
 
 AngularSet AngularSet::subtract(const AngularSet& other) const { return intersect(other.complement()); }

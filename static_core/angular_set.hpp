@@ -41,6 +41,17 @@ Wedge thin_wedge_between(const glm::dvec2& from, const glm::dvec2& to);
 void unite_wedges(std::span<const Wedge> wedges, std::vector<std::pair<double, double>>& scratch,
                   std::vector<Wedge>& out);
 
+/// Reusable buffers of intersect_wedges.
+struct WedgeScratch {
+  std::vector<std::pair<double, double>> intervals, x, y, z;
+  std::vector<Wedge> a, b;
+};
+
+/// Appends the intersection of the unions of `a` and `b` to `out` (disjoint, sorted by start), without
+/// allocating once the buffers have grown. The one implementation of the intersection (AngularSet uses it).
+void intersect_wedges(std::span<const Wedge> a, std::span<const Wedge> b, WedgeScratch& scratch,
+                      std::vector<Wedge>& out);
+
 class AngularSet {
  public:
   AngularSet() = default;

@@ -3,6 +3,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <numeric>
 
@@ -73,7 +74,9 @@ int find_root(std::vector<int>& parent, int i) {
 /// star-shaped about their own mean direction. Every direction is in the side's closed hemisphere (the
 /// wedges were clipped to it); rounding below the horizon is snapped just above it, a pair of antipodal
 /// neighbours is bridged through c, and the result is counter-clockwise about the side normal.
-SphericalPolygon build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3& side_normal) {
+void build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3& side_normal,
+                 std::vector<std::pair<double, glm::dvec3>>& order, SphericalPolygon& bridged) {
+  bridged.clear();
   glm::dvec3 centre(0.0);
   for (const SpatialWedge* w : group)
     centre += 2 * std::sin(0.5 * (w->end - w->start)) * w->direction(0.5 * (w->start + w->end));
@@ -81,7 +84,7 @@ SphericalPolygon build_piece(const std::vector<const SpatialWedge*>& group, cons
   const glm::dvec3 a1 = glm::normalize(std::abs(centre.x) < 0.9 ? glm::cross(centre, glm::dvec3(1, 0, 0))
                                                                 : glm::cross(centre, glm::dvec3(0, 1, 0)));
   const glm::dvec3 a2 = glm::cross(centre, a1);
-  std::vector<std::pair<double, glm::dvec3>> order;
+  order.clear();
   for (const SpatialWedge* w : group)
     for (double angle : {w->start, w->end}) {
       glm::dvec3 d = glm::normalize(w->direction(angle));
@@ -96,21 +99,20 @@ SphericalPolygon build_piece(const std::vector<const SpatialWedge*>& group, cons
       order.emplace_back(std::atan2(y, x), d);
     }
   std::sort(order.begin(), order.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
-  SphericalPolygon piece;
-  for (const auto& [azimuth, d] : order) {
-    if (!piece.empty() && glm::dot(piece.back(), d) > 1 - 1e-15) continue;
-    piece.push_back(d);
+  // Keep distinct directions (in place in `order`), then bridge antipodal neighbours.
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (kept > 0 && glm::dot(order[kept - 1].second, order[i].second) > 1 - 1e-15) continue;
+    order[kept++] = order[i];
   }
-  while (piece.size() > 1 && glm::dot(piece.back(), piece.front()) > 1 - 1e-15) piece.pop_back();
-  if (piece.size() < 3) return {};
-  SphericalPolygon bridged;
-  for (std::size_t i = 0; i < piece.size(); ++i) {
-    bridged.push_back(piece[i]);
-    if (glm::dot(piece[i], piece[(i + 1) % piece.size()]) < -1 + 1e-9 && glm::dot(centre, side_normal) > 0)
+  while (kept > 1 && glm::dot(order[kept - 1].second, order[0].second) > 1 - 1e-15) --kept;
+  if (kept < 3) return;
+  for (std::size_t i = 0; i < kept; ++i) {
+    bridged.push_back(order[i].second);
+    if (glm::dot(order[i].second, order[(i + 1) % kept].second) < -1 + 1e-9 && glm::dot(centre, side_normal) > 0)
       bridged.push_back(centre);
   }
   if (projected_solid_angle(bridged, side_normal) < 0) std::reverse(bridged.begin(), bridged.end());
-  return bridged;
 }
 
 /// True when one piece holds a vertex of the other strictly inside.
@@ -125,60 +127,91 @@ bool pieces_overlap(const SphericalPolygon& a, const SphericalPolygon& b) {
 
 }  // namespace
 
-VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal) {
-  // 1. Clip every wedge to the side's half-space and lift it into space.
+struct ConeAssemblyScratch::Buffers {
   std::vector<SpatialWedge> wedges;
+  std::vector<Wedge> clipped;
+  WedgeScratch wedge_scratch;
+  std::vector<int> parent, group_of, roots;
+  std::vector<const SpatialWedge*> members;
+  std::vector<std::pair<double, glm::dvec3>> order;
+  std::vector<SphericalPolygon> pieces;  // capacity kept across calls
+};
+
+ConeAssemblyScratch::ConeAssemblyScratch() : m_buffers(std::make_unique<Buffers>()) {}
+ConeAssemblyScratch::~ConeAssemblyScratch() = default;
+
+void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal, ConeAssemblyScratch& scratch,
+                   VisibilityCone& result) {
+  auto& b = *scratch.m_buffers;
+  // 1. Clip every wedge to the side's half-space and lift it into space.
+  b.wedges.clear();
   for (const PlanarCone& cone : cones) {
     const SlicingPlane& plane = *cone.plane;
     const glm::dvec2 m(glm::dot(plane.u, side_normal), glm::dot(plane.w, side_normal));
-    AngularSet set = AngularSet::from_wedges({cone.wedges.begin(), cone.wedges.end()});
+    b.clipped.clear();
     if (glm::length(m) > 1e-9) {
-      const double facing = direction_angle(m);
-      set = set.intersect(AngularSet::from_wedges({{wrap_angle(facing - kHalfPi), 2 * kHalfPi}}));
+      const Wedge half[1] = {{wrap_angle(direction_angle(m) - kHalfPi), 2 * kHalfPi}};
+      intersect_wedges(cone.wedges, half, b.wedge_scratch, b.clipped);
+    } else {
+      unite_wedges(cone.wedges, b.wedge_scratch.intervals, b.clipped);
     }
-    for (const Wedge& w : set.wedges())
-      if (w.width > kContainTolerance) wedges.push_back({&plane, w.start, w.end()});
+    for (const Wedge& w : b.clipped)
+      if (w.width > kContainTolerance) b.wedges.push_back({&plane, w.start, w.end()});
   }
   // 2. Group by intersection (union-find).
-  const int k = static_cast<int>(wedges.size());
-  std::vector<int> parent(k);
+  const int k = static_cast<int>(b.wedges.size());
+  std::vector<int>& parent = b.parent;
+  parent.resize(k);
   std::iota(parent.begin(), parent.end(), 0);
   for (int i = 0; i < k; ++i)
     for (int j = i + 1; j < k; ++j)
-      if (find_root(parent, i) != find_root(parent, j) && same_region(wedges[i], wedges[j]))
+      if (find_root(parent, i) != find_root(parent, j) && same_region(b.wedges[i], b.wedges[j]))
         parent[find_root(parent, i)] = find_root(parent, j);
   // 3. One piece per group (see build_piece); groups whose pieces overlap are merged and rebuilt, so the
   //    pieces of a cone are disjoint and their integrals add up.
-  std::vector<int> group_of(k);
-  std::vector<int> roots;
+  b.group_of.resize(k);
+  b.roots.clear();
   for (int i = 0; i < k; ++i) {
-    group_of[i] = find_root(parent, i);
-    if (group_of[i] == i) roots.push_back(i);
+    b.group_of[i] = find_root(parent, i);
+    if (b.group_of[i] == i) b.roots.push_back(i);
   }
-  auto members = [&](int root) {
-    std::vector<const SpatialWedge*> m;
+  auto build = [&](int root, SphericalPolygon& piece) {
+    b.members.clear();
     for (int i = 0; i < k; ++i)
-      if (group_of[i] == root) m.push_back(&wedges[i]);
-    return m;
+      if (b.group_of[i] == root) b.members.push_back(&b.wedges[i]);
+    build_piece(b.members, side_normal, b.order, piece);
   };
-  std::vector<SphericalPolygon> pieces;
-  for (int r : roots) pieces.push_back(build_piece(members(r), side_normal));
+  if (b.pieces.size() < b.roots.size()) b.pieces.resize(b.roots.size());
+  for (std::size_t r = 0; r < b.roots.size(); ++r) build(b.roots[r], b.pieces[r]);
+  std::size_t count = b.roots.size();
   for (bool merged = true; merged;) {
     merged = false;
-    for (std::size_t i = 0; i < roots.size() && !merged; ++i)
-      for (std::size_t j = i + 1; j < roots.size() && !merged; ++j)
-        if (pieces_overlap(pieces[i], pieces[j])) {
-          for (int& g : group_of)
-            if (g == roots[j]) g = roots[i];
-          pieces[i] = build_piece(members(roots[i]), side_normal);
-          pieces.erase(pieces.begin() + static_cast<long>(j));
-          roots.erase(roots.begin() + static_cast<long>(j));
+    for (std::size_t i = 0; i < count && !merged; ++i)
+      for (std::size_t j = i + 1; j < count && !merged; ++j)
+        if (pieces_overlap(b.pieces[i], b.pieces[j])) {
+          for (int& g : b.group_of)
+            if (g == b.roots[j]) g = b.roots[i];
+          build(b.roots[i], b.pieces[i]);
+          for (std::size_t t = j; t + 1 < count; ++t) std::swap(b.pieces[t], b.pieces[t + 1]);  // drop j, keep order
+          b.roots.erase(b.roots.begin() + static_cast<long>(j));
+          --count;
           merged = true;
         }
   }
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (b.pieces[i].size() < 3) continue;
+    if (result.pieces.size() <= out) result.pieces.emplace_back();
+    result.pieces[out].assign(b.pieces[i].begin(), b.pieces[i].end());
+    ++out;
+  }
+  result.pieces.resize(out);
+}
+
+VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal) {
+  ConeAssemblyScratch scratch;
   VisibilityCone result;
-  for (auto& piece : pieces)
-    if (piece.size() >= 3) result.pieces.push_back(std::move(piece));
+  assemble_cone(cones, side_normal, scratch, result);
   return result;
 }
 

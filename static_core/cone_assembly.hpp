@@ -15,6 +15,7 @@
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility_cone.hpp"
 
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -26,7 +27,20 @@ struct PlanarCone {
   std::span<const Wedge> wedges;
 };
 
+/// Reusable memory of assemble_cone (one per thread): no allocation per call once it has grown.
+class ConeAssemblyScratch {
+ public:
+  ConeAssemblyScratch();
+  ~ConeAssemblyScratch();
+  struct Buffers;
+  std::unique_ptr<Buffers> m_buffers;
+};
+
 /// The 3D visibility cone of a vertex on one side from its 2D cones. `side_normal` = side * n(v), unit.
+/// Writes into `result`, reusing its memory.
+void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal, ConeAssemblyScratch& scratch,
+                   VisibilityCone& result);
+/// The same, allocating (tests, one-off use).
 VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal);
 
 /// A, bent normal and solid angle of a cone from assemble_cone (Lambert's formula on each piece).

@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <queue>
 
 namespace pleat {
 namespace {
@@ -125,6 +124,12 @@ std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame
 FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
                                    const VisibilityParams& params) {
   FrameVisibility result;
+  compute_visibility(topology, frame, plan, params, result);
+  return result;
+}
+
+void compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
+                        const VisibilityParams& params, FrameVisibility& result) {
   const std::size_t n = topology.num_vertices;
   result.normals = vertex_normals(topology, frame);
   const MeshEdges edges(topology);
@@ -142,6 +147,7 @@ FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& fr
     for (std::size_t p = 0; p < planes.size(); ++p) run(p);
 
   VisibilityStats& stats = result.stats;
+  stats = {};
   stats.slices = planes.size();
   for (const PlaneResult& r : planes) {
     stats.slice_vertices += r.slice.vertices.size();
@@ -152,82 +158,99 @@ FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& fr
     stats.crossing_slices += r.crossings > 0;
   }
 
-  // 2. Per vertex and side, the stored cones, grouped by orientation.
+  // 2. Per vertex, side and orientation, the stored cones: one CSR array over the key
+  //    (side * orientations + o) * n + v.
   struct Ref {
     std::uint32_t plane;
     std::uint32_t stored;
   };
   const std::size_t orientations = plan.orientations.size();
-  // refs[(side * orientations + o) * n + v]
-  std::vector<std::vector<Ref>> refs(2 * orientations * n);
+  const std::size_t keys = 2 * orientations * n;
+  auto key_of = [&](int side, std::size_t o, Index v) { return (side * orientations + o) * n + v; };
+  std::vector<std::uint32_t> first(keys + 1, 0);
   for (std::uint32_t p = 0; p < planes.size(); ++p)
-    for (std::uint32_t s = 0; s < planes[p].stored.size(); ++s) {
-      const StoredCone& c = planes[p].stored[s];
-      refs[(c.side * orientations + plan.planes[p].orientation) * n + c.vertex].push_back({p, s});
-    }
+    for (const StoredCone& c : planes[p].stored) ++first[key_of(c.side, plan.planes[p].orientation, c.vertex) + 1];
+  for (std::size_t k = 0; k < keys; ++k) first[k + 1] += first[k];
+  std::vector<Ref> refs(first[keys]);
+  {
+    std::vector<std::uint32_t> cursor(first.begin(), first.end() - 1);
+    for (std::uint32_t p = 0; p < planes.size(); ++p)
+      for (std::uint32_t s = 0; s < planes[p].stored.size(); ++s) {
+        const StoredCone& c = planes[p].stored[s];
+        refs[cursor[key_of(c.side, plan.planes[p].orientation, c.vertex)]++] = {p, s};
+      }
+  }
 
   // 3. Fill: a vertex with no cone in an orientation borrows those of its nearest vertex (along mesh
-  //    edges) that has one — multi-source Dijkstra per orientation and side.
-  MeshEdges const& graph = edges;
+  //    edges) that has one — multi-source Dijkstra per orientation and side. source[key] is the vertex
+  //    whose cones the key uses (itself when it has its own), or -1.
   stats.filled_fraction.assign(orientations, 0.0);
+  std::vector<std::int32_t> source(keys, -1);
   std::vector<double> dist(n);
-  std::vector<Index> source(n);
+  using Item = std::pair<double, Index>;
+  std::vector<Item> heap;
   for (int side = 0; side < 2; ++side)
     for (std::size_t o = 0; o < orientations; ++o) {
-      auto* level = &refs[(side * orientations + o) * n];
-      using Item = std::pair<double, Index>;
-      std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
-      std::size_t sources = 0;
+      std::int32_t* src = &source[key_of(side, o, 0)];
+      heap.clear();
       for (Index v = 0; v < n; ++v) {
-        if (!level[v].empty()) {
+        const std::size_t k = key_of(side, o, v);
+        if (first[k + 1] > first[k]) {
           dist[v] = 0;
-          source[v] = v;
-          queue.emplace(0.0, v);
-          ++sources;
+          src[v] = static_cast<std::int32_t>(v);
+          heap.emplace_back(0.0, v);
         } else {
           dist[v] = INFINITY;
         }
       }
-      if (sources == 0) continue;
-      while (!queue.empty()) {
-        const auto [d, v] = queue.top();
-        queue.pop();
+      if (heap.empty()) continue;
+      std::make_heap(heap.begin(), heap.end(), std::greater<>());
+      while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+        const auto [d, v] = heap.back();
+        heap.pop_back();
         if (d > dist[v]) continue;
-        for (Index u : graph.neighbours[v]) {
+        for (Index u : edges.neighbours[v]) {
           const double du = d + glm::distance(frame.positions[u], frame.positions[v]);
-          if (du < dist[u] || (du == dist[u] && source[v] < source[u])) {
+          if (du < dist[u] || (du == dist[u] && src[v] < src[u])) {
             dist[u] = du;
-            source[u] = source[v];
-            queue.emplace(du, u);
+            src[u] = src[v];
+            heap.emplace_back(du, u);
+            std::push_heap(heap.begin(), heap.end(), std::greater<>());
           }
         }
       }
       std::size_t filled = 0;
-      for (Index v = 0; v < n; ++v)
-        if (level[v].empty() && std::isfinite(dist[v])) {
-          level[v] = level[source[v]];
-          ++filled;
-        }
+      for (Index v = 0; v < n; ++v) filled += src[v] >= 0 && src[v] != static_cast<std::int32_t>(v);
       if (side == 0) stats.filled_fraction[o] = n ? double(filled) / double(n) : 0.0;
     }
 
-  // 4. 3D cones and their measures, per vertex and side.
+  // 4. 3D cones and their measures, per vertex and side (per-thread scratch; result memory reused).
   for (int side = 0; side < 2; ++side) {
-    result.cones[side].assign(n, {});
+    result.cones[side].resize(n);
     result.measures[side].assign(n, {});
   }
-  auto assemble = [&](std::size_t v) {
+  struct AssemblyWorkspace {
+    ConeAssemblyScratch scratch;
     std::vector<PlanarCone> cones;
+  };
+  tbb::enumerable_thread_specific<AssemblyWorkspace> assembly;
+  auto assemble = [&](std::size_t v) {
+    AssemblyWorkspace& ws = assembly.local();
     for (int side = 0; side < 2; ++side) {
-      cones.clear();
-      for (std::size_t o = 0; o < orientations; ++o)
-        for (const Ref& r : refs[(side * orientations + o) * n + v]) {
-          const PlaneResult& pr = planes[r.plane];
-          const StoredCone& s = pr.stored[r.stored];
-          cones.push_back({&plan.planes[r.plane], pr.cones.cone(s.slice_vertex, static_cast<Side>(side))});
+      ws.cones.clear();
+      for (std::size_t o = 0; o < orientations; ++o) {
+        const std::int32_t from = source[key_of(side, o, static_cast<Index>(v))];
+        if (from < 0) continue;
+        const std::size_t k = key_of(side, o, static_cast<Index>(from));
+        for (std::uint32_t i = first[k]; i < first[k + 1]; ++i) {
+          const PlaneResult& pr = planes[refs[i].plane];
+          const StoredCone& s = pr.stored[refs[i].stored];
+          ws.cones.push_back({&plan.planes[refs[i].plane], pr.cones.cone(s.slice_vertex, static_cast<Side>(side))});
         }
+      }
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];
-      result.cones[side][v] = assemble_cone(cones, side_normal);
+      assemble_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v]);
       result.measures[side][v] = measure_cone(result.cones[side][v], side_normal);
     }
   };
@@ -235,7 +258,6 @@ FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& fr
     tbb::parallel_for(std::size_t(0), n, assemble);
   else
     for (std::size_t v = 0; v < n; ++v) assemble(v);
-  return result;
 }
 
 }  // namespace pleat

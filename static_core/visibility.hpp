@@ -21,6 +21,9 @@ struct VisibilityParams {
 
 FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
                                    const VisibilityParams& params = {});
+/// The same into `result`, reusing its memory (frame loops: no per-vertex allocation after the first frame).
+void compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
+                        const VisibilityParams& params, FrameVisibility& result);
 
 /// Area-weighted unit vertex normals (DESIGN.md §1); isolated vertices get (0,0,1).
 std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame& frame);
