@@ -17,6 +17,11 @@ constexpr double kContainTolerance = 1e-9;
 /// 0.05 -> 0.25 -> 0.5 moves the drape's mean |dA| 0.041 -> 0.040 -> 0.039 and leaves the others within
 /// noise; arcs of separate openings are usually much farther apart.
 constexpr double kLinkTolerance = 0.25;
+/// Half-width (radians) of the band given to a wedge that no other wedge of the vertex joins: half the
+/// angle between neighbouring orientations of the paper's six (45 degrees), i.e. the part of the sphere this
+/// sample stands for. Measured (4096 rays): drape frame 60 mean |dA| 0.0399 -> 0.0388, sleeve 0.0393 -> 0.0363, the
+/// other generated kinds unchanged; none worse.
+constexpr double kLoneWedgeHalfWidth = kTwoPi / 16;
 
 struct SpatialWedge {
   const SlicingPlane* plane;
@@ -106,7 +111,22 @@ void build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3
     order[kept++] = order[i];
   }
   while (kept > 1 && glm::dot(order[kept - 1].second, order[0].second) > 1 - 1e-15) --kept;
-  if (kept < 3) return;
+  if (kept < 3) {
+    if (group.size() != 1 || kept != 2) return;
+    // One wedge alone: a sample of a visible region along one great circle, of unknown extent across it.
+    // Give it a thin band, kLoneWedgeHalfWidth to each side of its plane, instead of no area at all.
+    const SpatialWedge& w = *group.front();
+    const glm::dvec3 middle = w.direction(0.5 * (w.start + w.end));
+    for (const double side : {1.0, -1.0}) {
+      glm::dvec3 d = glm::normalize(middle + side * std::tan(kLoneWedgeHalfWidth) * w.plane->normal);
+      const double up = glm::dot(d, side_normal);
+      if (up < 1e-15) d = glm::normalize(glm::normalize(d - up * side_normal) + 1e-15 * side_normal);
+      bridged.push_back(side > 0 ? order[0].second : order[1].second);
+      bridged.push_back(d);
+    }
+    if (projected_solid_angle(bridged, side_normal) < 0) std::reverse(bridged.begin(), bridged.end());
+    return;
+  }
   for (std::size_t i = 0; i < kept; ++i) {
     bridged.push_back(order[i].second);
     if (glm::dot(order[i].second, order[(i + 1) % kept].second) < -1 + 1e-9 && glm::dot(centre, side_normal) > 0)

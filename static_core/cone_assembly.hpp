@@ -4,7 +4,8 @@
 // wedges are first clipped to the side's half-space (directions d with d . side*n(v) >= 0). Two wedges are
 // linked when they share more than the apex (the paper's test: the planes' common line lies in both) or
 // when a point of one arc lies over the other or near its ends (slices sample a visible region sparsely,
-// so arcs of one narrow opening rarely cross exactly); each connected group becomes one piece: its wedges' bounding directions are sorted
+// so arcs of one narrow opening rarely cross exactly; a wedge that joins no other becomes a thin band
+// about its plane, half the angle between neighbouring orientations wide); each connected group becomes one piece: its wedges' bounding directions are sorted
 // radially about the group's mean direction (azimuthal projection about it) — a polygonal cone, not
 // necessarily convex, counter-clockwise. (The paper sorts about the centroid of the points projected onto
 // the tangent plane; that fails on the slot-shaped cones of deep folds — see cone_assembly.cpp.)
