@@ -33,19 +33,7 @@ class Pc2Source : public FrameSource {
   std::vector<glm::dvec3> read_frame(std::size_t i) const override {
     const auto points = std::uint64_t(m_header.num_points);
     const std::uint64_t offset = kHeaderBytes + std::uint64_t(i) * points * 12;
-    const std::string bytes = read_file_bytes(m_path, offset, points * 12);
-    const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
-    std::vector<glm::dvec3> positions(points);
-    for (std::uint64_t v = 0; v < points; ++v) {
-      for (int k = 0; k < 3; ++k) {
-        const float c = bytes::load_f32_le(p + 12 * v + 4 * k);
-        if (!std::isfinite(c))
-          throw InputError(m_path.string(), "frame " + std::to_string(i) + ", vertex " + std::to_string(v),
-                           "non-finite coordinate (byte " + std::to_string(offset + 12 * v + 4 * k) + ")");
-        positions[v][k] = double(c);
-      }
-    }
-    return positions;
+    return read_point_block(m_path, offset, points, i, ByteOrder::Little);
   }
 
  private:

@@ -1,11 +1,11 @@
 #include "static_core/mesh_slicer.hpp"
 
-#include "static_core/cgal_types.hpp"
-
-#include <glm/geometric.hpp>
-
 #include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
 #include <numeric>
+
+#include "static_core/cgal_types.hpp"
 
 namespace pleat {
 
@@ -93,10 +93,10 @@ void slice_mesh(const MeshTopology& topology, const MeshEdges& edges, const Fram
     const int j = (i + 1) % 3, k = (i + 2) % 3;
     const Index lone = t[i];
     // Crossing points on edges (t[i], t[j]) and (t[k], t[i]).
-    const Index on_ij = up[i] ? slice_vertex(edges.of_face[f][i], lone, t[j])
-                              : slice_vertex(edges.of_face[f][i], t[j], lone);
-    const Index on_ki = up[i] ? slice_vertex(edges.of_face[f][k], lone, t[k])
-                              : slice_vertex(edges.of_face[f][k], t[k], lone);
+    const Index on_ij =
+        up[i] ? slice_vertex(edges.of_face[f][i], lone, t[j]) : slice_vertex(edges.of_face[f][i], t[j], lone);
+    const Index on_ki =
+        up[i] ? slice_vertex(edges.of_face[f][k], lone, t[k]) : slice_vertex(edges.of_face[f][k], t[k], lone);
     // With (u, w, normal) right-handed, the front (face normal) side is to the right of on_ij -> on_ki
     // when the lone vertex is above, and to the left when it is below.
     SliceEdge e;
@@ -126,6 +126,49 @@ std::vector<Index> cone_recipients(const MeshTopology& topology, const MeshEdges
   for (const auto& sv : slice.vertices) result.push_back(sv.nearer);
   std::sort(result.begin(), result.end());
   result.erase(std::unique(result.begin(), result.end()), result.end());
+  return result;
+}
+
+std::vector<std::vector<Index>> candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame,
+                                                          const SlicingPlan& plan) {
+  std::vector<std::vector<Index>> result(plan.planes.size());
+  const std::size_t faces = topology.triangles.size();
+  for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
+    std::vector<std::pair<double, Index>> planes;  // (offset, plane index) of this family
+    glm::dvec3 normal(0.0);
+    bool parallel = true;
+    for (Index p = 0; p < plan.planes.size(); ++p) {
+      if (plan.planes[p].orientation != o) continue;
+      if (planes.empty())
+        normal = plan.planes[p].normal;
+      else if (plan.planes[p].normal != normal)
+        parallel = false;
+      planes.emplace_back(plan.planes[p].offset, p);
+    }
+    if (planes.empty()) continue;
+    if (!parallel) {
+      for (const auto& [offset, p] : planes) {
+        result[p].resize(faces);
+        std::iota(result[p].begin(), result[p].end(), 0);
+      }
+      continue;
+    }
+    std::sort(planes.begin(), planes.end());
+    std::vector<double> height(frame.positions.size());
+    double scale = 0.0;
+    for (std::size_t v = 0; v < height.size(); ++v) {
+      height[v] = glm::dot(normal, frame.positions[v]);
+      scale = std::max(scale, std::abs(height[v]));
+    }
+    const double margin = 1e-9 * (1.0 + scale);  // far above the rounding of a dot product
+    for (Index f = 0; f < faces; ++f) {
+      const Triangle& t = topology.triangles[f];
+      const double lo = std::min({height[t[0]], height[t[1]], height[t[2]]}) - margin;
+      const double hi = std::max({height[t[0]], height[t[1]], height[t[2]]}) + margin;
+      auto it = std::lower_bound(planes.begin(), planes.end(), std::make_pair(lo, Index(0)));
+      for (; it != planes.end() && it->first <= hi; ++it) result[it->second].push_back(f);
+    }
+  }
   return result;
 }
 

@@ -9,14 +9,13 @@
 // Cost: O(#candidate faces) per plane.
 #pragma once
 
-#include "sim_io/mesh.hpp"
-#include "static_core/slicing_plan.hpp"
-
-#include <glm/vec2.hpp>
-
 #include <cstdint>
+#include <glm/vec2.hpp>
 #include <span>
 #include <vector>
+
+#include "sim_io/mesh.hpp"
+#include "static_core/slicing_plan.hpp"
 
 namespace pleat {
 
@@ -29,13 +28,13 @@ struct MeshEdges {
 };
 
 struct SliceVertex {
-  Index edge = 0;        ///< the mesh edge it lies on
-  Index above = 0;       ///< the edge's endpoint on or above the plane
-  Index below = 0;       ///< the edge's endpoint below the plane
-  double t = 0.0;        ///< position along the edge, from `above` (0) to `below` (1)
-  glm::dvec2 point{0.0}; ///< 2D coordinates in the plane's (u, w) frame
-  Index nearer = 0;      ///< the nearer endpoint, on which the 2D cone is stored
-  double distance = 0.0; ///< 3D distance from `nearer`
+  Index edge = 0;         ///< the mesh edge it lies on
+  Index above = 0;        ///< the edge's endpoint on or above the plane
+  Index below = 0;        ///< the edge's endpoint below the plane
+  double t = 0.0;         ///< position along the edge, from `above` (0) to `below` (1)
+  glm::dvec2 point{0.0};  ///< 2D coordinates in the plane's (u, w) frame
+  Index nearer = 0;       ///< the nearer endpoint, on which the 2D cone is stored
+  double distance = 0.0;  ///< 3D distance from `nearer`
 };
 
 /// A slice edge from `from` to `to` (slice vertex indices), with the front side on its left.
@@ -63,6 +62,12 @@ struct SlicerScratch {
 void slice_mesh(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
                 const SlicingPlane& plane, std::span<const Index> candidate_faces, SlicerScratch& scratch,
                 Slice& out);
+
+/// For each plane of the plan, the faces that may cross it (the candidate_faces of slice_mesh). Parallel
+/// families are bucketed by offset: a face is listed for the planes within its height interval widened by a
+/// margin far above the rounding of a dot product; other planes get every face. O(F log P + output).
+std::vector<std::vector<Index>> candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame,
+                                                          const SlicingPlan& plan);
 
 /// Exact side of a point against a plane: true when on or above (dot(normal, p) >= offset).
 bool on_or_above(const SlicingPlane& plane, const glm::dvec3& p);

@@ -1,12 +1,12 @@
 #include "static_core/slice_cones.hpp"
 
-#include "static_core/assert.hpp"
-
 #include <CGAL/number_utils.h>
-#include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <glm/geometric.hpp>
 #include <unordered_map>
+
+#include "static_core/assert.hpp"
 
 namespace pleat {
 namespace {
@@ -23,8 +23,10 @@ glm::dvec2 direction(const Point2& from, const Point2& to) { return {to.x() - fr
 Wedge exact_wedge(const Point2& x, const Point2& p, const Point2& q) {
   const glm::dvec2 dp = direction(x, p), dq = direction(x, q);
   switch (CGAL::orientation(x, p, q)) {
-    case CGAL::LEFT_TURN: return thin_wedge_between(dp, dq);
-    case CGAL::RIGHT_TURN: return wedge_between(dp, dq);
+    case CGAL::LEFT_TURN:
+      return thin_wedge_between(dp, dq);
+    case CGAL::RIGHT_TURN:
+      return wedge_between(dp, dq);
     default:
       return {direction_angle(dp), CGAL::angle(p, x, q) == CGAL::ACUTE ? kTwoPi : kTwoPi / 2};
   }
@@ -204,32 +206,46 @@ void blocked_spans(VertexHandle xv, const std::vector<std::pair<VertexHandle, Ve
   for (const auto& [p, q] : segments) {
     if (p == xv || q == xv) continue;
     switch (CGAL::orientation(x, p->point(), q->point())) {
-      case CGAL::LEFT_TURN: blocked.push_back(thin_wedge_between(direction(x, p->point()), direction(x, q->point()))); break;
-      case CGAL::RIGHT_TURN: blocked.push_back(thin_wedge_between(direction(x, q->point()), direction(x, p->point()))); break;
-      default: break;  // seen edge-on: blocks a single direction
+      case CGAL::LEFT_TURN:
+        blocked.push_back(thin_wedge_between(direction(x, p->point()), direction(x, q->point())));
+        break;
+      case CGAL::RIGHT_TURN:
+        blocked.push_back(thin_wedge_between(direction(x, q->point()), direction(x, p->point())));
+        break;
+      default:
+        break;  // seen edge-on: blocks a single direction
     }
   }
 }
 
-/// Exact angular sweep of the region's corners (all, or those not on component `skip_component`): the
-/// corner's sector minus what the region's chain edges block. O(n) per corner.
-void swept_cones(const Cdt& cdt, const SliceTriangulation& st, const SliceRegion& region,
-                 const std::vector<std::pair<VertexHandle, VertexHandle>>& segments,
-                 const std::unordered_map<const void*, int>* component_of, int skip_component, SliceConeScratch& s) {
-  std::vector<Wedge> blocked;
+/// Calls fn(face, index, corner) once per corner of the region, with one of the corner's faces.
+template <class Fn>
+void for_each_corner(const SliceTriangulation& st, const SliceRegion& region, Fn&& fn) {
   std::vector<char> done(st.num_corners(), 0);
   for (const FaceHandle f : region.faces)
     for (int k = 0; k < 3; ++k) {
       const int c = f->info().corner[k];
       if (done[c]) continue;
       done[c] = 1;
-      const VertexHandle xv = f->vertex(k);
-      if (component_of && component_of->at(&*xv) == skip_component) continue;
-      blocked_spans(xv, segments, blocked);
-      const AngularSet visible =
-          AngularSet::from_wedges({corner_sector(cdt, f, c)}).subtract(AngularSet::from_wedges(blocked));
-      s.corner_wedges[c].assign(visible.wedges().begin(), visible.wedges().end());
+      fn(f, k, c);
     }
+}
+
+/// Exact angular sweep of the region's corners (all, or those not on component `skip_component`): the
+/// corner's sector minus what the region's chain edges block. O(n) per corner.
+void swept_cones(const Cdt& cdt, const SliceTriangulation& st, const SliceRegion& region,
+                 const std::vector<std::pair<VertexHandle, VertexHandle>>& segments,
+                 const std::unordered_map<const void*, int>* component_of, int skip_component,
+                 SliceConeScratch& s) {
+  std::vector<Wedge> blocked;
+  for_each_corner(st, region, [&](FaceHandle f, int k, int c) {
+    const VertexHandle xv = f->vertex(k);
+    if (component_of && component_of->at(&*xv) == skip_component) return;
+    blocked_spans(xv, segments, blocked);
+    const AngularSet visible =
+        AngularSet::from_wedges({corner_sector(cdt, f, c)}).subtract(AngularSet::from_wedges(blocked));
+    s.corner_wedges[c].assign(visible.wedges().begin(), visible.wedges().end());
+  });
 }
 
 /// A region with holes (Stewart 1999 §2.3.2): the funnel trees run in the outer polygon with the holes
@@ -237,7 +253,8 @@ void swept_cones(const Cdt& cdt, const SliceTriangulation& st, const SliceRegion
 /// outer corner, is subtracted from that corner's cone; corners on the holes get cones by the exact sweep.
 /// Falls back to the sweep for every corner when the outer boundary is not one simple component (and
 /// returns false then).
-bool cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion& region, SliceConeScratch& s) {
+bool cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion& region,
+                                SliceConeScratch& s) {
   const Cdt& cdt = st.cdt();
   // Boundary components of the region: chain edges and windows, joined at shared vertices.
   std::vector<std::pair<VertexHandle, VertexHandle>> segments;  // chain edges bounding the region
@@ -265,7 +282,8 @@ bool cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion&
       } else {
         for (int k = 0; k < 3; ++k) id(f->vertex(k));  // isolated vertices are components too
       }
-  for (const SliceWindow& w : region.windows) join(w.face->vertex(cdt.ccw(w.index)), w.face->vertex(cdt.cw(w.index)));
+  for (const SliceWindow& w : region.windows)
+    join(w.face->vertex(cdt.ccw(w.index)), w.face->vertex(cdt.cw(w.index)));
   const int outer = root(id(region.windows.front().face->vertex(cdt.ccw(region.windows.front().index))));
   std::unordered_map<const void*, int> component_of;
   for (std::size_t i = 0; i < vertices.size(); ++i) component_of[&*vertices[i]] = root(static_cast<int>(i));
@@ -286,8 +304,10 @@ bool cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion&
   };
   std::vector<std::pair<VertexHandle, VertexHandle>> hole_segments;
   for (const auto& [p, q] : segments) {
-    if (component_of.at(&*p) == outer) outer_slice.edges.push_back({outer_id(p), outer_id(q), 0});
-    else hole_segments.emplace_back(p, q);
+    if (component_of.at(&*p) == outer)
+      outer_slice.edges.push_back({outer_id(p), outer_id(q), 0});
+    else
+      hole_segments.emplace_back(p, q);
   }
   for (const SliceWindow& w : region.windows) {
     outer_id(w.face->vertex(cdt.ccw(w.index)));
@@ -322,38 +342,36 @@ bool cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion&
 
   // Each outer corner: the cone of the outer polygon's corner holding it, minus the holes' spans.
   std::vector<Wedge> blocked;
-  std::vector<char> done(st.num_corners(), 0);
-  for (const FaceHandle f : region.faces)
-    for (int k = 0; k < 3; ++k) {
-      const int c = f->info().corner[k];
-      if (done[c]) continue;
-      done[c] = 1;
-      const VertexHandle xv = f->vertex(k);
-      if (component_of.at(&*xv) != outer) continue;
-      // The same corner in the outer polygon's triangulation, found exactly: both begin, turning
-      // counter-clockwise about x, at the chain or hull edge (x, w) that bounds the corner clockwise.
-      cgal::FaceHandle first = f;
-      for (int turns = 0; !is_separator(cdt, first, cdt.cw(first->index(xv))); ++turns) {
-        PLEAT_ASSERT(turns < 1000000, "a corner of an outer vertex has no bounding edge");
-        first = first->neighbor(cdt.cw(first->index(xv)));
-      }
-      const VertexHandle w = first->vertex(cdt.ccw(first->index(xv)));
-      int sub_corner = -1;
-      const auto w_index = outer_index.find(&*w);
-      if (w_index != outer_index.end()) {
-        cgal::FaceHandle fr;
-        int i = 0;
-        const VertexHandle x2 = outer_st.vertex_of(outer_index.at(&*xv)), w2 = outer_st.vertex_of(w_index->second);
-        if (outer_st.cdt().is_edge(x2, w2, fr, i)) {
-          const cgal::FaceHandle g = fr->neighbor(i);  // left of x2 -> w2: the face that begins at (x, w)
-          if (!outer_st.cdt().is_infinite(g) && g->info().region == polygon) sub_corner = g->info().corner[g->index(x2)];
-        }
-      }
-      PLEAT_ASSERT(sub_corner >= 0, "an outer corner is not inside the outer polygon");
-      blocked_spans(xv, hole_segments, blocked);
-      const AngularSet visible = AngularSet::from_wedges(sub.corner_wedges[sub_corner]).subtract(AngularSet::from_wedges(blocked));
-      s.corner_wedges[c].assign(visible.wedges().begin(), visible.wedges().end());
+  for_each_corner(st, region, [&](FaceHandle f, int k, int c) {
+    const VertexHandle xv = f->vertex(k);
+    if (component_of.at(&*xv) != outer) return;
+    // The same corner in the outer polygon's triangulation, found exactly: both begin, turning
+    // counter-clockwise about x, at the chain or hull edge (x, w) that bounds the corner clockwise.
+    cgal::FaceHandle first = f;
+    for (int turns = 0; !is_separator(cdt, first, cdt.cw(first->index(xv))); ++turns) {
+      PLEAT_ASSERT(turns < 1000000, "a corner of an outer vertex has no bounding edge");
+      first = first->neighbor(cdt.cw(first->index(xv)));
     }
+    const VertexHandle w = first->vertex(cdt.ccw(first->index(xv)));
+    int sub_corner = -1;
+    const auto w_index = outer_index.find(&*w);
+    if (w_index != outer_index.end()) {
+      cgal::FaceHandle fr;
+      int i = 0;
+      const VertexHandle x2 = outer_st.vertex_of(outer_index.at(&*xv)),
+                         w2 = outer_st.vertex_of(w_index->second);
+      if (outer_st.cdt().is_edge(x2, w2, fr, i)) {
+        const cgal::FaceHandle g = fr->neighbor(i);  // left of x2 -> w2: the face that begins at (x, w)
+        if (!outer_st.cdt().is_infinite(g) && g->info().region == polygon)
+          sub_corner = g->info().corner[g->index(x2)];
+      }
+    }
+    PLEAT_ASSERT(sub_corner >= 0, "an outer corner is not inside the outer polygon");
+    blocked_spans(xv, hole_segments, blocked);
+    const AngularSet visible =
+        AngularSet::from_wedges(sub.corner_wedges[sub_corner]).subtract(AngularSet::from_wedges(blocked));
+    s.corner_wedges[c].assign(visible.wedges().begin(), visible.wedges().end());
+  });
   // Corners on the holes: the exact sweep against every chain edge of the region.
   swept_cones(cdt, st, region, segments, &component_of, outer, s);
   return true;
@@ -369,7 +387,8 @@ void collinear_slice_cones(const Slice& slice, const SliceTriangulation& st, Sli
       const int y = next_distinct(slice, st, x, forward);
       if (y >= 0) leaving.emplace_back(st.vertex_of(x), slice.vertices[y].point - slice.vertices[x].point);
     }
-  std::sort(leaving.begin(), leaving.end(), [](const auto& a, const auto& b) { return &*a.first < &*b.first; });
+  std::sort(leaving.begin(), leaving.end(),
+            [](const auto& a, const auto& b) { return &*a.first < &*b.first; });
   for (Index x = 0; x < slice.vertices.size(); ++x) {
     const int next = next_distinct(slice, st, x, true), prev = next_distinct(slice, st, x, false);
     const glm::dvec2 d = next >= 0   ? slice.vertices[next].point - slice.vertices[x].point
@@ -383,8 +402,10 @@ void collinear_slice_cones(const Slice& slice, const SliceTriangulation& st, Sli
       (glm::dot(it->second, d) > 0 ? forward : backward) = true;
     }
     for (Side side : kBothSides) {
-      if (d == glm::dvec2(0.0) || !(forward && backward)) out.wedges.push_back({0.0, kTwoPi});
-      else out.wedges.push_back({direction_angle(side == Side::Front ? d : -d), kTwoPi / 2});
+      if (d == glm::dvec2(0.0) || !(forward && backward))
+        out.wedges.push_back({0.0, kTwoPi});
+      else
+        out.wedges.push_back({direction_angle(side == Side::Front ? d : -d), kTwoPi / 2});
       out.offsets.push_back(static_cast<std::uint32_t>(out.wedges.size()));
     }
   }
@@ -392,7 +413,8 @@ void collinear_slice_cones(const Slice& slice, const SliceTriangulation& st, Sli
 
 }  // namespace
 
-void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, SliceConeScratch& s, SliceCones& out) {
+void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, SliceConeScratch& s,
+                         SliceCones& out) {
   out.wedges.clear();
   out.offsets.assign(1, 0);
   out.windows = out.regions = out.regions_with_holes = out.holes_swept = 0;
@@ -420,9 +442,11 @@ void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, Slice
     const VertexHandle xv = st.vertex_of(x);
     const int next = next_distinct(slice, st, x, true), prev = next_distinct(slice, st, x, false);
     const VertexHandle w_out =
-        next >= 0 ? first_constraint_vertex(cdt, xv, cgal::to_point(slice.vertices[next].point)) : VertexHandle();
+        next >= 0 ? first_constraint_vertex(cdt, xv, cgal::to_point(slice.vertices[next].point))
+                  : VertexHandle();
     const VertexHandle w_in =
-        prev >= 0 ? first_constraint_vertex(cdt, xv, cgal::to_point(slice.vertices[prev].point)) : VertexHandle();
+        prev >= 0 ? first_constraint_vertex(cdt, xv, cgal::to_point(slice.vertices[prev].point))
+                  : VertexHandle();
     for (Side side : kBothSides) {
       // Front: counter-clockwise of the outgoing edge (or clockwise of the incoming one); back: mirrored.
       const VertexHandle ccw_of = side == Side::Front ? w_out : w_in;

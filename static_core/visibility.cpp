@@ -38,49 +38,6 @@ struct Workspace {
   std::vector<std::int64_t> best;  // per mesh vertex and side: index into `stored`, -1 if none
 };
 
-/// For each plane, the faces that may cross it. Parallel families are bucketed by offset (faces whose
-/// height interval, widened by a rounding margin, contains the offset); other planes get every face.
-std::vector<std::vector<Index>> candidate_faces(const MeshTopology& topology, const Frame& frame,
-                                                const SlicingPlan& plan) {
-  std::vector<std::vector<Index>> result(plan.planes.size());
-  const std::size_t faces = topology.triangles.size();
-  for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
-    std::vector<std::pair<double, Index>> planes;  // (offset, plane index) of this family
-    glm::dvec3 normal(0.0);
-    bool parallel = true;
-    for (Index p = 0; p < plan.planes.size(); ++p) {
-      if (plan.planes[p].orientation != o) continue;
-      if (planes.empty()) normal = plan.planes[p].normal;
-      else if (plan.planes[p].normal != normal) parallel = false;
-      planes.emplace_back(plan.planes[p].offset, p);
-    }
-    if (planes.empty()) continue;
-    if (!parallel) {
-      for (const auto& [offset, p] : planes) {
-        result[p].resize(faces);
-        std::iota(result[p].begin(), result[p].end(), 0);
-      }
-      continue;
-    }
-    std::sort(planes.begin(), planes.end());
-    std::vector<double> height(frame.positions.size());
-    double scale = 0.0;
-    for (std::size_t v = 0; v < height.size(); ++v) {
-      height[v] = glm::dot(normal, frame.positions[v]);
-      scale = std::max(scale, std::abs(height[v]));
-    }
-    const double margin = 1e-9 * (1.0 + scale);  // far above the rounding of a dot product
-    for (Index f = 0; f < faces; ++f) {
-      const Triangle& t = topology.triangles[f];
-      const double lo = std::min({height[t[0]], height[t[1]], height[t[2]]}) - margin;
-      const double hi = std::max({height[t[0]], height[t[1]], height[t[2]]}) + margin;
-      auto it = std::lower_bound(planes.begin(), planes.end(), std::make_pair(lo, Index(0)));
-      for (; it != planes.end() && it->first <= hi; ++it) result[it->second].push_back(f);
-    }
-  }
-  return result;
-}
-
 void process_plane(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
                    const SlicingPlane& plane, std::span<const Index> faces, Workspace& ws, PlaneResult& out) {
   slice_mesh(topology, edges, frame, plane, faces, ws.slicer, out.slice);
@@ -133,7 +90,7 @@ void compute_visibility(const MeshTopology& topology, const Frame& frame, const 
   const std::size_t n = topology.num_vertices;
   result.normals = vertex_normals(topology, frame);
   const MeshEdges edges(topology);
-  const auto faces = candidate_faces(topology, frame, plan);
+  const auto faces = candidate_faces_per_plane(topology, frame, plan);
 
   // 1. Every plane on its own: slice, triangulate, shortest-path trees, 2D cones, storage.
   std::vector<PlaneResult> planes(plan.planes.size());

@@ -7,6 +7,8 @@
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
 
+#include "oracles/test_meshes.hpp"
+
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -14,24 +16,9 @@
 namespace pleat {
 namespace {
 
-struct Mesh {
-  MeshTopology topology;
-  Frame frame;
-};
+using Mesh = test::TestMesh;
 
-Mesh flat_sheet(int n, double size) {
-  Mesh m;
-  m.topology.num_vertices = static_cast<Index>(n * n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) m.frame.positions.push_back({size * i / (n - 1), size * j / (n - 1), 0.0});
-  auto v = [n](int i, int j) { return static_cast<Index>(j * n + i); };
-  for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i) {
-      m.topology.triangles.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
-      m.topology.triangles.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
-    }
-  return m;
-}
+Mesh flat_sheet(int n, double size) { return test::flat_sheet(n, n, size / (n - 1)); }
 
 /// Unit octahedron subdivided `levels` times and pushed onto the sphere, outward winding.
 Mesh sphere(int levels) {

@@ -8,6 +8,8 @@
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
 
+#include "oracles/test_meshes.hpp"
+
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -15,60 +17,11 @@
 namespace pleat {
 namespace {
 
-struct Mesh {
-  MeshTopology topology;
-  Frame frame;
-};
+using Mesh = test::TestMesh;
 
-/// Regular grid of n × n vertices on [0, size]² in the plane z = 0, wound so that n = +z.
-Mesh flat_sheet(int n, double size) {
-  Mesh m;
-  m.topology.num_vertices = static_cast<Index>(n * n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) m.frame.positions.push_back({size * i / (n - 1), size * j / (n - 1), 0.0});
-  auto v = [n](int i, int j) { return static_cast<Index>(j * n + i); };
-  for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i) {
-      m.topology.triangles.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
-      m.topology.triangles.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
-    }
-  return m;
-}
-
-/// Unit icosphere: an icosahedron subdivided `levels` times, wound with outward normals.
-Mesh icosphere(int levels) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<glm::dvec3> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<Triangle> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                             {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                             {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (auto& q : p) q = glm::normalize(q);
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<Index, Index>, Index> mid;
-    auto midpoint = [&](Index a, Index b) {
-      const auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      p.push_back(glm::normalize(p[a] + p[b]));
-      return mid[key] = static_cast<Index>(p.size() - 1);
-    };
-    std::vector<Triangle> g;
-    for (const Triangle& tri : f) {
-      const Index a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
-      g.push_back({tri[0], a, c});
-      g.push_back({tri[1], b, a});
-      g.push_back({tri[2], c, b});
-      g.push_back({a, b, c});
-    }
-    f = std::move(g);
-  }
-  Mesh m;
-  m.topology.num_vertices = static_cast<Index>(p.size());
-  m.topology.triangles = f;
-  m.frame.positions = p;
-  return m;
-}
+/// Regular grid of n x n vertices on [0, size]^2 in the plane z = 0, wound so that n = +z.
+Mesh flat_sheet(int n, double size) { return test::flat_sheet(n, n, size / (n - 1)); }
+using test::icosphere;
 
 /// A V-fold: two planar half-strips meeting along the z axis at angle 2α, opening towards +y, wound so the
 /// front (+n) is the inside of the V. Columns lie at distances `offsets` (ascending, offsets[0] = 0 is the

@@ -1,5 +1,6 @@
 // PNG rendering (shading/render): uniform colour of a flat sheet facing the camera, back colours from behind,
 // background on misses, camera parsing and auto-framing, atomic PNG output, turntables, labelled panels.
+#include "oracles/test_meshes.hpp"
 #include "shading/render.hpp"
 #include "test_support.hpp"
 
@@ -13,26 +14,10 @@
 namespace pleat {
 namespace {
 
-struct Mesh {
-  MeshTopology topology;
-  Frame frame;
-};
+using Mesh = test::TestMesh;
 
-/// n × n grid on [-1, 1]² in the plane z = 0, front (+n) towards +z.
-Mesh square_sheet(int n) {
-  Mesh m;
-  m.topology.num_vertices = static_cast<Index>(n * n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      m.frame.positions.push_back({-1.0 + 2.0 * i / (n - 1), -1.0 + 2.0 * j / (n - 1), 0.0});
-  auto v = [n](int i, int j) { return static_cast<Index>(j * n + i); };
-  for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i) {
-      m.topology.triangles.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
-      m.topology.triangles.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
-    }
-  return m;
-}
+/// n x n grid on [-1, 1]^2 in the plane z = 0, front (+n) towards +z.
+Mesh square_sheet(int n) { return test::flat_sheet(n, n, 2.0 / (n - 1), {-1.0, -1.0}); }
 
 glm::u8vec3 expected_byte(glm::vec3 srgb) {
   return {static_cast<std::uint8_t>(std::lround(srgb.x * 255.0f)), static_cast<std::uint8_t>(std::lround(srgb.y * 255.0f)),

@@ -9,11 +9,11 @@
 
 namespace pleat::test {
 
-TestMesh flat_sheet(int nx, int ny) {
+TestMesh flat_sheet(int nx, int ny, double spacing, glm::dvec2 origin) {
   TestMesh m;
   m.topology.num_vertices = static_cast<Index>(nx * ny);
   for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) m.frame.positions.emplace_back(i, j, 0.0);
+    for (int i = 0; i < nx; ++i) m.frame.positions.emplace_back(origin.x + spacing * i, origin.y + spacing * j, 0.0);
   for (int j = 0; j + 1 < ny; ++j)
     for (int i = 0; i + 1 < nx; ++i) {
       const Index a = j * nx + i, b = a + 1, c = a + nx, d = c + 1;

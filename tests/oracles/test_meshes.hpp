@@ -3,6 +3,7 @@
 
 #include "sim_io/mesh.hpp"
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace pleat::test {
@@ -13,8 +14,8 @@ struct TestMesh {
   Index marked_vertex = 0;  ///< a vertex of interest (the V-fold's bottom centre)
 };
 
-/// A flat nx x ny grid in the plane z = 0 (unit spacing), counter-clockwise: normals +z.
-TestMesh flat_sheet(int nx, int ny);
+/// A flat nx x ny grid in the plane z = 0, `spacing` apart from `origin`, counter-clockwise: normals +z.
+TestMesh flat_sheet(int nx, int ny, double spacing = 1.0, glm::dvec2 origin = {0.0, 0.0});
 /// An icosphere of unit radius, `subdivisions` times subdivided, outward normals.
 TestMesh icosphere(int subdivisions);
 /// Two planes meeting along the x axis, opening towards +z with half-angle `alpha` from the vertical:
