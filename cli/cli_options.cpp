@@ -35,6 +35,10 @@ void parse_frame_range(const std::string& text, std::size_t count, std::size_t& 
     throw std::invalid_argument("--frames: '" + text + "' selects no frame of " + std::to_string(count));
 }
 
+void create_parent_directory(const std::filesystem::path& output) {
+  if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
+}
+
 void PlanOptions::add_to(CLI::App& command) {
   command.add_option("--orientations", orientations,
                      "plane orientations (6: the paper's; other counts are spread over the sphere)")

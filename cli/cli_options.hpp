@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstddef>
+#include <filesystem>
 #include <string>
 
 namespace pleat::cli {
@@ -14,6 +15,9 @@ namespace pleat::cli {
 /// Parses "A:B" (half-open, Python style: either end may be left out, negatives count from the end) or
 /// "N" (that frame only) against `count` frames into [first, last). Throws std::invalid_argument.
 void parse_frame_range(const std::string& text, std::size_t count, std::size_t& first, std::size_t& last);
+
+/// Creates the directory an output file goes into, if missing (outputs are written atomically inside it).
+void create_parent_directory(const std::filesystem::path& output);
 
 /// How the slicing planes are placed (DESIGN.md §2.1); the plan is made once from the first frame used
 /// and kept for the whole sequence.

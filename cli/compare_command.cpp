@@ -233,7 +233,7 @@ void run_compare(const CompareOptions& options) {
                                               LabeledImage{&reference_image, pt_label},
                                               LabeledImage{&heat_image, "ABS DIFFERENCE"}};
   const std::filesystem::path output(options.output);
-  if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
+  create_parent_directory(output);
   write_png(output, side_by_side(panels));
 
   if (!options.quiet) {

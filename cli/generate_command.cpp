@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "sim_io/cloth_generators.hpp"
@@ -44,6 +45,7 @@ void run_generate(const GenerateOptions& options) {
   pc2_path.replace_extension(".pc2");
 
   const ClothGenerator generator(*kind, options.params);  // validates the parameters
+  create_parent_directory(obj_path);
   std::vector<std::vector<glm::dvec3>> frames;
   frames.reserve(generator.num_frames());
   Progress progress("generating frames", generator.num_frames());

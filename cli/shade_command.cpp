@@ -109,7 +109,7 @@ void run_shade(const ShadeOptions& options) {
   std::vector<std::filesystem::path> outputs;
   std::vector<std::unique_ptr<ShadedGlbWriter>> writers;
   const double fps = sequence.frame_rate() > 0.0 ? sequence.frame_rate() : kDefaultSceneFps;
-  if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
+  create_parent_directory(output);
   for (const Lighting& setup : setups) {
     outputs.push_back(relight ? setup_output(output, setup.name) : output);
     writers.push_back(std::make_unique<ShadedGlbWriter>(outputs.back(), sequence, frame_ids, fps));

@@ -53,6 +53,8 @@ void run(const VisibilityOptions& options) {
   const Frame first_frame = sequence.frame(first);
   const SlicingPlan plan = options.plan.make(topology, first_frame);
 
+  create_parent_directory(options.output);
+  if (!options.stats.empty()) create_parent_directory(options.stats);
   VisibilityCsvWriter csv(options.output, sequence.welded_of_input());
   nlohmann::json stats = {{"input", options.input},
                           {"engine", options.engine},

@@ -1,0 +1,59 @@
+// pleat visibility: the CSV contract (DESIGN.md §5), --frames, --stats, and clean failures with no output.
+#include "sim_io/visibility_csv.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+namespace pleat {
+namespace {
+
+TEST(VisibilityCommand, WritesOneRowPerFrameAndInputVertexIntoNewDirectories) {
+  test::TempDir dir;
+  ASSERT_EQ(test::run_pleat("generate curtain -o " + (dir / "in/c.obj").string() + " --resolution 9 --frames 4").exit_code, 0);
+  const auto result = test::run_pleat("visibility " + (dir / "in/c.obj").string() + " --cache " +
+                                      (dir / "in/c.pc2").string() + " -o " + (dir / "out/v.csv").string() +
+                                      " --frames 1:3 --stats " + (dir / "out/s.json").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const auto rows = read_visibility_csv(dir / "out/v.csv");
+  ASSERT_EQ(rows.size(), 2u * 81u);
+  EXPECT_EQ(rows.front().frame, 1u);
+  EXPECT_EQ(rows.back().frame, 2u);
+  EXPECT_EQ(rows.back().vertex, 80u);
+  for (const auto& r : rows) {
+    EXPECT_GE(r.front, 0.0);
+    EXPECT_LE(r.front, 1.0);
+    EXPECT_GE(r.back, 0.0);
+    EXPECT_LE(r.back, 1.0);
+  }
+  std::ifstream stats(dir / "out/s.json");
+  const auto json = nlohmann::json::parse(stats);
+  ASSERT_EQ(json["frames"].size(), 2u);
+  EXPECT_GT(json["frames"][0]["slice_vertices"].get<int>(), 0);
+  EXPECT_EQ(json["frames"][0]["filled_fraction"].size(), 6u);
+}
+
+TEST(VisibilityCommand, MissingInputFailsCleanlyAndWritesNothing) {
+  test::TempDir dir;
+  const auto result = test::run_pleat("visibility " + (dir / "nope.obj").string() + " -o " + (dir / "v.csv").string());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.output.find("nope.obj"), std::string::npos) << result.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "v.csv"));
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+TEST(VisibilityCommand, KineticEngineIsRefusedClearlyUntilItExists) {
+  test::TempDir dir;
+  ASSERT_EQ(test::run_pleat("generate flag -o " + (dir / "f.obj").string() + " --resolution 6 --frames 2").exit_code, 0);
+  const auto result = test::run_pleat("visibility " + (dir / "f.obj").string() + " --cache " + (dir / "f.pc2").string() +
+                                      " -o " + (dir / "v.csv").string() + " --engine kinetic");
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.output.find("kinetic"), std::string::npos) << result.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "v.csv"));
+}
+
+}  // namespace
+}  // namespace pleat
