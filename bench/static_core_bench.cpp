@@ -174,36 +174,6 @@ const Input& input(ClothKind kind, int resolution) {
   return *slot;
 }
 
-/// The faces that may cross each plane (what compute_visibility's internal bucketing hands slice_mesh):
-/// faces whose height interval along the plane normal, widened by a rounding margin, holds the offset.
-std::vector<std::vector<Index>> candidate_faces(const MeshTopology& topology, const Frame& frame,
-                                                const SlicingPlan& plan) {
-  std::vector<std::vector<Index>> result(plan.planes.size());
-  for (std::size_t o = 0; o < plan.orientations.size(); ++o) {
-    std::vector<std::pair<double, Index>> planes;
-    for (Index p = 0; p < plan.planes.size(); ++p)
-      if (plan.planes[p].orientation == static_cast<int>(o)) planes.emplace_back(plan.planes[p].offset, p);
-    if (planes.empty()) continue;
-    std::sort(planes.begin(), planes.end());
-    const glm::dvec3 normal = plan.orientations[o];
-    std::vector<double> height(frame.positions.size());
-    double scale = 0.0;
-    for (std::size_t v = 0; v < height.size(); ++v) {
-      height[v] = glm::dot(normal, frame.positions[v]);
-      scale = std::max(scale, std::abs(height[v]));
-    }
-    const double margin = 1e-9 * (1.0 + scale);
-    for (Index f = 0; f < topology.triangles.size(); ++f) {
-      const Triangle& t = topology.triangles[f];
-      const double lo = std::min({height[t[0]], height[t[1]], height[t[2]]}) - margin;
-      const double hi = std::max({height[t[0]], height[t[1]], height[t[2]]}) + margin;
-      auto it = std::lower_bound(planes.begin(), planes.end(), std::make_pair(lo, Index(0)));
-      for (; it != planes.end() && it->first <= hi; ++it) result[it->second].push_back(f);
-    }
-  }
-  return result;
-}
-
 /// One frame's whole slice set with every stage's output kept, so that each stage can be timed alone on
 /// the previous stage's results. The per-vertex 2D cones follow compute_visibility's rules (nearest slice
 /// vertex per plane and side; vertices without one in an orientation copy their nearest neighbour's).
@@ -223,7 +193,7 @@ struct SliceSet {
     const std::size_t n = topology.num_vertices, planes = input.plan.planes.size();
     edges = std::make_unique<MeshEdges>(topology);
     normals = vertex_normals(topology, input.frame);
-    faces = candidate_faces(topology, input.frame, input.plan);
+    faces = candidate_faces_per_plane(topology, input.frame, input.plan);
     slices.resize(planes);
     triangulations.resize(planes);
     cones.resize(planes);
@@ -341,7 +311,7 @@ double run_stage(Stage stage, const SliceSet& set, StageScratch& s) {
     case Stage::Setup: {  // what compute_visibility does once per frame before the slices
       const auto normals = vertex_normals(topology, in.frame);
       const MeshEdges edges(topology);
-      const auto faces = candidate_faces(topology, in.frame, in.plan);
+      const auto faces = candidate_faces_per_plane(topology, in.frame, in.plan);
       sink = normals[0].x + double(edges.endpoints.size()) + double(faces[0].size());
       break;
     }
