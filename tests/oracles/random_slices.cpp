@@ -1,5 +1,7 @@
 #include "oracles/random_slices.hpp"
 
+#include "oracles/test_meshes.hpp"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <glm/geometric.hpp>
 
@@ -136,7 +138,7 @@ Slice random_chain_slice(std::mt19937_64& rng) {
 RandomSurface random_height_field(std::mt19937_64& rng, int n) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   RandomSurface s;
-  s.topology.num_vertices = static_cast<Index>(n * n);
+  s.topology = flat_sheet(n, n).topology;  // the grid's triangles; positions below (x = i / (n - 1) exactly)
   struct Bump {
     double x, y, h, r;
   };
@@ -149,12 +151,6 @@ RandomSurface random_height_field(std::mt19937_64& rng, int n) {
       double z = fold * std::sin(12 * x);
       for (const auto& b : bumps) z += b.h * std::exp(-((x - b.x) * (x - b.x) + (y - b.y) * (y - b.y)) / (b.r * b.r));
       s.frame.positions.emplace_back(x, y, z);
-    }
-  for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i) {
-      const Index a = j * n + i, b = a + 1, c = a + n, d = c + 1;
-      s.topology.triangles.push_back({a, b, d});
-      s.topology.triangles.push_back({a, d, c});
     }
   return s;
 }
