@@ -140,11 +140,11 @@ void run_shade(const ShadeOptions& options) {
   const SlicingPlan plan = options.plan.make(topology, sequence.frame(frame_ids.front()));
   double cone_seconds = 0.0, shade_seconds = 0.0;
   Progress progress("shading frames", frame_ids.size());
-  FrameVisibility visibility;  // reused across frames
+  StaticVisibility engine(topology, plan);  // reused across frames
   for (std::size_t j = 0; j < frame_ids.size(); ++j) {
     const Frame frame = sequence.frame(frame_ids[j]);
     const auto t0 = std::chrono::steady_clock::now();
-    compute_visibility(topology, frame, plan, {}, visibility);
+    const FrameVisibility& visibility = engine.compute(frame);
     const auto t1 = std::chrono::steady_clock::now();
     const bool render_this = render && (j % static_cast<std::size_t>(options.render_every) == 0);
     if (render_this) {

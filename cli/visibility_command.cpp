@@ -67,11 +67,11 @@ void run(const VisibilityOptions& options) {
   params.parallel = !options.serial;
   Progress progress("visibility", last - first);
   std::size_t crossing_frames = 0;
-  FrameVisibility vis;  // reused: no per-vertex allocation after the first frame
+  StaticVisibility engine(topology, plan, params);  // reuses everything that does not depend on positions
   for (std::size_t f = first; f < last; ++f) {
     const Frame frame = f == first ? first_frame : sequence.frame(f);
     const auto start = std::chrono::steady_clock::now();
-    compute_visibility(topology, frame, plan, params, vis);
+    const FrameVisibility& vis = engine.compute(frame);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::vector<double> front(topology.num_vertices), back(topology.num_vertices);
     for (Index v = 0; v < topology.num_vertices; ++v) {

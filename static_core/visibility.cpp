@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numeric>
 
 namespace pleat {
@@ -78,23 +79,44 @@ std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame
   return n;
 }
 
-FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
-                                   const VisibilityParams& params) {
-  FrameVisibility result;
-  compute_visibility(topology, frame, plan, params, result);
-  return result;
-}
+/// Everything a frame's computation reuses from the previous one: topology-derived structures, per-plane
+/// results, per-thread workspaces and the CSR arrays of stored cones.
+struct StaticVisibility::Impl {
+  struct Ref {
+    std::uint32_t plane;
+    std::uint32_t stored;
+  };
+  struct AssemblyWorkspace {
+    ConeAssemblyScratch scratch;
+    std::vector<PlanarCone> cones;
+  };
 
-void compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
-                        const VisibilityParams& params, FrameVisibility& result) {
+  Impl(const MeshTopology& topology, SlicingPlan plan, const VisibilityParams& params)
+      : topology(topology), plan(std::move(plan)), params(params), edges(topology), planes(this->plan.planes.size()) {}
+
+  void compute(const Frame& frame, FrameVisibility& result);
+
+  const MeshTopology& topology;
+  SlicingPlan plan;
+  VisibilityParams params;
+  MeshEdges edges;
+  std::vector<PlaneResult> planes;
+  tbb::enumerable_thread_specific<Workspace> workspaces;
+  tbb::enumerable_thread_specific<AssemblyWorkspace> assembly;
+  std::vector<std::uint32_t> first, cursor;
+  std::vector<Ref> refs;
+  std::vector<std::int32_t> source;
+  std::vector<double> dist;
+  std::vector<std::pair<double, Index>> heap;
+  FrameVisibility result;
+};
+
+void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result) {
   const std::size_t n = topology.num_vertices;
   result.normals = vertex_normals(topology, frame);
-  const MeshEdges edges(topology);
   const auto faces = candidate_faces_per_plane(topology, frame, plan);
 
   // 1. Every plane on its own: slice, triangulate, shortest-path trees, 2D cones, storage.
-  std::vector<PlaneResult> planes(plan.planes.size());
-  tbb::enumerable_thread_specific<Workspace> workspaces;
   auto run = [&](std::size_t p) {
     process_plane(topology, edges, frame, plan.planes[p], faces[p], workspaces.local(), planes[p]);
   };
@@ -117,35 +139,27 @@ void compute_visibility(const MeshTopology& topology, const Frame& frame, const 
 
   // 2. Per vertex, side and orientation, the stored cones: one CSR array over the key
   //    (side * orientations + o) * n + v.
-  struct Ref {
-    std::uint32_t plane;
-    std::uint32_t stored;
-  };
   const std::size_t orientations = plan.orientations.size();
   const std::size_t keys = 2 * orientations * n;
   auto key_of = [&](int side, std::size_t o, Index v) { return (side * orientations + o) * n + v; };
-  std::vector<std::uint32_t> first(keys + 1, 0);
+  first.assign(keys + 1, 0);
   for (std::uint32_t p = 0; p < planes.size(); ++p)
     for (const StoredCone& c : planes[p].stored) ++first[key_of(c.side, plan.planes[p].orientation, c.vertex) + 1];
   for (std::size_t k = 0; k < keys; ++k) first[k + 1] += first[k];
-  std::vector<Ref> refs(first[keys]);
-  {
-    std::vector<std::uint32_t> cursor(first.begin(), first.end() - 1);
-    for (std::uint32_t p = 0; p < planes.size(); ++p)
-      for (std::uint32_t s = 0; s < planes[p].stored.size(); ++s) {
-        const StoredCone& c = planes[p].stored[s];
-        refs[cursor[key_of(c.side, plan.planes[p].orientation, c.vertex)]++] = {p, s};
-      }
-  }
+  refs.resize(first[keys]);
+  cursor.assign(first.begin(), first.end() - 1);
+  for (std::uint32_t p = 0; p < planes.size(); ++p)
+    for (std::uint32_t s = 0; s < planes[p].stored.size(); ++s) {
+      const StoredCone& c = planes[p].stored[s];
+      refs[cursor[key_of(c.side, plan.planes[p].orientation, c.vertex)]++] = {p, s};
+    }
 
   // 3. Fill: a vertex with no cone in an orientation borrows those of its nearest vertex (along mesh
   //    edges) that has one — multi-source Dijkstra per orientation and side. source[key] is the vertex
   //    whose cones the key uses (itself when it has its own), or -1.
   stats.filled_fraction.assign(orientations, 0.0);
-  std::vector<std::int32_t> source(keys, -1);
-  std::vector<double> dist(n);
-  using Item = std::pair<double, Index>;
-  std::vector<Item> heap;
+  source.assign(keys, -1);
+  dist.resize(n);
   for (int side = 0; side < 2; ++side)
     for (std::size_t o = 0; o < orientations; ++o) {
       std::int32_t* src = &source[key_of(side, o, 0)];
@@ -187,11 +201,6 @@ void compute_visibility(const MeshTopology& topology, const Frame& frame, const 
     result.cones[side].resize(n);
     result.measures[side].assign(n, {});
   }
-  struct AssemblyWorkspace {
-    ConeAssemblyScratch scratch;
-    std::vector<PlanarCone> cones;
-  };
-  tbb::enumerable_thread_specific<AssemblyWorkspace> assembly;
   auto assemble = [&](std::size_t v) {
     AssemblyWorkspace& ws = assembly.local();
     for (int side = 0; side < 2; ++side) {
@@ -215,6 +224,31 @@ void compute_visibility(const MeshTopology& topology, const Frame& frame, const 
     tbb::parallel_for(std::size_t(0), n, assemble);
   else
     for (std::size_t v = 0; v < n; ++v) assemble(v);
+}
+
+StaticVisibility::StaticVisibility(const MeshTopology& topology, SlicingPlan plan, const VisibilityParams& params)
+    : m_impl(std::make_unique<Impl>(topology, std::move(plan), params)) {}
+StaticVisibility::~StaticVisibility() = default;
+StaticVisibility::StaticVisibility(StaticVisibility&&) noexcept = default;
+StaticVisibility& StaticVisibility::operator=(StaticVisibility&&) noexcept = default;
+
+const FrameVisibility& StaticVisibility::compute(const Frame& frame) {
+  m_impl->compute(frame, m_impl->result);
+  return m_impl->result;
+}
+
+const SlicingPlan& StaticVisibility::plan() const { return m_impl->plan; }
+
+FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
+                                   const VisibilityParams& params) {
+  FrameVisibility result;
+  compute_visibility(topology, frame, plan, params, result);
+  return result;
+}
+
+void compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
+                        const VisibilityParams& params, FrameVisibility& result) {
+  StaticVisibility::Impl(topology, plan, params).compute(frame, result);
 }
 
 }  // namespace pleat

@@ -13,17 +13,42 @@
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility_cone.hpp"
 
+#include <memory>
+
 namespace pleat {
 
 struct VisibilityParams {
   bool parallel = true;  ///< TBB-parallel over slices
 };
 
+/// One frame, one shot.
 FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
                                    const VisibilityParams& params = {});
-/// The same into `result`, reusing its memory (frame loops: no per-vertex allocation after the first frame).
+/// The same into `result`, reusing its memory.
 void compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
                         const VisibilityParams& params, FrameVisibility& result);
+
+/// The static engine for a sequence: the topology and the plan are fixed, frames come one after another.
+/// Everything that does not depend on positions (mesh edges, per-plane buffers, per-thread workspaces, the
+/// result) is kept between frames, so a frame allocates almost nothing once the first one is done. Each
+/// compute() is a full recompute of that frame — the reference the kinetic engine must reproduce.
+/// `topology` must outlive the engine.
+class StaticVisibility {
+ public:
+  StaticVisibility(const MeshTopology& topology, SlicingPlan plan, const VisibilityParams& params = {});
+  ~StaticVisibility();
+  StaticVisibility(StaticVisibility&&) noexcept;
+  StaticVisibility& operator=(StaticVisibility&&) noexcept;
+
+  /// The cones of `frame`; the reference stays valid until the next call.
+  const FrameVisibility& compute(const Frame& frame);
+  const SlicingPlan& plan() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> m_impl;
+};
 
 /// Area-weighted unit vertex normals (DESIGN.md §1); isolated vertices get (0,0,1).
 std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame& frame);
