@@ -238,7 +238,7 @@ void add_spec_or_throw(Lighting& lighting, std::string_view spec, const std::fil
     EnvironmentOrientation orientation;
     orientation.up = a.vec3("up", orientation.up);
     orientation.rotation_degrees = a.scalar("rotate", 0.0);
-    const double max_width = a.scalar("maxres", 1024.0);
+    const double max_width = a.scalar("maxres", kDefaultEnvironmentWidth);
     EnvironmentLight light;
     light.scale = a.scalar("scale", 1.0);
     if (!(light.scale >= 0.0)) throw std::invalid_argument("scale must be non-negative");
@@ -358,7 +358,7 @@ void add_json_light(Lighting& lighting, const JsonContext& ctx, const Json& j, c
     EnvironmentOrientation orientation;
     orientation.up = unit("up", orientation.up);
     if (const Json* r = get("rotate")) orientation.rotation_degrees = json_number(ctx, *r, place + ".rotate");
-    int max_width = 1024;
+    int max_width = kDefaultEnvironmentWidth;
     if (const Json* m = get("max_width")) max_width = static_cast<int>(json_number(ctx, *m, place + ".max_width"));
     if (const Json* s = get("scale")) light.scale = json_number(ctx, *s, place + ".scale");
     if (!(light.scale >= 0.0)) ctx.fail(place + ".scale", "must be non-negative");

@@ -3,11 +3,11 @@
 
 Y-up (the bundled drape's convention): a blue-white gradient brighter towards the zenith, a warm sun disc
 about 35 degrees above the horizon, a dim ground below. Deterministic; no dependencies beyond python3.
-Run from the repository root:  python3 data/envmaps/make_sky_hdr.py
+Run from the repository root:  python3 data/envmaps/make_sky_hdr.py [WIDTH HEIGHT OUT.hdr]
 """
 import math
 import os
-import struct
+import sys
 
 WIDTH, HEIGHT = 128, 64
 SUN = (math.cos(math.radians(35)) * math.cos(math.radians(40)), math.sin(math.radians(35)),
@@ -33,7 +33,10 @@ def rgbe(r, g, b):
 
 
 def main():
+    global WIDTH, HEIGHT
     out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "sky_sun.hdr")
+    if len(sys.argv) == 4:
+        WIDTH, HEIGHT, out = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
     rows = []
     for j in range(HEIGHT):
         theta = math.pi * (j + 0.5) / HEIGHT  # from the zenith (+y) down
