@@ -1,5 +1,6 @@
 #include "static_core/slice_cones.hpp"
 
+#include <CGAL/convex_hull_2.h>
 #include <CGAL/number_utils.h>
 
 #include <algorithm>
@@ -198,11 +199,10 @@ void prepare_scratch(std::size_t corners, SliceConeScratch& s) {
   s.corner_stamp.assign(corners, -1);
 }
 
-/// The spans blocked, seen from x, by the given segments (those not incident to x).
-void blocked_spans(VertexHandle xv, const std::vector<std::pair<VertexHandle, VertexHandle>>& segments,
-                   std::vector<Wedge>& blocked) {
+/// Appends the spans blocked, seen from x, by the given segments (those not incident to x).
+void append_blocked_spans(VertexHandle xv, const std::vector<std::pair<VertexHandle, VertexHandle>>& segments,
+                          std::vector<Wedge>& blocked) {
   const Point2& x = xv->point();
-  blocked.clear();
   for (const auto& [p, q] : segments) {
     if (p == xv || q == xv) continue;
     switch (CGAL::orientation(x, p->point(), q->point())) {
@@ -216,6 +216,35 @@ void blocked_spans(VertexHandle xv, const std::vector<std::pair<VertexHandle, Ve
         break;  // seen edge-on: blocks a single direction
     }
   }
+}
+
+/// A hole of a region: its chain edges and the convex hull of its vertices (counter-clockwise).
+struct Hole {
+  std::vector<std::pair<VertexHandle, VertexHandle>> segments;
+  std::vector<Point2> hull;
+};
+
+/// Appends the span a hole blocks seen from x when x lies strictly outside the hole's convex hull: a
+/// connected set seen from outside its hull spans exactly the wedge between its two extreme hull vertices
+/// (found by exact orientation tests, no angles), so the hole's segments need not be swept. Returns false,
+/// appending nothing, when x is not strictly outside (the caller sweeps the segments then).
+bool append_hull_span(const Point2& x, const std::vector<Point2>& hull, std::vector<Wedge>& blocked) {
+  const std::size_t m = hull.size();
+  if (m < 3) return false;
+  bool outside = false;
+  for (std::size_t i = 0; i < m && !outside; ++i)
+    outside = CGAL::orientation(hull[i], hull[(i + 1) % m], x) == CGAL::RIGHT_TURN;
+  if (!outside) return false;
+  // Seen from outside, the hull lies within less than a half-turn: "clockwise of" is a total order on it.
+  const Point2* cw = &hull[0];
+  const Point2* ccw = &hull[0];
+  for (const Point2& p : hull) {
+    if (CGAL::orientation(x, *cw, p) == CGAL::RIGHT_TURN) cw = &p;
+    if (CGAL::orientation(x, *ccw, p) == CGAL::LEFT_TURN) ccw = &p;
+  }
+  if (CGAL::orientation(x, *cw, *ccw) == CGAL::LEFT_TURN)
+    blocked.push_back(thin_wedge_between(direction(x, *cw), direction(x, *ccw)));
+  return true;
 }
 
 /// Calls fn(face, index, corner) once per corner of the region, with one of the corner's faces.
@@ -241,7 +270,8 @@ void swept_cones(const Cdt& cdt, const SliceTriangulation& st, const SliceRegion
   for_each_corner(st, region, [&](FaceHandle f, int k, int c) {
     const VertexHandle xv = f->vertex(k);
     if (component_of && component_of->at(&*xv) == skip_component) return;
-    blocked_spans(xv, segments, blocked);
+    blocked.clear();
+    append_blocked_spans(xv, segments, blocked);
     const AngularSet visible =
         AngularSet::from_wedges({corner_sector(cdt, f, c)}).subtract(AngularSet::from_wedges(blocked));
     s.corner_wedges[c].assign(visible.wedges().begin(), visible.wedges().end());
@@ -302,12 +332,26 @@ bool cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion&
     }
     return it->second;
   };
-  std::vector<std::pair<VertexHandle, VertexHandle>> hole_segments;
+  std::vector<Hole> holes;
+  std::unordered_map<int, std::size_t> hole_of_component;
   for (const auto& [p, q] : segments) {
-    if (component_of.at(&*p) == outer)
+    const int component = component_of.at(&*p);
+    if (component == outer) {
       outer_slice.edges.push_back({outer_id(p), outer_id(q), 0});
-    else
-      hole_segments.emplace_back(p, q);
+      continue;
+    }
+    const auto [it, fresh] = hole_of_component.emplace(component, holes.size());
+    if (fresh) holes.emplace_back();
+    holes[it->second].segments.emplace_back(p, q);
+  }
+  std::vector<Point2> hole_points;
+  for (Hole& hole : holes) {
+    hole_points.clear();
+    for (const auto& [p, q] : hole.segments) {
+      hole_points.push_back(p->point());
+      hole_points.push_back(q->point());
+    }
+    CGAL::convex_hull_2(hole_points.begin(), hole_points.end(), std::back_inserter(hole.hull));
   }
   for (const SliceWindow& w : region.windows) {
     outer_id(w.face->vertex(cdt.ccw(w.index)));
@@ -367,7 +411,9 @@ bool cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion&
       }
     }
     PLEAT_ASSERT(sub_corner >= 0, "an outer corner is not inside the outer polygon");
-    blocked_spans(xv, hole_segments, blocked);
+    blocked.clear();
+    for (const Hole& hole : holes)
+      if (!append_hull_span(xv->point(), hole.hull, blocked)) append_blocked_spans(xv, hole.segments, blocked);
     const AngularSet visible =
         AngularSet::from_wedges(sub.corner_wedges[sub_corner]).subtract(AngularSet::from_wedges(blocked));
     s.corner_wedges[c].assign(visible.wedges().begin(), visible.wedges().end());
