@@ -243,9 +243,10 @@ ConeMeasures measure_cone(const VisibilityCone& cone, const glm::dvec3& side_nor
   glm::dvec3 moment(0.0);
   double projected = 0.0;
   for (const auto& piece : cone.pieces) {
+    const double piece_solid_angle = solid_angle(piece);
     projected += projected_solid_angle(piece, side_normal);
-    moment += cosine_weighted_moment(piece, side_normal);
-    m.solid_angle += solid_angle(piece);
+    moment += cosine_weighted_moment(piece, side_normal, piece_solid_angle);
+    m.solid_angle += piece_solid_angle;
   }
   m.sky_visibility = std::clamp(projected / (kTwoPi / 2), 0.0, 1.0);
   const double len = glm::length(moment);

@@ -316,6 +316,10 @@ double projected_solid_angle(const SphericalPolygon& poly, const glm::dvec3& n) 
 }
 
 glm::dvec3 cosine_weighted_moment(const SphericalPolygon& poly, const glm::dvec3& n) {
+  return cosine_weighted_moment(poly, n, solid_angle(poly));
+}
+
+glm::dvec3 cosine_weighted_moment(const SphericalPolygon& poly, const glm::dvec3& n, double poly_solid_angle) {
   const std::size_t count = poly.size();
   if (count < 3) return glm::dvec3(0.0);
   glm::dvec3 edges(0.0);
@@ -326,7 +330,7 @@ glm::dvec3 cosine_weighted_moment(const SphericalPolygon& poly, const glm::dvec3
     if (den <= 0.0) continue;  // antipodal pair: not a minor arc (precondition), contributes nothing
     edges += (glm::dot(n, glm::cross(a, b)) / den) * (a + b);
   }
-  return (solid_angle(poly) / 3.0) * n + edges / 3.0;
+  return (poly_solid_angle / 3.0) * n + edges / 3.0;
 }
 
 double solid_angle(const SphericalPolygon& poly) {

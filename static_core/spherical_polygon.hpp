@@ -88,6 +88,8 @@ glm::dvec3 vector_irradiance(const SphericalPolygon& poly);
 /// Cosine-weighted first moment integral over the polygon of w (n.w) dw, for a polygon inside the
 /// hemisphere of n (used for the cosine-weighted bent normal).
 glm::dvec3 cosine_weighted_moment(const SphericalPolygon& poly, const glm::dvec3& n);
+/// The same with the polygon's solid_angle already known (it is part of the moment).
+glm::dvec3 cosine_weighted_moment(const SphericalPolygon& poly, const glm::dvec3& n, double poly_solid_angle);
 
 /// Solid angle (area on the unit sphere) of a simple polygon, by the Van Oosterom–Strackee triangle fan.
 double solid_angle(const SphericalPolygon& poly);
