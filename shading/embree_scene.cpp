@@ -231,21 +231,30 @@ void EmbreeScene::rebuild(const Frame& frame) {
   s.build_scene(frame, s.params.mode == EmbreeSceneParams::BuildMode::Refit);
 }
 
+namespace {
+
+/// An Embree ray from a query, in the scene's offset frame (positions are stored relative to `offset`).
+void fill_ray(RTCRay& r, const RayQuery& ray, const glm::dvec3& offset) {
+  const glm::dvec3 o = ray.origin - offset;
+  r.org_x = static_cast<float>(o.x);
+  r.org_y = static_cast<float>(o.y);
+  r.org_z = static_cast<float>(o.z);
+  r.dir_x = static_cast<float>(ray.direction.x);
+  r.dir_y = static_cast<float>(ray.direction.y);
+  r.dir_z = static_cast<float>(ray.direction.z);
+  r.tnear = static_cast<float>(ray.tnear);
+  r.tfar = clamp_to_float(ray.tfar);
+  r.mask = ~0u;
+}
+
+}  // namespace
+
 RayHit EmbreeScene::intersect(const RayQuery& ray, IgnoredTriangles ignore) const {
   const Impl& s = *m_impl;
   FilterContext context;
   init_context(context, ignore);
   RTCRayHit rh{};
-  const glm::dvec3 o = ray.origin - s.offset;
-  rh.ray.org_x = static_cast<float>(o.x);
-  rh.ray.org_y = static_cast<float>(o.y);
-  rh.ray.org_z = static_cast<float>(o.z);
-  rh.ray.dir_x = static_cast<float>(ray.direction.x);
-  rh.ray.dir_y = static_cast<float>(ray.direction.y);
-  rh.ray.dir_z = static_cast<float>(ray.direction.z);
-  rh.ray.tnear = static_cast<float>(ray.tnear);
-  rh.ray.tfar = clamp_to_float(ray.tfar);
-  rh.ray.mask = ~0u;
+  fill_ray(rh.ray, ray, s.offset);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(s.scene, &context.base, &rh);
@@ -264,16 +273,7 @@ bool EmbreeScene::occluded(const RayQuery& ray, IgnoredTriangles ignore) const {
   FilterContext context;
   init_context(context, ignore);
   RTCRay r{};
-  const glm::dvec3 o = ray.origin - s.offset;
-  r.org_x = static_cast<float>(o.x);
-  r.org_y = static_cast<float>(o.y);
-  r.org_z = static_cast<float>(o.z);
-  r.dir_x = static_cast<float>(ray.direction.x);
-  r.dir_y = static_cast<float>(ray.direction.y);
-  r.dir_z = static_cast<float>(ray.direction.z);
-  r.tnear = static_cast<float>(ray.tnear);
-  r.tfar = clamp_to_float(ray.tfar);
-  r.mask = ~0u;
+  fill_ray(r, ray, s.offset);
   rtcOccluded1(s.scene, &context.base, &r);
   return r.tfar == -std::numeric_limits<float>::infinity();
 }

@@ -183,16 +183,10 @@ class Tracer {
 PathTracedFrame path_trace_vertices(EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
                                     const std::vector<glm::dvec3>& normals, const Lighting& lighting,
                                     const PathTraceParams& params) {
-  if (params.paths_per_vertex < 1) throw std::invalid_argument("path_trace_vertices: paths_per_vertex must be >= 1");
+  check_vertex_estimator_inputs("path_trace_vertices", "paths_per_vertex", params.paths_per_vertex, scene, topology,
+                                frame, normals);
   if (!(params.albedo >= 0.0 && params.albedo < 1.0))
     throw std::invalid_argument("path_trace_vertices: albedo must be in [0, 1)");
-  if (frame.positions.size() != topology.num_vertices || normals.size() != topology.num_vertices)
-    throw std::invalid_argument("path_trace_vertices: frame has " + std::to_string(frame.positions.size()) +
-                                " positions and " + std::to_string(normals.size()) + " normals for " +
-                                std::to_string(topology.num_vertices) + " vertices");
-  if (scene.topology().num_vertices != topology.num_vertices ||
-      scene.topology().triangles.size() != topology.triangles.size())
-    throw std::invalid_argument("path_trace_vertices: the Embree scene was built for another topology");
   scene.update(frame);
 
   const Index n_vertices = topology.num_vertices;

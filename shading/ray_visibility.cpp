@@ -121,16 +121,24 @@ void cosine_hemisphere_directions(int count, std::uint64_t seed, Index vertex, S
   }
 }
 
-RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
-                                  const std::vector<glm::dvec3>& normals, const RayVisibilityParams& params) {
-  if (params.rays_per_vertex < 1) throw std::invalid_argument("ray_cast_visibility: rays_per_vertex must be >= 1");
+void check_vertex_estimator_inputs(const char* who, const char* count_name, int count, const EmbreeScene& scene,
+                                   const MeshTopology& topology, const Frame& frame,
+                                   const std::vector<glm::dvec3>& normals) {
+  const std::string name(who);
+  if (count < 1) throw std::invalid_argument(name + ": " + count_name + " must be >= 1");
   if (frame.positions.size() != topology.num_vertices || normals.size() != topology.num_vertices)
-    throw std::invalid_argument("ray_cast_visibility: frame has " + std::to_string(frame.positions.size()) +
-                                " positions and " + std::to_string(normals.size()) + " normals for " +
+    throw std::invalid_argument(name + ": frame has " + std::to_string(frame.positions.size()) + " positions and " +
+                                std::to_string(normals.size()) + " normals for " +
                                 std::to_string(topology.num_vertices) + " vertices");
   if (scene.topology().num_vertices != topology.num_vertices ||
       scene.topology().triangles.size() != topology.triangles.size())
-    throw std::invalid_argument("ray_cast_visibility: the Embree scene was built for another topology");
+    throw std::invalid_argument(name + ": the Embree scene was built for another topology");
+}
+
+RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
+                                  const std::vector<glm::dvec3>& normals, const RayVisibilityParams& params) {
+  check_vertex_estimator_inputs("ray_cast_visibility", "rays_per_vertex", params.rays_per_vertex, scene, topology,
+                                frame, normals);
   scene.update(frame);
 
   const Index n_vertices = topology.num_vertices;

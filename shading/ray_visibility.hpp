@@ -59,6 +59,13 @@ struct RayVisibility {
   std::uint64_t rays_cast = 0;                          ///< rays handed to Embree (locally blocked ones excluded)
 };
 
+/// The preconditions shared by the per-vertex Embree estimators (ray casting, path tracing): `count` >= 1,
+/// one position and one normal per vertex, a scene built for this topology. Throws std::invalid_argument
+/// naming `who`.
+void check_vertex_estimator_inputs(const char* who, const char* count_name, int count, const EmbreeScene& scene,
+                                   const MeshTopology& topology, const Frame& frame,
+                                   const std::vector<glm::dvec3>& normals);
+
 /// Estimates A and bent normals for every vertex and both sides of `frame`. Brings `scene` to `frame`
 /// first (a refit, free if it already holds it). `normals` are the unit vertex normals n(v) of `frame`
 /// (static_core's vertex_normals). Throws std::invalid_argument on size mismatches or K < 1.

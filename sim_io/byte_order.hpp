@@ -6,6 +6,15 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace pleat {
+
+enum class ByteOrder { Little, Big };
+
+}  // namespace pleat
 
 namespace pleat::bytes {
 
@@ -30,5 +39,17 @@ inline void append_i32_le(std::string& out, std::int32_t v) { append_u32_le(out,
 inline void append_i32_be(std::string& out, std::int32_t v) { append_u32_be(out, std::bit_cast<std::uint32_t>(v)); }
 inline void append_f32_le(std::string& out, float v) { append_u32_le(out, std::bit_cast<std::uint32_t>(v)); }
 inline void append_f32_be(std::string& out, float v) { append_u32_be(out, std::bit_cast<std::uint32_t>(v)); }
+inline float load_f32(const unsigned char* p, ByteOrder order) {
+  return order == ByteOrder::Little ? load_f32_le(p) : load_f32_be(p);
+}
+
+/// Appends one frame of a binary point cache: float32 (x, y, z) per point, in `order`.
+inline void append_points(std::string& out, const std::vector<glm::dvec3>& points, ByteOrder order) {
+  for (const glm::dvec3& p : points)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t bits = std::bit_cast<std::uint32_t>(float(p[k]));
+      order == ByteOrder::Little ? append_u32_le(out, bits) : append_u32_be(out, bits);
+    }
+}
 
 }  // namespace pleat::bytes

@@ -56,7 +56,7 @@ std::vector<glm::dvec3> read_point_block(const std::filesystem::path& path, std:
   for (std::uint64_t v = 0; v < points; ++v)
     for (int k = 0; k < 3; ++k) {
       const unsigned char* at = p + 12 * v + 4 * k;
-      const float c = order == ByteOrder::Little ? bytes::load_f32_le(at) : bytes::load_f32_be(at);
+      const float c = bytes::load_f32(at, order);
       if (!std::isfinite(c))
         throw InputError(path.string(), "frame " + std::to_string(frame) + ", vertex " + std::to_string(v),
                          "non-finite coordinate (byte " + std::to_string(offset + 12 * v + 4 * k) + ")");

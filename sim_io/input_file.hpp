@@ -2,6 +2,8 @@
 // the whole file (text formats), its size, or a byte range (binary caches read frame by frame).
 #pragma once
 
+#include "sim_io/byte_order.hpp"
+
 #include <cstdint>
 #include <filesystem>
 #include <glm/vec3.hpp>
@@ -19,8 +21,6 @@ std::uint64_t file_size_or_throw(const std::filesystem::path& path);
 /// `count` bytes from `offset`. Throws InputError(path, "byte N") naming where the data ends when the file
 /// is shorter, InputError(path, "") when it cannot be opened.
 std::string read_file_bytes(const std::filesystem::path& path, std::uint64_t offset, std::uint64_t count);
-
-enum class ByteOrder { Little, Big };
 
 /// Reads one frame of a binary point cache: `points` float32 (x, y, z) triples at `offset`, in `order`.
 /// Throws InputError naming the frame, the vertex and the byte of the first non-finite coordinate.

@@ -94,11 +94,7 @@ void write_mdd(const std::filesystem::path& path, const std::vector<std::vector<
     frame.reserve(points * 12);
     for (const auto& f : frames) {
       frame.clear();
-      for (const glm::dvec3& p : f) {
-        bytes::append_f32_be(frame, float(p.x));
-        bytes::append_f32_be(frame, float(p.y));
-        bytes::append_f32_be(frame, float(p.z));
-      }
+      bytes::append_points(frame, f, ByteOrder::Big);
       out.write(frame.data(), std::streamsize(frame.size()));
     }
   });

@@ -107,11 +107,7 @@ void write_pc2(const std::filesystem::path& path, const std::vector<std::vector<
     sample.reserve(points * 12);
     for (const auto& f : frames) {
       sample.clear();
-      for (const glm::dvec3& p : f) {
-        bytes::append_f32_le(sample, float(p.x));
-        bytes::append_f32_le(sample, float(p.y));
-        bytes::append_f32_le(sample, float(p.z));
-      }
+      bytes::append_points(sample, f, ByteOrder::Little);
       out.write(sample.data(), std::streamsize(sample.size()));
     }
   });

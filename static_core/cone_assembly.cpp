@@ -3,6 +3,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <cmath>
 #include <numeric>
@@ -24,8 +25,16 @@ constexpr double kLinkTolerance = 0.25;
 constexpr double kLoneWedgeHalfWidth = kTwoPi / 16;
 
 struct SpatialWedge {
+  SpatialWedge(const SlicingPlane* plane, double start, double end) : plane(plane), start(start), end(end) {
+    for (int i = 0; i < 5; ++i) sample[i] = direction(start + (0.25 * i) * (end - start));
+    end_direction = direction(end);
+  }
   const SlicingPlane* plane;
   double start, end;  // angles in the plane's frame, end > start
+  /// Directions at start + t (end - start), t = 0, 1/4, 1/2, 3/4, 1 (computed once: same_region is O(k^2)).
+  std::array<glm::dvec3, 5> sample;
+  glm::dvec3 end_direction;  // at `end` itself
+  const glm::dvec3& start_direction() const { return sample[0]; }
   glm::dvec3 direction(double angle) const { return std::cos(angle) * plane->u + std::sin(angle) * plane->w; }
   bool contains(const glm::dvec3& d, double tolerance = kContainTolerance) const {
     double a = std::atan2(glm::dot(d, plane->w), glm::dot(d, plane->u)) - start;
@@ -40,8 +49,8 @@ double distance_to_arc(const glm::dvec3& d, const SpatialWedge& w) {
   if (w.contains(d)) return 0.0;
   const glm::dvec3& m = w.plane->normal;
   const glm::dvec3 in_plane = d - glm::dot(d, m) * m;
-  double best = std::min(std::acos(std::clamp(glm::dot(d, w.direction(w.start)), -1.0, 1.0)),
-                         std::acos(std::clamp(glm::dot(d, w.direction(w.end)), -1.0, 1.0)));
+  double best = std::min(std::acos(std::clamp(glm::dot(d, w.start_direction()), -1.0, 1.0)),
+                         std::acos(std::clamp(glm::dot(d, w.end_direction), -1.0, 1.0)));
   if (glm::length(in_plane) > 1e-12 && w.contains(glm::normalize(in_plane)))
     best = std::min(best, std::asin(std::min(1.0, std::abs(glm::dot(d, m)))));
   return best;
@@ -61,8 +70,8 @@ bool same_region(const SpatialWedge& a, const SpatialWedge& b) {
   }
   for (const SpatialWedge* p : {&a, &b}) {
     const SpatialWedge* q = p == &a ? &b : &a;
-    for (double t : {0.0, 0.25, 0.5, 0.75, 1.0})
-      if (distance_to_arc(p->direction(p->start + t * (p->end - p->start)), *q) < kLinkTolerance) return true;
+    for (const glm::dvec3& d : p->sample)
+      if (distance_to_arc(d, *q) < kLinkTolerance) return true;
   }
   return false;
 }
@@ -91,8 +100,8 @@ void build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3
   const glm::dvec3 a2 = glm::cross(centre, a1);
   order.clear();
   for (const SpatialWedge* w : group)
-    for (double angle : {w->start, w->end}) {
-      glm::dvec3 d = glm::normalize(w->direction(angle));
+    for (const glm::dvec3* end : {&w->start_direction(), &w->end_direction}) {
+      glm::dvec3 d = glm::normalize(*end);
       const double up = glm::dot(d, side_normal);
       if (up < 1e-15) {
         const glm::dvec3 flat = d - up * side_normal;
@@ -176,7 +185,7 @@ void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_nor
       unite_wedges(cone.wedges, b.wedge_scratch.intervals, b.clipped);
     }
     for (const Wedge& w : b.clipped)
-      if (w.width > kContainTolerance) b.wedges.push_back({&plane, w.start, w.end()});
+      if (w.width > kContainTolerance) b.wedges.emplace_back(&plane, w.start, w.end());
   }
   // 2. Group by intersection (union-find).
   const int k = static_cast<int>(b.wedges.size());

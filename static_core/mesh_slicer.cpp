@@ -131,7 +131,15 @@ std::vector<Index> cone_recipients(const MeshTopology& topology, const MeshEdges
 
 std::vector<std::vector<Index>> candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame,
                                                           const SlicingPlan& plan) {
-  std::vector<std::vector<Index>> result(plan.planes.size());
+  std::vector<std::vector<Index>> result;
+  candidate_faces_per_plane(topology, frame, plan, result);
+  return result;
+}
+
+void candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
+                               std::vector<std::vector<Index>>& result) {
+  result.resize(plan.planes.size());
+  for (auto& faces_of_plane : result) faces_of_plane.clear();  // keeps their capacity from frame to frame
   const std::size_t faces = topology.triangles.size();
   for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
     std::vector<std::pair<double, Index>> planes;  // (offset, plane index) of this family
@@ -169,7 +177,6 @@ std::vector<std::vector<Index>> candidate_faces_per_plane(const MeshTopology& to
       for (; it != planes.end() && it->first <= hi; ++it) result[it->second].push_back(f);
     }
   }
-  return result;
 }
 
 }  // namespace pleat

@@ -68,6 +68,9 @@ void slice_mesh(const MeshTopology& topology, const MeshEdges& edges, const Fram
 /// margin far above the rounding of a dot product; other planes get every face. O(F log P + output).
 std::vector<std::vector<Index>> candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame,
                                                           const SlicingPlan& plan);
+/// The same into `result`, reusing its lists' memory (a sequence: once per frame).
+void candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
+                               std::vector<std::vector<Index>>& result);
 
 /// Exact side of a point against a plane: true when on or above (dot(normal, p) >= offset).
 bool on_or_above(const SlicingPlane& plane, const glm::dvec3& p);

@@ -101,6 +101,7 @@ struct StaticVisibility::Impl {
   VisibilityParams params;
   MeshEdges edges;
   std::vector<PlaneResult> planes;
+  std::vector<std::vector<Index>> faces;  // candidate faces per plane
   tbb::enumerable_thread_specific<Workspace> workspaces;
   tbb::enumerable_thread_specific<AssemblyWorkspace> assembly;
   std::vector<std::uint32_t> first, cursor;
@@ -114,7 +115,7 @@ struct StaticVisibility::Impl {
 void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result) {
   const std::size_t n = topology.num_vertices;
   result.normals = vertex_normals(topology, frame);
-  const auto faces = candidate_faces_per_plane(topology, frame, plan);
+  candidate_faces_per_plane(topology, frame, plan, faces);
 
   // 1. Every plane on its own: slice, triangulate, shortest-path trees, 2D cones, storage.
   auto run = [&](std::size_t p) {

@@ -151,13 +151,7 @@ class Pc2Corruption {
 
 RC_GTEST_PROP(SimIoPc2, BitFlipsLoadOrFailCleanly, ()) {
   static Pc2Corruption fixture;
-  std::string bytes = fixture.bytes();
-  const auto flips = *rc::gen::inRange(1, 6);
-  for (int k = 0; k < flips; ++k) {
-    const auto at = *rc::gen::inRange<std::size_t>(0, bytes.size());
-    bytes[at] = char(bytes[at] ^ (1 << *rc::gen::inRange(0, 8)));
-  }
-  fixture.check(bytes);
+  fixture.check(test::flip_random_bits(fixture.bytes()));
 }
 
 RC_GTEST_PROP(SimIoPc2, TruncationsLoadOrFailCleanly, ()) {

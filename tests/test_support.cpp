@@ -1,5 +1,7 @@
 #include "test_support.hpp"
 
+#include <rapidcheck.h>
+
 #include <array>
 #include <atomic>
 #include <cstdio>
@@ -22,6 +24,15 @@ TempDir::TempDir() {
 TempDir::~TempDir() {
   std::error_code ec;
   std::filesystem::remove_all(m_path, ec);
+}
+
+std::string flip_random_bits(std::string bytes) {
+  const auto flips = *rc::gen::inRange(1, 6);
+  for (int k = 0; k < flips; ++k) {
+    const auto at = *rc::gen::inRange<std::size_t>(0, bytes.size());
+    bytes[at] = char(bytes[at] ^ (1 << *rc::gen::inRange(0, 8)));
+  }
+  return bytes;
 }
 
 CommandResult run_pleat(const std::string& args) {

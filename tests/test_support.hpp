@@ -28,6 +28,9 @@ struct CommandResult {
   std::string output;  ///< stdout and stderr together
 };
 
+/// Inside a rapidcheck property: `bytes` with 1 to 5 random bits flipped (corruption properties).
+std::string flip_random_bits(std::string bytes);
+
 /// Runs `pleat ARGS` (args are passed to the shell as written) and captures its output.
 CommandResult run_pleat(const std::string& args);
 
