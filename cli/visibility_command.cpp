@@ -5,6 +5,7 @@
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/visibility_csv.hpp"
+#include "kinetic/kinetic_visibility.hpp"
 #include "static_core/visibility.hpp"
 
 #include <nlohmann/json.hpp>
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 namespace pleat::cli {
@@ -21,7 +23,7 @@ struct VisibilityOptions {
   std::string input;
   std::string cache;
   std::string output;
-  std::string engine = "static";
+  std::string engine = "kinetic";
   std::string frames;
   std::string stats;
   PlanOptions plan;
@@ -41,11 +43,54 @@ nlohmann::json stats_json(std::size_t frame, double seconds, const VisibilitySta
           {"filled_fraction", s.filled_fraction}};
 }
 
+nlohmann::json kinetic_json(const KineticFrameStats& k) {
+  nlohmann::json rebuilt;
+  for (int r = 1; r < static_cast<int>(kinetic::RebuildReason::count); ++r)
+    rebuilt[kinetic::rebuild_reason_name(static_cast<kinetic::RebuildReason>(r))] = k.rebuilt_because[r];
+  return {{"events",
+           {{"flip", k.flips},
+            {"hull_enter", k.hull_enter},
+            {"hull_leave", k.hull_leave},
+            {"touch", k.touches},
+            {"side_change_regular", k.side_changes_regular},
+            {"side_change_critical", k.side_changes_critical}}},
+          {"certificates", k.certificates},
+          {"exact_certificates", k.exact_certificates},
+          {"local_edits", {{"slice_vertices_removed", k.removed}, {"slice_vertices_inserted", k.inserted}}},
+          {"slices_unchanged", k.slices_unchanged},
+          {"slices_repaired", k.slices_repaired},
+          {"slices_rebuilt", k.slices_rebuilt},
+          {"rebuilt_because", rebuilt}};
+}
+
+/// One engine behind one call per frame: the static engine recomputes, the kinetic one advances.
+class Engine {
+ public:
+  Engine(const std::string& kind, const MeshTopology& topology, const SlicingPlan& plan, bool parallel) {
+    if (kind == "static")
+      m_static.emplace(topology, plan, VisibilityParams{parallel});
+    else
+      m_plan = plan, m_topology = &topology, m_parallel = parallel;
+  }
+  const FrameVisibility& next(const Frame& frame) {
+    if (m_static) return m_static->compute(frame);
+    if (!m_kinetic) {
+      m_kinetic.emplace(*m_topology, m_plan, frame, KineticParams{m_parallel, {}, false});
+      return m_kinetic->current();
+    }
+    return m_kinetic->advance(frame);
+  }
+  const KineticFrameStats* kinetic_stats() const { return m_kinetic ? &m_kinetic->last_stats() : nullptr; }
+
+ private:
+  std::optional<StaticVisibility> m_static;
+  std::optional<KineticVisibility> m_kinetic;
+  SlicingPlan m_plan;
+  const MeshTopology* m_topology = nullptr;
+  bool m_parallel = true;
+};
+
 void run(const VisibilityOptions& options) {
-  if (options.engine != "static")
-    throw std::invalid_argument("--engine " + options.engine +
-                                ": only the static engine is available in this build (the kinetic engine is "
-                                "not built yet)");
   const MeshSequence sequence = load_sequence(options.input, options.cache);
   std::size_t first = 0, last = 0;
   parse_frame_range(options.frames, sequence.num_frames(), first, last);
@@ -67,11 +112,11 @@ void run(const VisibilityOptions& options) {
   params.parallel = !options.serial;
   Progress progress("visibility", last - first);
   std::size_t crossing_frames = 0;
-  StaticVisibility engine(topology, plan, params);  // reuses everything that does not depend on positions
+  Engine engine(options.engine, topology, plan, params.parallel);
   for (std::size_t f = first; f < last; ++f) {
     const Frame frame = f == first ? first_frame : sequence.frame(f);
     const auto start = std::chrono::steady_clock::now();
-    const FrameVisibility& vis = engine.compute(frame);
+    const FrameVisibility& vis = engine.next(frame);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::vector<double> front(topology.num_vertices), back(topology.num_vertices);
     for (Index v = 0; v < topology.num_vertices; ++v) {
@@ -79,7 +124,9 @@ void run(const VisibilityOptions& options) {
       back[v] = vis.measure(Side::Back, v).sky_visibility;
     }
     csv.add_frame(f, front, back);
-    stats["frames"].push_back(stats_json(f, seconds, vis.stats));
+    nlohmann::json frame_stats = stats_json(f, seconds, vis.stats);
+    if (f != first && engine.kinetic_stats()) frame_stats["kinetic"] = kinetic_json(*engine.kinetic_stats());
+    stats["frames"].push_back(frame_stats);
     crossing_frames += vis.stats.crossing_slices > 0;
     progress.advance();
   }
@@ -101,7 +148,7 @@ void register_visibility_command(CLI::App& app) {
   cmd->add_option("INPUT", options->input, "mesh: .obj, OBJ sequence (pattern or directory), .gltf/.glb")->required();
   cmd->add_option("--cache", options->cache, "point cache for an OBJ: .pc2 or .mdd");
   cmd->add_option("-o,--output", options->output, "the visibility CSV (frame,vertex,front,back)")->required();
-  cmd->add_option("--engine", options->engine, "static (full recompute per frame) or kinetic")
+  cmd->add_option("--engine", options->engine, "kinetic (default: slices kept alive and repaired between frames) or static (full recompute per frame); both give the same output")
       ->check(CLI::IsMember({"static", "kinetic"}));
   cmd->add_option("--frames", options->frames, "frames A:B (first A, up to but excluding B; either may be omitted) or N");
   cmd->add_option("--stats", options->stats, "also write per-frame statistics as JSON");

@@ -3,6 +3,8 @@
 #include <CGAL/spatial_sort.h>
 
 #include <numeric>
+
+#include "static_core/assert.hpp"
 #include <string>
 
 namespace pleat {
@@ -37,6 +39,25 @@ void SliceTriangulation::build(const Slice& slice) {
     if (a != b) m_cdt.insert_constraint(a, b);
   }
   m_crossings = m_cdt.number_of_vertices() - vertices_before;
+  if (m_cdt.dimension() < 2) return;
+  assign_corners();
+  flood_regions();
+}
+
+void SliceTriangulation::adopt_edits(const Slice& slice, bool structure_changed) {
+  m_vertex_of_slice_vertex.assign(slice.vertices.size(), cgal::VertexHandle());
+  for (auto v = m_cdt.finite_vertices_begin(); v != m_cdt.finite_vertices_end(); ++v) {
+    const int x = v->info().slice_vertex;
+    PLEAT_ASSERT(x >= 0 && std::size_t(x) < slice.vertices.size(), "a CDT vertex without a slice vertex");
+    PLEAT_ASSERT(m_vertex_of_slice_vertex[x] == cgal::VertexHandle(), "two CDT vertices for one slice vertex");
+    m_vertex_of_slice_vertex[x] = v;
+  }
+  PLEAT_ASSERT(m_cdt.number_of_vertices() == slice.vertices.size(), "a slice vertex without a CDT vertex");
+  if (!structure_changed) return;
+  m_regions.clear();
+  m_corner_vertex.clear();
+  m_corner_region.clear();
+  m_crossings = 0;
   if (m_cdt.dimension() < 2) return;
   assign_corners();
   flood_regions();
@@ -118,7 +139,9 @@ bool SliceTriangulation::check_invariants(std::string* why) const {
     return false;
   };
   if (m_cdt.dimension() < 2) return true;
-  if (!m_cdt.is_valid()) return fail("CGAL triangulation is not valid");
+  // The triangulation and constraint checks of CGAL, without the Delaunay property: the kinetic layer keeps
+  // a valid constrained triangulation that is not Delaunay in general.
+  if (!m_cdt.cgal::Cdt::Ctr::is_valid()) return fail("CGAL's constrained triangulation check fails");
   for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f) {
     if (f->info().region < 0) return fail("a finite face has no region");
     for (int i = 0; i < 3; ++i) {

@@ -47,6 +47,14 @@ class SliceTriangulation {
   /// Points inserted where chains cross (self-intersecting input); 0 for a valid surface.
   std::size_t crossings() const { return m_crossings; }
 
+  /// The kinetic layer edits the triangulation in place (moves points, flips edges, removes and inserts
+  /// vertices and constraints), then calls adopt_edits. Every finite CDT vertex must then name a distinct
+  /// slice vertex of `slice` in its info, and every slice vertex must have one (no merged points).
+  cgal::Cdt& cdt_for_editing() { return m_cdt; }
+  /// Rebuilds the slice-vertex map from the CDT vertices' info; with `structure_changed`, corners, regions
+  /// and windows too (they depend only on the triangulation's combinatorics and constraints).
+  void adopt_edits(const Slice& slice, bool structure_changed);
+
   /// Checks the invariants (every finite face has a region and corners; windows are unconstrained hull
   /// edges; corner ids are consistent across unconstrained edges). Returns false and explains in `why`.
   bool check_invariants(std::string* why) const;

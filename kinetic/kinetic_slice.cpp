@@ -1,0 +1,363 @@
+#include "kinetic/kinetic_slice.hpp"
+
+#include <CGAL/FPU.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "static_core/assert.hpp"
+
+namespace pleat::kinetic {
+
+using cgal::Cdt;
+using cgal::FaceHandle;
+using cgal::VertexHandle;
+
+const char* rebuild_reason_name(RebuildReason reason) {
+  switch (reason) {
+    case RebuildReason::none: return "none";
+    case RebuildReason::first_frame: return "first_frame";
+    case RebuildReason::degenerate: return "degenerate";
+    case RebuildReason::crossing: return "crossing";
+    case RebuildReason::policy: return "policy";
+    case RebuildReason::repair_failed: return "repair_failed";
+    case RebuildReason::count: break;
+  }
+  return "?";
+}
+
+/// A certificate's first zero: which face, which kind, and its exact polynomial (for the sign after it).
+struct KineticScratch::Event {
+  RootTime time;
+  FaceHandle face;
+  std::uint32_t version = 0;
+  std::uint64_t sequence = 0;  ///< creation order: the deterministic tie-break
+  ExactPolynomial polynomial;
+};
+
+KineticScratch::KineticScratch() = default;
+KineticScratch::~KineticScratch() = default;
+
+namespace {
+
+/// Later events first out of the heap: exact time, then creation order.
+struct LaterEvent {
+  bool operator()(const KineticScratch::Event& a, const KineticScratch::Event& b) const {
+    const int c = compare(a.time, b.time);
+    return c != 0 ? c > 0 : a.sequence > b.sequence;
+  }
+};
+
+/// An infinite face (oo, a, b) walks the hull clockwise from a to b; `next` is the infinite face (oo, b, c).
+struct HullCorner {
+  VertexHandle a, b, c;
+};
+
+HullCorner hull_corner(const Cdt& cdt, FaceHandle f) {
+  const int i = f->index(cdt.infinite_vertex());
+  const FaceHandle g = f->neighbor(Cdt::ccw(i));
+  const int j = g->index(cdt.infinite_vertex());
+  return {f->vertex(Cdt::ccw(i)), f->vertex(Cdt::cw(i)), g->vertex(Cdt::cw(j))};
+}
+
+/// Flips the edge (f, i) (either face may be infinite) and keeps the constraint flags of the four outer
+/// edges, as CGAL's Constrained_triangulation_2::flip does, without its geometric preconditions (the points
+/// are those of t = 0 while the flip happens at the event time). Precondition: (f, i) is not constrained.
+void flip_edge(Cdt& cdt, FaceHandle f, int i) {
+  const FaceHandle g = f->neighbor(i);
+  const int j = cdt.mirror_index(f, i);
+  std::array<std::pair<FaceHandle, int>, 4> outer{{{f->neighbor(Cdt::cw(i)), cdt.mirror_index(f, Cdt::cw(i))},
+                                                   {f->neighbor(Cdt::ccw(i)), cdt.mirror_index(f, Cdt::ccw(i))},
+                                                   {g->neighbor(Cdt::cw(j)), cdt.mirror_index(g, Cdt::cw(j))},
+                                                   {g->neighbor(Cdt::ccw(j)), cdt.mirror_index(g, Cdt::ccw(j))}}};
+  cdt.tds().flip(f, i);
+  f->set_constraint(f->index(g), false);
+  g->set_constraint(g->index(f), false);
+  for (const auto& [h, k] : outer) h->neighbor(k)->set_constraint(cdt.mirror_index(h, k), h->is_constrained(k));
+}
+
+}  // namespace
+
+void KineticSlice::build(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
+                         const SlicingPlane& plane, std::span<const Index> faces, KineticScratch& scratch) {
+  slice_mesh(topology, edges, frame, plane, faces, scratch.slicer, m_out.slice);
+  finish_build(topology, scratch);
+}
+
+void KineticSlice::finish_build(const MeshTopology& topology, KineticScratch& scratch) {
+  m_tri.build(m_out.slice);
+  m_out.crossings = m_tri.crossings();
+  m_editable = m_tri.dimension() == 2 && m_out.crossings == 0 &&
+               m_tri.cdt().number_of_vertices() == m_out.slice.vertices.size();
+  compute_slice_cones(m_out.slice, m_tri, scratch.cones, m_out.cones);
+  store_cones(topology.num_vertices, m_out, scratch.best);
+}
+
+void KineticSlice::finish_frame(const MeshTopology& topology, bool structure_changed, KineticScratch& scratch) {
+  std::swap(m_out.slice, m_next);
+  m_tri.adopt_edits(m_out.slice, structure_changed);
+  m_out.crossings = 0;
+  compute_slice_cones(m_out.slice, m_tri, scratch.cones, m_out.cones);
+  store_cones(topology.num_vertices, m_out, scratch.best);
+}
+
+SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshEdges& edges, const Frame& next,
+                                       const SlicingPlane& plane, std::span<const Index> faces,
+                                       const KineticPolicy& policy, KineticScratch& scratch) {
+  SliceEventCounts counts;
+  m_changed_edges.clear();
+  slice_mesh(topology, edges, next, plane, faces, scratch.slicer, m_next);
+  auto rebuild = [&](RebuildReason reason) {
+    counts.rebuild = reason;
+    counts.structure_changed = true;
+    std::swap(m_out.slice, m_next);
+    finish_build(topology, scratch);
+    return counts;
+  };
+  if (!m_editable) return rebuild(RebuildReason::degenerate);
+
+  // Match slice vertices by mesh edge: survivors, and those that vanish or appear.
+  const Slice& old = m_out.slice;
+  if (scratch.old_of_edge.size() != edges.endpoints.size()) scratch.old_of_edge.assign(edges.endpoints.size(), -1);
+  for (Index x = 0; x < old.vertices.size(); ++x) scratch.old_of_edge[old.vertices[x].edge] = static_cast<std::int32_t>(x);
+  scratch.new_of_old.assign(old.vertices.size(), -1);
+  scratch.born.clear();
+  scratch.is_born.assign(m_next.vertices.size(), 0);
+  for (Index y = 0; y < m_next.vertices.size(); ++y) {
+    const std::int32_t x = scratch.old_of_edge[m_next.vertices[y].edge];
+    if (x >= 0)
+      scratch.new_of_old[x] = static_cast<std::int32_t>(y);
+    else {
+      scratch.born.push_back(y);
+      m_changed_edges.push_back(m_next.vertices[y].edge);
+      scratch.is_born[y] = 1;
+    }
+  }
+  for (Index x = 0; x < old.vertices.size(); ++x) {
+    scratch.old_of_edge[old.vertices[x].edge] = -1;
+    if (scratch.new_of_old[x] < 0) m_changed_edges.push_back(old.vertices[x].edge);
+  }
+  counts.inserted = scratch.born.size();
+  counts.removed = old.vertices.size() + counts.inserted - m_next.vertices.size();
+  if (double(counts.removed + counts.inserted) > policy.max_edit_fraction * double(old.vertices.size()) + 2.0)
+    return rebuild(RebuildReason::policy);
+
+  // 1. Remove the vanishing slice vertices at t = 0; survivors take their new ids.
+  Cdt& cdt = m_tri.cdt_for_editing();
+  scratch.vertex_of_new.assign(m_next.vertices.size(), VertexHandle());
+  for (Index x = 0; x < old.vertices.size(); ++x) {
+    const VertexHandle v = m_tri.vertex_of(x);
+    if (const std::int32_t y = scratch.new_of_old[x]; y >= 0) {
+      v->info().slice_vertex = y;
+      scratch.vertex_of_new[y] = v;
+      continue;
+    }
+    cdt.remove_incident_constraints(v);
+    // Constrained_triangulation_2's removal (ear filling of the star-shaped hole), not the Delaunay one:
+    // the kept triangulation is not Delaunay, and the Delaunay hole filling can cycle on it.
+    cdt.Cdt::Ctr::remove(v);
+    if (cdt.dimension() < 2) return rebuild(RebuildReason::degenerate);
+  }
+
+  // 2. Move the survivors from t = 0 to t = 1, repairing at every event.
+  if (const RebuildReason r = move_survivors(policy, scratch, counts); r != RebuildReason::none) return rebuild(r);
+
+  // 3. Insert the appearing slice vertices and their chain edges at t = 1.
+  for (Index y : scratch.born) {
+    const VertexHandle v = cdt.insert(cgal::to_point(m_next.vertices[y].point));
+    if (v->info().slice_vertex != -1) return rebuild(RebuildReason::degenerate);  // coincides with another point
+    v->info().slice_vertex = static_cast<int>(y);
+    scratch.vertex_of_new[y] = v;
+  }
+  if (!scratch.born.empty()) {
+    const std::size_t vertices = cdt.number_of_vertices();
+    for (const SliceEdge& e : m_next.edges) {
+      const VertexHandle a = scratch.vertex_of_new[e.from], b = scratch.vertex_of_new[e.to];
+      if (scratch.is_born[e.from] || scratch.is_born[e.to]) cdt.insert_constraint(a, b);
+    }
+    if (cdt.number_of_vertices() != vertices) return rebuild(RebuildReason::crossing);
+  }
+  counts.structure_changed =
+      counts.removed + counts.inserted + counts.flips + counts.hull_enter + counts.hull_leave > 0;
+  finish_frame(topology, counts.structure_changed, scratch);
+  return counts;
+}
+
+RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticScratch& scratch,
+                                           SliceEventCounts& counts) {
+  Cdt& cdt = m_tri.cdt_for_editing();
+  const VertexHandle infinite = cdt.infinite_vertex();
+  auto motion = [&](VertexHandle v) {
+    return MovingPoint{cgal::to_glm(v->point()), m_next.vertices[v->info().slice_vertex].point};
+  };
+  auto& queue = scratch.queue;
+  queue.clear();
+  std::uint64_t sequence = 0;
+  // (Re)certifies face f from time t0: a finite face stays positively oriented; an infinite face (oo, a, b)
+  // certifies the hull corner at b (orient(c, b, a) >= 0). Returns false when the certificate already fails
+  // just after t0 (a repair left a triangle that is inverted right away).
+  auto certify = [&](FaceHandle f, const RootTime& t0, bool& immediate) {
+    ++f->info().version;
+    ++counts.certificates;
+    immediate = false;
+    const bool hull = cdt.is_infinite(f);
+    std::array<MovingPoint, 3> p;
+    if (hull) {
+      const HullCorner h = hull_corner(cdt, f);
+      if (h.a == h.c) return;  // a hull of two vertices (only while the slice degenerates): nothing to certify
+      p = {motion(h.c), motion(h.b), motion(h.a)};
+    } else {
+      p = {motion(f->vertex(0)), motion(f->vertex(1)), motion(f->vertex(2))};
+    }
+    {
+      CGAL::Protect_FPU_rounding<true> rounding;
+      if (certainly_positive(p[0], p[1], p[2])) return;
+    }
+    ++counts.exact_certificates;
+    ExactPolynomial poly = orientation_polynomial(p[0], p[1], p[2]);
+    if (poly.is_zero()) {
+      immediate = !hull;  // a triangle degenerate for all t cannot be valid
+      if (!immediate) return;
+      queue.push_back({t0, f, f->info().version, sequence++, std::move(poly)});
+      std::push_heap(queue.begin(), queue.end(), LaterEvent());
+      return;
+    }
+    std::optional<RootTime> root;
+    if (sign_after(poly, t0) < 0)
+      root = t0;
+    else
+      root = first_root_after(poly, t0);
+    if (!root) return;
+    queue.push_back({*root, f, f->info().version, sequence++, std::move(poly)});
+    std::push_heap(queue.begin(), queue.end(), LaterEvent());
+  };
+  bool immediate = false;
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f, RootTime::zero(), immediate);
+
+  // After a flip of (f, i) at time t: the two new faces and, around every new infinite face, the hull corners
+  // whose neighbours changed.
+  std::vector<FaceHandle> touched;
+  auto recertify_around = [&](FaceHandle f, FaceHandle g, const RootTime& t) {
+    touched.clear();
+    for (FaceHandle h : {f, g}) {
+      touched.push_back(h);
+      if (!cdt.is_infinite(h)) continue;
+      const int i = h->index(infinite);
+      touched.push_back(h->neighbor(Cdt::cw(i)));   // the previous hull corner
+      touched.push_back(h->neighbor(Cdt::ccw(i)));  // the next one
+    }
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    for (FaceHandle h : touched) certify(h, t, immediate);
+  };
+
+  const std::size_t max_events =
+      16 + static_cast<std::size_t>(policy.max_events_per_vertex * double(cdt.number_of_vertices()));
+  const RootTime one = RootTime::one();
+  while (!queue.empty()) {
+    std::pop_heap(queue.begin(), queue.end(), LaterEvent());
+    KineticScratch::Event event = std::move(queue.back());
+    queue.pop_back();
+    const FaceHandle f = event.face;
+    if (f->info().version != event.version) continue;  // replaced by a repair
+    if (counts.events() >= max_events) return RebuildReason::policy;
+    const bool at_end = event.time == one;
+    const bool inverts = event.polynomial.is_zero() || sign_after(event.polynomial, event.time) < 0;
+    if (at_end ? cdt.is_infinite(f) : !inverts) {
+      // A certificate that touches zero and keeps its sign, or a hull corner flat at t = 1 (static_core keeps
+      // collinear hull points as hull vertices): no repair; look for its next zero.
+      ++counts.touches;
+      if (at_end) continue;
+      if (auto next = first_root_after(event.polynomial, event.time)) {
+        queue.push_back({*next, f, f->info().version, sequence++, std::move(event.polynomial)});
+        std::push_heap(queue.begin(), queue.end(), LaterEvent());
+      }
+      continue;
+    }
+    if (cdt.is_infinite(f)) {
+      const int i = f->index(infinite);
+      const FaceHandle g = f->neighbor(Cdt::ccw(i));
+      flip_edge(cdt, f, Cdt::ccw(i));  // edge (b, oo): b leaves the hull, triangle (a, b, c) appears
+      ++counts.hull_leave;
+      recertify_around(f, g, event.time);
+      continue;
+    }
+    // The triangle collapses: flip the edge opposite the vertex that lies between the other two. (Chosen on
+    // doubles at the event time; the exact check at t = 1 guards the outcome.)
+    const double t = event.time.approximate();
+    int k = 0;
+    double most_between = INFINITY;
+    for (int m = 0; m < 3; ++m) {
+      const glm::dvec2 pm = motion(f->vertex(m)).at(t);
+      const double d = glm::dot(motion(f->vertex(Cdt::ccw(m))).at(t) - pm, motion(f->vertex(Cdt::cw(m))).at(t) - pm);
+      if (d < most_between) most_between = d, k = m;
+    }
+    if (f->is_constrained(k)) return RebuildReason::crossing;  // a vertex reaches a chain edge
+    const FaceHandle g = f->neighbor(k);
+    ++(cdt.is_infinite(g) ? counts.hull_enter : counts.flips);
+    flip_edge(cdt, f, k);
+    recertify_around(f, g, event.time);
+#ifndef NDEBUG
+    PLEAT_ASSERT(cdt.tds().is_valid(), "the triangulation's combinatorics after a flip");
+#endif
+  }
+
+  // Every vertex at its t = 1 point; then the exact guard: the static engine's predicates on these points.
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v)
+    v->set_point(cgal::to_point(m_next.vertices[v->info().slice_vertex].point));
+  // Flips at t = 1 can fold every triangle of a slice that becomes collinear into the outside: no finite
+  // face is left, which the face count exposes (static_core's triangulation then has dimension 1).
+  const std::size_t hull_size = cdt.degree(infinite);
+  if (cdt.number_of_faces() == 0 || cdt.number_of_faces() + hull_size + 2 != 2 * cdt.number_of_vertices())
+    return RebuildReason::degenerate;
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) {
+    // Two faces that share two edges (a repair sequence decided on doubles can fold the hull onto itself).
+    for (int i = 0; i < 3; ++i)
+      if (f->neighbor(i)->index(f) != cdt.mirror_index(f, i)) return RebuildReason::repair_failed;
+    if (cdt.is_infinite(f)) {
+      const HullCorner h = hull_corner(cdt, f);
+      if (h.a == h.c || CGAL::orientation(h.c->point(), h.b->point(), h.a->point()) == CGAL::RIGHT_TURN)
+        return RebuildReason::repair_failed;
+    } else if (CGAL::orientation(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) !=
+               CGAL::LEFT_TURN) {
+      return RebuildReason::repair_failed;
+    }
+  }
+  return RebuildReason::none;
+}
+
+bool KineticSlice::check_invariants(std::string* why) const {
+  auto fail = [&](const std::string& message) {
+    if (why) *why = message;
+    return false;
+  };
+  const Cdt& cdt = m_tri.cdt();
+  if (m_tri.dimension() < 2) return m_tri.check_invariants(why);
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
+    if (CGAL::orientation(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) != CGAL::LEFT_TURN)
+      return fail("a triangle is not positively oriented");
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) {
+    if (!cdt.is_infinite(f)) continue;
+    const HullCorner h = hull_corner(cdt, f);
+    if (h.a != h.c && CGAL::orientation(h.c->point(), h.b->point(), h.a->point()) == CGAL::RIGHT_TURN)
+      return fail("the hull is not convex");
+  }
+  if (!m_tri.check_invariants(why)) return false;
+  // The constraints are exactly the chain edges (between distinct points).
+  std::size_t constrained = 0;
+  for (auto e = cdt.finite_edges_begin(); e != cdt.finite_edges_end(); ++e) constrained += cdt.is_constrained(*e);
+  std::size_t chain_edges = 0;
+  for (const SliceEdge& e : m_out.slice.edges) {
+    const VertexHandle a = m_tri.vertex_of(e.from), b = m_tri.vertex_of(e.to);
+    if (a == b) continue;
+    ++chain_edges;
+    FaceHandle f;
+    int i = 0;
+    if (!cdt.is_edge(a, b, f, i) || !f->is_constrained(i)) return fail("a chain edge is not a constrained edge");
+  }
+  if (m_out.crossings == 0 && constrained != chain_edges) return fail("a constrained edge is not a chain edge");
+  return true;
+}
+
+}  // namespace pleat::kinetic

@@ -1,0 +1,101 @@
+// One slicing plane kept alive across frames (DESIGN.md §3): its slice, constrained triangulation, regions,
+// windows and corners carried from frame to frame, repaired where the motion changes them.
+//
+// An interval (frame k -> k+1) in four steps, all exact:
+//   1. Topology: the mesh vertices that cross the plane change which mesh edges cross it. The slice vertices
+//      of edges that stop crossing are removed (with their chain edges) from the triangulation at t = 0.
+//      For a regular vertex this is the fan swap of the paper's §6: its old fan vertices leave the chain and
+//      its new ones join it at step 3; a critical vertex (extremum, saddle, boundary) starts, ends, splits or
+//      merges chains by the same edits.
+//   2. Motion: the surviving slice vertices move linearly from their frame-k points to their frame-k+1
+//      points (moving_orientation.hpp). Certificates: every finite triangle stays positively oriented, every
+//      hull vertex stays convex or flat. Each certificate's first root in (t, 1] goes into a queue ordered by
+//      exact time (ties: by creation order, so deterministic). A collapsing triangle flips the edge opposite
+//      the vertex that crosses it — across a hull edge, that vertex joins the hull; a hull vertex going
+//      reflex leaves the hull by a flip with the outside. Touching zeros need no repair. A triangle
+//      degenerate at t = 1 is flipped too (static_core's triangulation has no degenerate triangles).
+//   3. The slice vertices of edges that start crossing are inserted with their chain edges at t = 1.
+//   4. Regions, windows and corners are re-derived from the triangulation when its combinatorics changed
+//      (they depend on nothing else); the funnel trees and cones are grown on it (static_core's code).
+// Guard: before step 3 every triangle is checked exactly at t = 1 (the static engine's predicates on the
+// same points); a failure, chains that cross, points that coincide, a collinear slice, or more events or
+// edits than the policy allows rebuild the slice from scratch with static_core, and the reason is counted.
+// Because hull, regions, windows and corners of a valid constrained triangulation do not depend on which
+// triangulation it is, and shortest paths are unique, the result equals the static engine's.
+// Internal header (CGAL types): kinetic only.
+#pragma once
+
+#include "kinetic/kinetic_visibility.hpp"
+#include "kinetic/moving_orientation.hpp"
+#include "static_core/frame_assembly.hpp"
+#include "static_core/slice_triangulation.hpp"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace pleat::kinetic {
+
+/// What happened to one slice in one interval.
+struct SliceEventCounts {
+  std::size_t certificates = 0;        ///< triangle and hull certificates computed
+  std::size_t exact_certificates = 0;  ///< of which the interval filter could not decide
+  std::size_t flips = 0;               ///< a triangle collapsed: its edge flipped
+  std::size_t hull_enter = 0;          ///< a vertex crossed a hull edge and joined the hull
+  std::size_t hull_leave = 0;          ///< a hull vertex went reflex and left the hull
+  std::size_t touches = 0;             ///< a certificate touched zero and kept its sign
+  std::size_t removed = 0;             ///< slice vertices removed (their mesh edge stopped crossing)
+  std::size_t inserted = 0;            ///< slice vertices inserted (their mesh edge started crossing)
+  bool structure_changed = false;      ///< regions, windows and corners were re-derived
+  RebuildReason rebuild = RebuildReason::none;
+
+  std::size_t events() const { return flips + hull_enter + hull_leave + touches; }
+};
+
+/// Per-thread memory of KineticSlice (no allocation per frame once warmed up, outside exact fallbacks).
+struct KineticScratch {
+  SlicerScratch slicer;
+  SliceConeScratch cones;
+  std::vector<std::int64_t> best;
+  std::vector<std::int32_t> old_of_edge;  ///< per mesh edge: slice vertex of the previous frame, or -1
+  std::vector<std::int32_t> new_of_old;
+  std::vector<Index> born;
+  std::vector<char> is_born;                      ///< per slice vertex of the next frame
+  std::vector<cgal::VertexHandle> vertex_of_new;  ///< per slice vertex of the next frame
+  struct Event;
+  std::vector<Event> queue;
+  KineticScratch();
+  ~KineticScratch();
+};
+
+class KineticSlice {
+ public:
+  /// The static build of `frame` (also the fallback).
+  void build(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame, const SlicingPlane& plane,
+             std::span<const Index> faces, KineticScratch& scratch);
+  /// From the current frame to `next` (see the header comment).
+  SliceEventCounts advance(const MeshTopology& topology, const MeshEdges& edges, const Frame& next,
+                           const SlicingPlane& plane, std::span<const Index> faces, const KineticPolicy& policy,
+                           KineticScratch& scratch);
+
+  const PlaneCones& cones() const { return m_out; }
+  /// The mesh edges that started or stopped crossing the plane in the last advance() (local edits only).
+  const std::vector<Index>& changed_edges() const { return m_changed_edges; }
+  const SliceTriangulation& triangulation() const { return m_tri; }
+  /// The triangulation is valid for the current points (exact), constraints are the slice's edges, and the
+  /// regions, windows and corners are consistent. False with a reason otherwise.
+  bool check_invariants(std::string* why) const;
+
+ private:
+  void finish_build(const MeshTopology& topology, KineticScratch& scratch);
+  void finish_frame(const MeshTopology& topology, bool structure_changed, KineticScratch& scratch);
+  RebuildReason move_survivors(const KineticPolicy& policy, KineticScratch& scratch, SliceEventCounts& counts);
+
+  PlaneCones m_out;
+  Slice m_next;
+  SliceTriangulation m_tri;
+  std::vector<Index> m_changed_edges;
+  bool m_editable = false;  ///< 2D, no merged points, no crossings: the next interval can repair it
+};
+
+}  // namespace pleat::kinetic

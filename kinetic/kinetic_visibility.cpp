@@ -1,0 +1,168 @@
+#include "kinetic/kinetic_visibility.hpp"
+
+#include "kinetic/kinetic_slice.hpp"
+#include "static_core/assert.hpp"
+#include "static_core/frame_assembly.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+
+namespace pleat {
+
+using kinetic::KineticScratch;
+using kinetic::KineticSlice;
+using kinetic::RebuildReason;
+using kinetic::SliceEventCounts;
+
+struct KineticVisibility::Impl {
+  Impl(const MeshTopology& topology, SlicingPlan plan_in, const Frame& first, const KineticParams& params)
+      : topology(topology),
+        plan(std::move(plan_in)),
+        params(params),
+        edges(topology),
+        slices(plan.planes.size()),
+        counts(plan.planes.size()),
+        assembler(topology, edges, plan, {params.parallel}),
+        previous(first) {
+    index_vertex_faces();
+    candidate_faces_per_plane(topology, first, plan, faces);
+    for_each_plane([&](std::size_t p) {
+      slices[p].build(topology, edges, first, plan.planes[p], faces[p], scratch.local());
+      check(p);
+    });
+    gather_and_assemble(first);
+    stats = {};
+  }
+
+  template <class F>
+  void for_each_plane(F&& f) {
+    if (params.parallel)
+      tbb::parallel_for(std::size_t(0), slices.size(), f);
+    else
+      for (std::size_t p = 0; p < slices.size(); ++p) f(p);
+  }
+
+  void check(std::size_t p) const {
+    if (!params.check_invariants) return;
+    std::string why;
+    PLEAT_ASSERT(slices[p].check_invariants(&why),
+                 "plane " + std::to_string(p) + " (" + kinetic::rebuild_reason_name(counts[p].rebuild) + "): " + why);
+  }
+
+  void index_vertex_faces() {
+    first_face.assign(topology.num_vertices + 1, 0);
+    for (const Triangle& t : topology.triangles)
+      for (Index v : t) ++first_face[v + 1];
+    for (Index v = 0; v < topology.num_vertices; ++v) first_face[v + 1] += first_face[v];
+    faces_of_vertex.resize(first_face.back());
+    std::vector<Index> cursor(first_face.begin(), first_face.end() - 1);
+    for (Index f = 0; f < topology.triangles.size(); ++f)
+      for (Index v : topology.triangles[f]) faces_of_vertex[cursor[v]++] = f;
+    // A boundary vertex has an edge with one face: its faces then outnumber its neighbours by less than one.
+    on_boundary.assign(topology.num_vertices, 0);
+    for (Index v = 0; v < topology.num_vertices; ++v)
+      on_boundary[v] = first_face[v + 1] - first_face[v] < edges.neighbours[v].size();
+  }
+
+  /// A mesh vertex crossing a plane is regular when the plane cuts its link in exactly two places (one arc
+  /// above, one below) and it is not on the boundary; otherwise critical (extremum, saddle, boundary).
+  bool is_regular(Index v, const SlicingPlane& plane, const Frame& frame) const {
+    if (on_boundary[v]) return false;
+    int cuts = 0;
+    for (std::uint32_t i = first_face[v]; i < first_face[v + 1]; ++i) {
+      const Triangle& t = topology.triangles[faces_of_vertex[i]];
+      Index a = 0, b = 0;
+      int k = 0;
+      for (Index w : t)
+        if (w != v) (k++ == 0 ? a : b) = w;
+      cuts += on_or_above(plane, frame.positions[a]) != on_or_above(plane, frame.positions[b]);
+    }
+    return cuts == 2;
+  }
+
+  void advance(const Frame& next) {
+    const auto start = std::chrono::steady_clock::now();
+    candidate_faces_per_plane(topology, next, plan, faces);
+    for_each_plane([&](std::size_t p) {
+      counts[p] = slices[p].advance(topology, edges, next, plan.planes[p], faces[p], params.policy, scratch.local());
+      check(p);
+    });
+    gather_and_assemble(next);
+    stats = {};
+    for (std::size_t p = 0; p < slices.size(); ++p) {
+      const SliceEventCounts& c = counts[p];
+      stats.certificates += c.certificates;
+      stats.exact_certificates += c.exact_certificates;
+      stats.flips += c.flips;
+      stats.hull_enter += c.hull_enter;
+      stats.hull_leave += c.hull_leave;
+      stats.touches += c.touches;
+      if (c.rebuild != RebuildReason::none) {
+        ++stats.slices_rebuilt;
+        ++stats.rebuilt_because[static_cast<std::size_t>(c.rebuild)];
+        continue;
+      }
+      stats.removed += c.removed;
+      stats.inserted += c.inserted;
+      ++(c.structure_changed ? stats.slices_repaired : stats.slices_unchanged);
+      // Classify the mesh vertices that crossed this plane (each counted once per plane).
+      for (Index e : slices[p].changed_edges())
+        for (Index v : edges.endpoints[e]) {
+          if (on_or_above(plan.planes[p], previous.positions[v]) == on_or_above(plan.planes[p], next.positions[v]))
+            continue;
+          if (crossed_stamp.size() != topology.num_vertices) crossed_stamp.assign(topology.num_vertices, 0);
+          if (crossed_stamp[v] == p + 1 + stamp_base) continue;
+          crossed_stamp[v] = p + 1 + stamp_base;
+          ++(is_regular(v, plan.planes[p], next) ? stats.side_changes_regular : stats.side_changes_critical);
+        }
+    }
+    stamp_base += slices.size();
+    previous = next;
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  void gather_and_assemble(const Frame& frame) {
+    plane_views.resize(slices.size());
+    for (std::size_t p = 0; p < slices.size(); ++p) plane_views[p] = &slices[p].cones();
+    assembler.assemble(frame, plane_views, result);
+  }
+
+  const MeshTopology& topology;
+  SlicingPlan plan;
+  KineticParams params;
+  MeshEdges edges;
+  std::vector<KineticSlice> slices;
+  std::vector<SliceEventCounts> counts;
+  std::vector<std::vector<Index>> faces;
+  tbb::enumerable_thread_specific<KineticScratch> scratch;
+  FrameAssembler assembler;
+  std::vector<const PlaneCones*> plane_views;
+  Frame previous;
+  std::vector<std::uint32_t> first_face;
+  std::vector<Index> faces_of_vertex;
+  std::vector<char> on_boundary;
+  std::vector<std::size_t> crossed_stamp;
+  std::size_t stamp_base = 0;
+  FrameVisibility result;
+  KineticFrameStats stats;
+};
+
+KineticVisibility::KineticVisibility(const MeshTopology& topology, SlicingPlan plan, const Frame& first,
+                                     const KineticParams& params)
+    : m_impl(std::make_unique<Impl>(topology, std::move(plan), first, params)) {}
+KineticVisibility::~KineticVisibility() = default;
+KineticVisibility::KineticVisibility(KineticVisibility&&) noexcept = default;
+KineticVisibility& KineticVisibility::operator=(KineticVisibility&&) noexcept = default;
+
+const FrameVisibility& KineticVisibility::current() const { return m_impl->result; }
+const FrameVisibility& KineticVisibility::advance(const Frame& next) {
+  m_impl->advance(next);
+  return m_impl->result;
+}
+const KineticFrameStats& KineticVisibility::last_stats() const { return m_impl->stats; }
+const SlicingPlan& KineticVisibility::plan() const { return m_impl->plan; }
+const KineticSlice& KineticVisibility::slice(std::size_t plane) const { return m_impl->slices.at(plane); }
+
+}  // namespace pleat

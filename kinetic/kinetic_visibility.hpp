@@ -1,0 +1,92 @@
+// KineticVisibility: the cones of a cloth sequence, frame after frame, with every slicing plane's structure
+// kept alive between frames (DESIGN.md §3; Stewart 1999 §6 names this as future work).
+//
+// Built from the topology, a slicing plan (fixed for the sequence) and the first frame (a static build).
+// advance(next) moves every slice through the interval to the next frame (kinetic_slice.hpp): the mesh
+// vertices that cross a plane are applied as local edits of its chains, the slice points move linearly from
+// their points at one frame to their points at the next (moving_orientation.hpp explains this model), and
+// certificate failures are repaired in exact time order by edge flips; where repair would cost more than a
+// rebuild, or the slice degenerates, it is rebuilt. The cones are then grown on the kept structure and merged
+// by the same code as the static engine (static_core/frame_assembly.hpp): the output equals a full static
+// recompute of the same frame (tests/kinetic_visibility_test.cpp proves it on random motions).
+// Slices are independent and processed in parallel (TBB). `topology` must outlive the engine.
+#pragma once
+
+#include "sim_io/mesh.hpp"
+#include "static_core/slicing_plan.hpp"
+#include "static_core/visibility.hpp"
+#include "static_core/visibility_cone.hpp"
+
+#include <array>
+#include <cstddef>
+#include <memory>
+
+namespace pleat {
+namespace kinetic {
+class KineticSlice;
+
+/// Why a slice was built from scratch in an interval.
+enum class RebuildReason : int { none = 0, first_frame, degenerate, crossing, policy, repair_failed, count };
+const char* rebuild_reason_name(RebuildReason reason);
+
+/// When repairing a slice costs more than rebuilding it. The defaults are measured (bench/kinetic_bench.cpp,
+/// README): an event costs about as much as rebuilding 1/(max_events_per_vertex) slice vertices.
+struct KineticPolicy {
+  /// Rebuild when an interval's events exceed this many per slice vertex (plus 16).
+  double max_events_per_vertex = 0.5;
+  /// Rebuild when the slice vertices removed plus inserted exceed this fraction of the slice (plus 2).
+  double max_edit_fraction = 0.5;
+};
+}  // namespace kinetic
+
+struct KineticParams {
+  bool parallel = true;           ///< TBB-parallel over slices and vertices
+  kinetic::KineticPolicy policy;  ///< repair or rebuild
+  bool check_invariants = false;  ///< check every slice's invariants after each interval (tests, Debug)
+};
+
+/// Counters of one advance(), summed over slices (reported by `pleat visibility --stats`).
+struct KineticFrameStats {
+  double seconds = 0.0;              ///< wall time of advance()
+  std::size_t certificates = 0;      ///< triangle and hull certificates computed
+  std::size_t exact_certificates = 0;  ///< of which the interval filter could not decide
+  std::size_t flips = 0;             ///< triangle collapses repaired by an edge flip
+  std::size_t hull_enter = 0;        ///< vertices that crossed a hull edge (windows change)
+  std::size_t hull_leave = 0;        ///< hull vertices that went reflex (windows change)
+  std::size_t touches = 0;           ///< certificates that touched zero and held
+  std::size_t side_changes_regular = 0;   ///< (mesh vertex, plane) crossings of a regular vertex
+  std::size_t side_changes_critical = 0;  ///< ... of an extremum, saddle or boundary vertex
+  std::size_t removed = 0;           ///< slice vertices removed by local edits
+  std::size_t inserted = 0;          ///< slice vertices inserted by local edits
+  std::size_t slices_unchanged = 0;  ///< no event, no edit: only the cone geometry was re-evaluated
+  std::size_t slices_repaired = 0;   ///< kept and repaired locally (regions, windows, corners re-derived)
+  std::size_t slices_rebuilt = 0;    ///< built from scratch
+  std::array<std::size_t, static_cast<std::size_t>(kinetic::RebuildReason::count)> rebuilt_because{};
+
+  std::size_t events() const { return flips + hull_enter + hull_leave + touches; }
+};
+
+class KineticVisibility {
+ public:
+  KineticVisibility(const MeshTopology& topology, SlicingPlan plan, const Frame& first, const KineticParams& params = {});
+  ~KineticVisibility();
+  KineticVisibility(KineticVisibility&&) noexcept;
+  KineticVisibility& operator=(KineticVisibility&&) noexcept;
+
+  /// The cones of the current frame (the first one after construction).
+  const FrameVisibility& current() const;
+  /// Moves to `next` (same topology) and returns its cones; the reference stays valid until the next call.
+  const FrameVisibility& advance(const Frame& next);
+  /// What the last advance() did (zeros after construction).
+  const KineticFrameStats& last_stats() const;
+  const SlicingPlan& plan() const;
+  /// The kept state of one plane (internal type, for tests and benchmarks).
+  const kinetic::KineticSlice& slice(std::size_t plane) const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace pleat

@@ -1,0 +1,39 @@
+// Orientation certificates of slice points that move linearly between two frames (DESIGN.md §3).
+//
+// Motion model. The kinetic layer must end every interval in exactly the state a static recompute builds
+// for the next frame, and static_core decides on the slice points as it computes them: doubles, rounded
+// once from the mesh positions. So each slice vertex moves on the straight segment from its double point at
+// frame k to its double point at frame k+1, p(t) = (1 - t) p0 + t p1. At t = 0 and t = 1 every certificate
+// is then exactly the static engine's predicate on the same points; between frames the path differs from
+// the intersection of linearly moving mesh edges by O(h^2) in the frame step h, which no sampled cache can
+// resolve anyway. Slice vertices appear and vanish only at frame times (a mesh vertex crossing the plane is
+// applied as a local edit at the end of the interval it happens in; see kinetic_slice.hpp).
+//
+// The orientation of three such points is a quadratic in t with homogeneous-Bernstein coefficients
+// (B0, 2 B1, B2) on [0, 1]: B0 = u0 x v0, B2 = u1 x v1, 2 B1 = u0 x v1 + u1 x v0, where u = b - a and
+// v = c - a at t = 0 and 1. All three strictly positive proves "positive on [0, 1]": the filter, in interval
+// arithmetic. Otherwise the exact rational polynomial goes to root_isolation.
+// Internal to pleat::kinetic.
+#pragma once
+
+#include <glm/vec2.hpp>
+
+#include "kinetic/root_isolation.hpp"
+
+namespace pleat::kinetic {
+
+/// A slice point on its segment: at t = 0 and at t = 1.
+struct MovingPoint {
+  glm::dvec2 from{0.0};
+  glm::dvec2 to{0.0};
+  glm::dvec2 at(double t) const { return from + t * (to - from); }
+};
+
+/// True when interval arithmetic proves orient(a(t), b(t), c(t)) > 0 for every t in [0, 1]. No allocation.
+/// Precondition: a CGAL::Protect_FPU_rounding<true> guard is alive (rounding towards +infinity).
+bool certainly_positive(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c);
+
+/// orient(a(t), b(t), c(t)) as an exact polynomial of degree <= 2 (allocates; the filter's fallback).
+ExactPolynomial orientation_polynomial(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c);
+
+}  // namespace pleat::kinetic

@@ -1,0 +1,176 @@
+#include "static_core/frame_assembly.hpp"
+
+#include "static_core/cone_assembly.hpp"
+
+#include <glm/geometric.hpp>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pleat {
+
+void store_cones(Index num_vertices, PlaneCones& plane, std::vector<std::int64_t>& best_of) {
+  if (best_of.size() != 2 * std::size_t(num_vertices)) best_of.assign(2 * std::size_t(num_vertices), -1);
+  plane.stored.clear();
+  for (Index x = 0; x < plane.slice.vertices.size(); ++x) {
+    const SliceVertex& sv = plane.slice.vertices[x];
+    for (int side = 0; side < 2; ++side) {
+      std::int64_t& best = best_of[2 * std::size_t(sv.nearer) + side];
+      if (best >= 0 && plane.stored[best].distance <= sv.distance) continue;
+      if (best < 0) {
+        best = static_cast<std::int64_t>(plane.stored.size());
+        plane.stored.push_back({});
+      }
+      plane.stored[best] = {sv.nearer, side, x, sv.distance};
+    }
+  }
+  for (const StoredCone& s : plane.stored) best_of[2 * std::size_t(s.vertex) + s.side] = -1;
+}
+
+struct FrameAssembler::Impl {
+  struct Ref {
+    std::uint32_t plane;
+    std::uint32_t stored;
+  };
+  struct Workspace {
+    ConeAssemblyScratch scratch;
+    std::vector<PlanarCone> cones;
+  };
+
+  Impl(const MeshTopology& topology, const MeshEdges& edges, const SlicingPlan& plan,
+       const VisibilityParams& params)
+      : topology(topology), edges(edges), plan(plan), params(params) {}
+
+  void assemble(const Frame& frame, std::span<const PlaneCones* const> planes, FrameVisibility& result);
+
+  const MeshTopology& topology;
+  const MeshEdges& edges;
+  const SlicingPlan& plan;
+  VisibilityParams params;
+  tbb::enumerable_thread_specific<Workspace> workspaces;
+  std::vector<std::uint32_t> first, cursor;
+  std::vector<Ref> refs;
+  std::vector<std::int32_t> source;
+  std::vector<double> dist;
+  std::vector<std::pair<double, Index>> heap;
+};
+
+void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCones* const> planes,
+                                    FrameVisibility& result) {
+  const std::size_t n = topology.num_vertices;
+  result.normals = vertex_normals(topology, frame);
+
+  VisibilityStats& stats = result.stats;
+  stats = {};
+  stats.slices = planes.size();
+  for (const PlaneCones* plane : planes) {
+    const PlaneCones& r = *plane;
+    stats.slice_vertices += r.slice.vertices.size();
+    stats.regions += r.cones.regions;
+    stats.windows += r.cones.windows;
+    stats.regions_with_holes += r.cones.regions_with_holes;
+    stats.chain_crossings += r.crossings;
+    stats.crossing_slices += r.crossings > 0;
+  }
+
+  // 1. Per vertex, side and orientation, the stored cones: one CSR array over the key
+  //    (side * orientations + o) * n + v.
+  const std::size_t orientations = plan.orientations.size();
+  const std::size_t keys = 2 * orientations * n;
+  auto key_of = [&](int side, std::size_t o, Index v) { return (side * orientations + o) * n + v; };
+  first.assign(keys + 1, 0);
+  for (std::uint32_t p = 0; p < planes.size(); ++p)
+    for (const StoredCone& c : planes[p]->stored) ++first[key_of(c.side, plan.planes[p].orientation, c.vertex) + 1];
+  for (std::size_t k = 0; k < keys; ++k) first[k + 1] += first[k];
+  refs.resize(first[keys]);
+  cursor.assign(first.begin(), first.end() - 1);
+  for (std::uint32_t p = 0; p < planes.size(); ++p)
+    for (std::uint32_t s = 0; s < planes[p]->stored.size(); ++s) {
+      const StoredCone& c = planes[p]->stored[s];
+      refs[cursor[key_of(c.side, plan.planes[p].orientation, c.vertex)]++] = {p, s};
+    }
+
+  // 2. Fill: a vertex with no cone in an orientation borrows those of its nearest vertex (along mesh
+  //    edges) that has one — multi-source Dijkstra per orientation and side. source[key] is the vertex
+  //    whose cones the key uses (itself when it has its own), or -1.
+  stats.filled_fraction.assign(orientations, 0.0);
+  source.assign(keys, -1);
+  dist.resize(n);
+  for (int side = 0; side < 2; ++side)
+    for (std::size_t o = 0; o < orientations; ++o) {
+      std::int32_t* src = &source[key_of(side, o, 0)];
+      heap.clear();
+      for (Index v = 0; v < n; ++v) {
+        const std::size_t k = key_of(side, o, v);
+        if (first[k + 1] > first[k]) {
+          dist[v] = 0;
+          src[v] = static_cast<std::int32_t>(v);
+          heap.emplace_back(0.0, v);
+        } else {
+          dist[v] = INFINITY;
+        }
+      }
+      if (heap.empty()) continue;
+      std::make_heap(heap.begin(), heap.end(), std::greater<>());
+      while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+        const auto [d, v] = heap.back();
+        heap.pop_back();
+        if (d > dist[v]) continue;
+        for (Index u : edges.neighbours[v]) {
+          const double du = d + glm::distance(frame.positions[u], frame.positions[v]);
+          if (du < dist[u] || (du == dist[u] && src[v] < src[u])) {
+            dist[u] = du;
+            src[u] = src[v];
+            heap.emplace_back(du, u);
+            std::push_heap(heap.begin(), heap.end(), std::greater<>());
+          }
+        }
+      }
+      std::size_t filled = 0;
+      for (Index v = 0; v < n; ++v) filled += src[v] >= 0 && src[v] != static_cast<std::int32_t>(v);
+      if (side == 0) stats.filled_fraction[o] = n ? double(filled) / double(n) : 0.0;
+    }
+
+  // 3. 3D cones and their measures, per vertex and side (per-thread scratch; result memory reused).
+  for (int side = 0; side < 2; ++side) {
+    result.cones[side].resize(n);
+    result.measures[side].assign(n, {});
+  }
+  auto assemble_vertex = [&](std::size_t v) {
+    Workspace& ws = workspaces.local();
+    for (int side = 0; side < 2; ++side) {
+      ws.cones.clear();
+      for (std::size_t o = 0; o < orientations; ++o) {
+        const std::int32_t from = source[key_of(side, o, static_cast<Index>(v))];
+        if (from < 0) continue;
+        const std::size_t k = key_of(side, o, static_cast<Index>(from));
+        for (std::uint32_t i = first[k]; i < first[k + 1]; ++i) {
+          const PlaneCones& pr = *planes[refs[i].plane];
+          const StoredCone& s = pr.stored[refs[i].stored];
+          ws.cones.push_back({&plan.planes[refs[i].plane], pr.cones.cone(s.slice_vertex, static_cast<Side>(side))});
+        }
+      }
+      const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];
+      assemble_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v]);
+      result.measures[side][v] = measure_cone(result.cones[side][v], side_normal);
+    }
+  };
+  if (params.parallel)
+    tbb::parallel_for(std::size_t(0), n, assemble_vertex);
+  else
+    for (std::size_t v = 0; v < n; ++v) assemble_vertex(v);
+}
+
+FrameAssembler::FrameAssembler(const MeshTopology& topology, const MeshEdges& edges, const SlicingPlan& plan,
+                               const VisibilityParams& params)
+    : m_impl(std::make_unique<Impl>(topology, edges, plan, params)) {}
+FrameAssembler::~FrameAssembler() = default;
+
+void FrameAssembler::assemble(const Frame& frame, std::span<const PlaneCones* const> planes, FrameVisibility& result) {
+  m_impl->assemble(frame, planes, result);
+}
+
+}  // namespace pleat

@@ -1,0 +1,60 @@
+// From per-plane 2D cones to a frame's 3D cones: the part of Stewart's algorithm after the slices
+// (Stewart 1999 §2.4; DESIGN.md §2.7–2.8), shared by the static engine and the kinetic one.
+//
+// Each plane's slice vertices hand their 2D cones to their nearer mesh endpoint (per side, the nearest slice
+// vertex of the plane wins; ties: the lower index). A vertex with no cone in an orientation borrows those of
+// its nearest vertex along mesh edges that has one (multi-source Dijkstra per orientation and side). Then
+// every vertex's 2D cones are merged into 3D cones per side and measured. Both engines hand this stage
+// PlaneCones that are equal, so they produce the same output. Internal header: static_core and kinetic only.
+#pragma once
+
+#include "sim_io/mesh.hpp"
+#include "static_core/mesh_slicer.hpp"
+#include "static_core/slice_cones.hpp"
+#include "static_core/slicing_plan.hpp"
+#include "static_core/visibility.hpp"
+#include "static_core/visibility_cone.hpp"
+
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace pleat {
+
+/// A 2D cone handed to a mesh vertex: which side, which slice vertex of the plane, and its 3D distance.
+struct StoredCone {
+  Index vertex = 0;
+  int side = 0;
+  Index slice_vertex = 0;
+  double distance = 0.0;
+};
+
+/// Everything one plane contributes to a frame.
+struct PlaneCones {
+  Slice slice;
+  SliceCones cones;
+  std::vector<StoredCone> stored;
+  std::size_t crossings = 0;
+};
+
+/// Fills `plane.stored` from `plane.slice` (nearest slice vertex per mesh vertex and side). `best` is
+/// per-thread scratch of 2 * num_vertices entries, all -1 on entry and on return.
+void store_cones(Index num_vertices, PlaneCones& plane, std::vector<std::int64_t>& best);
+
+/// Steps after the planes: CSR of stored cones, Dijkstra fill, 3D assembly and measures. Keeps its memory
+/// between frames. `topology` and `plan` must outlive it.
+class FrameAssembler {
+ public:
+  FrameAssembler(const MeshTopology& topology, const MeshEdges& edges, const SlicingPlan& plan,
+                 const VisibilityParams& params);
+  ~FrameAssembler();
+  /// Writes normals, cones, measures and the static counters of `result`.
+  void assemble(const Frame& frame, std::span<const PlaneCones* const> planes, FrameVisibility& result);
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace pleat

@@ -1,0 +1,301 @@
+// The kinetic engine against a full static recompute at every frame (DESIGN.md §3, "Oracle"): per slice the
+// same hull, windows and shortest-path-tree parents (compared as multisets keyed by mesh edges, so numbering
+// does not matter) and the same 2D cones; per vertex the same 3D cones and measures to 1e-9. On random
+// coherent motions (every generated kind, random parameters, smooth perturbations, random frame steps,
+// planes through vertices at frame times) and on stress cases: a flat sheet, a fold closing and reopening,
+// a vertex on a plane at a frame time, events exactly at t = 1, simultaneous events; then 1000 frames.
+#include "kinetic/kinetic_slice.hpp"
+#include "kinetic/kinetic_visibility.hpp"
+#include "oracles/test_meshes.hpp"
+#include "sim_io/cloth_generators.hpp"
+#include "static_core/shortest_path_tree.hpp"
+#include "static_core/visibility.hpp"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <numeric>
+#include <tuple>
+
+namespace pleat {
+namespace {
+
+constexpr double kTolerance = 1e-9;
+
+/// A slice's structure in terms of mesh edges (slice vertices are numbered per frame, corners per build).
+struct SliceSignature {
+  std::vector<Index> hull;                                          // mesh edges of hull vertices
+  std::vector<std::pair<Index, Index>> windows;                     // (edge at a, edge at b)
+  std::vector<std::tuple<Index, Index, int, Index, Index>> parents;  // (window, from_b, corner, parent)
+  std::vector<std::tuple<Index, int, std::vector<Wedge>>> cones;     // (edge, side, wedges)
+};
+
+SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const SliceCones& cones) {
+  SliceSignature s;
+  auto edge_of = [&](cgal::VertexHandle v) { return slice.vertices[v->info().slice_vertex].edge; };
+  for (Index x = 0; x < slice.vertices.size(); ++x)
+    for (Side side : kBothSides) {
+      const auto c = cones.cone(x, side);
+      s.cones.emplace_back(slice.vertices[x].edge, int(side), std::vector<Wedge>(c.begin(), c.end()));
+    }
+  std::sort(s.cones.begin(), s.cones.end(), [](const auto& a, const auto& b) {
+    return std::tie(std::get<0>(a), std::get<1>(a)) < std::tie(std::get<0>(b), std::get<1>(b));
+  });
+  if (st.dimension() < 2) return s;
+  const cgal::Cdt& cdt = st.cdt();
+  auto vc = cdt.incident_vertices(cdt.infinite_vertex()), done = vc;
+  do s.hull.push_back(edge_of(vc)); while (++vc != done);
+  std::sort(s.hull.begin(), s.hull.end());
+  std::vector<int> parent(st.num_corners(), -1);
+  std::vector<FunnelTask> stack;
+  for (const SliceRegion& region : st.regions())
+    for (const SliceWindow& w : region.windows) {
+      const auto key = std::make_pair(edge_of(st.corner_vertex(w.corner_a)), edge_of(st.corner_vertex(w.corner_b)));
+      s.windows.push_back(key);
+      if (region.has_holes) continue;  // cones there come from the outer polygon and the holes' spans
+      for (int from_b = 0; from_b < 2; ++from_b) {
+        std::fill(parent.begin(), parent.end(), -1);
+        grow_shortest_path_tree(st, w, from_b, parent, stack);
+        for (std::size_t c = 0; c < parent.size(); ++c)
+          if (parent[c] >= 0)
+            s.parents.emplace_back(key.first, key.second, from_b, edge_of(st.corner_vertex(int(c))),
+                                   edge_of(st.corner_vertex(parent[c])));
+      }
+    }
+  std::sort(s.windows.begin(), s.windows.end());
+  std::sort(s.parents.begin(), s.parents.end());
+  return s;
+}
+
+/// Empty when kinetic slice p equals the static build of the same plane and frame; else the first difference.
+std::string compare_slice(const KineticVisibility& kinetic, std::size_t p, const MeshTopology& topology,
+                          const MeshEdges& edges, const Frame& frame) {
+  const SlicingPlane& plane = kinetic.plan().planes[p];
+  std::vector<Index> all(topology.triangles.size());
+  std::iota(all.begin(), all.end(), Index(0));
+  Slice slice;
+  SlicerScratch slicer;
+  slice_mesh(topology, edges, frame, plane, all, slicer, slice);
+  SliceTriangulation st;
+  st.build(slice);
+  SliceConeScratch scratch;
+  SliceCones cones;
+  compute_slice_cones(slice, st, scratch, cones);
+  const kinetic::KineticSlice& ks = kinetic.slice(p);
+  const SliceSignature a = signature(slice, st, cones);
+  const SliceSignature b = signature(ks.cones().slice, ks.triangulation(), ks.cones().cones);
+  std::string why;
+  if (!ks.check_invariants(&why)) return "invariants: " + why;
+  if (a.hull != b.hull) return "hull";
+  if (a.windows != b.windows) return "windows";
+  if (a.parents != b.parents) return "shortest-path parents";
+  if (a.cones.size() != b.cones.size()) return "slice vertices";
+  for (std::size_t i = 0; i < a.cones.size(); ++i) {
+    const auto& [ea, sa, wa] = a.cones[i];
+    const auto& [eb, sb, wb] = b.cones[i];
+    if (ea != eb || sa != sb || wa.size() != wb.size()) return "2D cone of edge " + std::to_string(ea);
+    for (std::size_t k = 0; k < wa.size(); ++k)
+      if (std::abs(wa[k].start - wb[k].start) > kTolerance || std::abs(wa[k].width - wb[k].width) > kTolerance)
+        return "2D cone wedge of edge " + std::to_string(ea);
+  }
+  return {};
+}
+
+/// Empty when the frames' 3D cones and measures agree to 1e-9.
+std::string compare_frames(const FrameVisibility& k, const FrameVisibility& s) {
+  for (int side = 0; side < 2; ++side)
+    for (std::size_t v = 0; v < s.measures[side].size(); ++v) {
+      std::ostringstream at;
+      at << "side " << side << " vertex " << v << ": ";
+      if (std::abs(k.measures[side][v].sky_visibility - s.measures[side][v].sky_visibility) > kTolerance)
+        return at.str() + "A " + std::to_string(k.measures[side][v].sky_visibility) + " vs " +
+               std::to_string(s.measures[side][v].sky_visibility);
+      const auto& pk = k.cones[side][v].pieces;
+      const auto& ps = s.cones[side][v].pieces;
+      if (pk.size() != ps.size()) return at.str() + "number of pieces";
+      for (std::size_t i = 0; i < pk.size(); ++i) {
+        if (pk[i].size() != ps[i].size()) return at.str() + "piece size";
+        for (std::size_t j = 0; j < pk[i].size(); ++j)
+          if (glm::length(pk[i][j] - ps[i][j]) > kTolerance) return at.str() + "piece direction";
+      }
+    }
+  return {};
+}
+
+/// Runs the kinetic engine over `frames` and compares it with the static engine at every frame (and every
+/// slice when `slices`). Returns the first difference; accumulates the kinetic counters into `total`.
+std::string run_and_compare(const MeshTopology& topology, const std::vector<Frame>& frames, const SlicingPlan& plan,
+                            bool slices, KineticFrameStats* total = nullptr, const KineticParams& params = {false, {}, true}) {
+  KineticVisibility kinetic(topology, plan, frames[0], params);
+  StaticVisibility reference(topology, plan, {false});
+  const MeshEdges edges(topology);
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const FrameVisibility& k = f == 0 ? kinetic.current() : kinetic.advance(frames[f]);
+    if (std::string why = compare_frames(k, reference.compute(frames[f])); !why.empty())
+      return "frame " + std::to_string(f) + ": " + why;
+    if (slices)
+      for (std::size_t p = 0; p < plan.planes.size(); ++p)
+        if (std::string why = compare_slice(kinetic, p, topology, edges, frames[f]); !why.empty())
+          return "frame " + std::to_string(f) + " plane " + std::to_string(p) + ": " + why;
+    if (total && f > 0) {
+      const KineticFrameStats& s = kinetic.last_stats();
+      total->flips += s.flips;
+      total->hull_enter += s.hull_enter;
+      total->hull_leave += s.hull_leave;
+      total->touches += s.touches;
+      total->removed += s.removed;
+      total->inserted += s.inserted;
+      total->slices_unchanged += s.slices_unchanged;
+      total->slices_repaired += s.slices_repaired;
+      total->slices_rebuilt += s.slices_rebuilt;
+      total->side_changes_regular += s.side_changes_regular;
+      total->side_changes_critical += s.side_changes_critical;
+      for (std::size_t r = 0; r < s.rebuilt_because.size(); ++r) total->rebuilt_because[r] += s.rebuilt_because[r];
+    }
+  }
+  return {};
+}
+
+/// A plan of a few orientations plus planes exactly through chosen vertices at chosen frames.
+SlicingPlan plan_for(const MeshTopology& topology, const std::vector<Frame>& frames, int planes_per_orientation,
+                     const std::vector<std::pair<std::size_t, Index>>& through) {
+  SlicingPlan plan = make_diffuse_plan(topology, frames[0], {6, 0.0, planes_per_orientation});
+  for (std::size_t i = 0; i < through.size(); ++i) {
+    const int o = static_cast<int>(i % plan.orientations.size());
+    const glm::dvec3 n = plan.orientations[o];
+    const glm::dvec3& p = frames[through[i].first].positions[through[i].second];
+    plan.planes.push_back(make_plane(n, glm::dot(n, p), o));
+  }
+  return plan;
+}
+
+KineticFrameStats g_random_totals;
+std::size_t g_random_frames = 0;
+
+RC_GTEST_PROP(KineticVisibility, EqualsAFullRecomputeAtEveryFrameOnRandomCoherentMotions, ()) {
+  const auto kind = *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
+  const int resolution = *rc::gen::inRange(6, 14);
+  const int step = *rc::gen::inRange(1, 4);
+  const int count = *rc::gen::inRange(8, 20);
+  const std::uint64_t seed = *rc::gen::inRange<std::uint64_t>(1, 1000000);
+  const double amplitude = *rc::gen::element(0.0, 0.002, 0.01, 0.03);
+  const double k = *rc::gen::inRange(1, 8) * 1.0;
+  const ClothGenerator cloth(kind, {resolution, count * step, 24.0, seed});
+  std::vector<Frame> frames;
+  for (int f = 0; f < count * step; f += step) {
+    Frame frame = cloth.frame(f);
+    for (glm::dvec3& p : frame.positions)  // a smooth travelling perturbation
+      p += amplitude * glm::dvec3(std::sin(k * p.y + 0.7 * f), std::sin(k * p.z + 1.3 * f), std::sin(k * p.x + 0.4 * f));
+    frames.push_back(std::move(frame));
+  }
+  std::vector<std::pair<std::size_t, Index>> through;
+  const int extra = *rc::gen::inRange(0, 4);
+  for (int i = 0; i < extra; ++i)
+    through.emplace_back(*rc::gen::inRange<std::size_t>(0, frames.size()),
+                         *rc::gen::inRange<Index>(0, cloth.topology().num_vertices));
+  const SlicingPlan plan = plan_for(cloth.topology(), frames, *rc::gen::inRange(2, 7), through);
+  const std::string why = run_and_compare(cloth.topology(), frames, plan, true, &g_random_totals);
+  g_random_frames += frames.size();
+  if (!why.empty()) RC_FAIL(why);
+}
+
+TEST(KineticVisibility, RandomMotionsExerciseRepairsNotOnlyRebuilds) {
+  // Runs after the property (same executable, declaration order): the motions must really exercise the
+  // kinetic paths, or the property would only compare the static engine with itself.
+  std::cout << "random motions: " << g_random_frames << " frames; flips " << g_random_totals.flips
+            << ", hull enter/leave " << g_random_totals.hull_enter << "/" << g_random_totals.hull_leave
+            << ", touches " << g_random_totals.touches << ", regular/critical crossings "
+            << g_random_totals.side_changes_regular << "/" << g_random_totals.side_changes_critical
+            << ", slices unchanged/repaired/rebuilt " << g_random_totals.slices_unchanged << "/"
+            << g_random_totals.slices_repaired << "/" << g_random_totals.slices_rebuilt << " (";
+  for (int r = 1; r < int(kinetic::RebuildReason::count); ++r)
+    std::cout << kinetic::rebuild_reason_name(kinetic::RebuildReason(r)) << " " << g_random_totals.rebuilt_because[r] << " ";
+  std::cout << ")\n";
+  EXPECT_GT(g_random_frames, 1000u);  // ctest runs 200 cases (RC_PARAMS in tests/CMakeLists.txt)
+  EXPECT_GT(g_random_totals.flips, 0u);
+  EXPECT_GT(g_random_totals.hull_enter + g_random_totals.hull_leave, 0u);
+  EXPECT_GT(g_random_totals.side_changes_regular, 0u);
+  EXPECT_GT(g_random_totals.side_changes_critical, 0u);
+  EXPECT_GT(g_random_totals.slices_repaired + g_random_totals.slices_unchanged, g_random_totals.slices_rebuilt);
+}
+
+/// A sheet in z = 0 turning in its own plane: every slice is collinear (dimension 1).
+TEST(KineticVisibility, FlatSheetEveryFrame) {
+  test::TestMesh sheet = test::flat_sheet(9, 7, 0.1);
+  std::vector<Frame> frames;
+  for (int f = 0; f < 6; ++f) {
+    test::TestMesh m = sheet;
+    test::rigid_transform(m, {0, 0, 1}, 0.05 * f, {0.01 * f, 0.0, 0.0});
+    frames.push_back(m.frame);
+  }
+  const SlicingPlan plan = plan_for(sheet.topology, frames, 4, {{2, 10}, {3, 31}});
+  KineticFrameStats totals;
+  EXPECT_EQ(run_and_compare(sheet.topology, frames, plan, true, &totals), "");
+  EXPECT_GT(totals.rebuilt_because[int(kinetic::RebuildReason::degenerate)], 0u);
+}
+
+/// A V-fold whose half-angle closes to almost nothing and reopens; at frames 0 and 6 it is flat open (180°).
+TEST(KineticVisibility, FoldClosingAndReopening) {
+  std::vector<Frame> frames;
+  MeshTopology topology;
+  for (double alpha : {1.5707963267948966, 1.0, 0.5, 0.15, 0.04, 0.15, 0.5, 1.0, 1.5707963267948966}) {
+    test::TestMesh m = test::v_fold(alpha, 9, 6, 1.0, 0.6);
+    test::rigid_transform(m, {1, 2, 3}, 0.3, {0, 0, 0});
+    topology = m.topology;
+    frames.push_back(m.frame);
+  }
+  const SlicingPlan plan = plan_for(topology, frames, 6, {{4, 20}});
+  EXPECT_EQ(run_and_compare(topology, frames, plan, true), "");
+}
+
+/// Planes through vertices at frame times (the vertex is on the plane at t = 1 of one interval and t = 0 of
+/// the next), three slice points collinear exactly at a frame (a flat frame inside a moving sequence), and a
+/// mirror-symmetric motion whose events come in pairs at the same instant.
+TEST(KineticVisibility, DegenerateFrameTimesAndSimultaneousEvents) {
+  const ClothGenerator cloth(ClothKind::Curtain, {10, 8, 24.0, 0});  // nominal curtain: mirror symmetric
+  std::vector<Frame> frames;
+  for (std::size_t f = 0; f < 8; ++f) frames.push_back(cloth.frame(f));
+  // Frame 4 flattened onto its best plane z = mean: every slice collinear exactly there.
+  double mean_z = 0;
+  for (const glm::dvec3& p : frames[4].positions) mean_z += p.z;
+  mean_z /= double(frames[4].positions.size());
+  for (glm::dvec3& p : frames[4].positions) p.z = mean_z;
+  std::vector<std::pair<std::size_t, Index>> through;
+  for (std::size_t f = 0; f < frames.size(); ++f) through.emplace_back(f, Index(7 * f + 3));
+  const SlicingPlan plan = plan_for(cloth.topology(), frames, 5, through);
+  EXPECT_EQ(run_and_compare(cloth.topology(), frames, plan, true), "");
+}
+
+/// 1000 frames: the kept structures do not drift from a full recompute (checked at every frame).
+TEST(KineticVisibility, ThousandFramesWithoutDrift) {
+  const ClothGenerator cloth(ClothKind::Flag, {9, 1000, 24.0, 17});
+  std::vector<Frame> frames;
+  for (std::size_t f = 0; f < 1000; ++f) frames.push_back(cloth.frame(f));
+  const SlicingPlan plan = plan_for(cloth.topology(), frames, 4, {});
+  KineticFrameStats totals;
+  EXPECT_EQ(run_and_compare(cloth.topology(), frames, plan, false, &totals, {false, {}, false}), "");
+  EXPECT_GT(totals.slices_repaired + totals.slices_unchanged, totals.slices_rebuilt);
+}
+
+/// Parallel and serial kinetic runs agree bit for bit (slices are independent).
+TEST(KineticVisibility, ParallelEqualsSerial) {
+  const ClothGenerator cloth(ClothKind::Sleeve, {14, 6, 24.0, 3});
+  const SlicingPlan plan = make_diffuse_plan(cloth.topology(), cloth.frame(0), {});
+  KineticVisibility serial(cloth.topology(), plan, cloth.frame(0), {false, {}, false});
+  KineticVisibility parallel(cloth.topology(), plan, cloth.frame(0), {true, {}, false});
+  for (std::size_t f = 1; f < 6; ++f) {
+    const FrameVisibility& a = serial.advance(cloth.frame(f));
+    const FrameVisibility& b = parallel.advance(cloth.frame(f));
+    for (int side = 0; side < 2; ++side)
+      for (std::size_t v = 0; v < a.measures[side].size(); ++v)
+        ASSERT_EQ(a.measures[side][v].sky_visibility, b.measures[side][v].sky_visibility);
+    EXPECT_EQ(serial.last_stats().flips, parallel.last_stats().flips);
+  }
+}
+
+}  // namespace
+}  // namespace pleat
