@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 packages=(cmake make g++ pkg-config
           libopenmesh-dev libglm-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
           libtinygltf-dev nlohmann-json3-dev libtbb-dev libembree-dev libstb-dev libcli11-dev
-          libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev)
+          libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

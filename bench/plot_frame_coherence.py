@@ -1,0 +1,282 @@
+#!/usr/bin/env python3
+"""Plots of the frame-coherence benchmark (bench/frame_coherence_bench.cpp) from its CSV.
+
+Usage: bench/plot_frame_coherence.py [CSV] [--out DIR]
+  CSV   default bench/results/frame_coherence.csv
+  DIR   default: the CSV's directory
+
+Writes (PNG, one panel per sequence):
+  frame_coherence_time_vs_upsample.png  ms/frame against temporal resolution u, per method (one row per size)
+  frame_coherence_ratio.png             kinetic / static time per frame against u, per sequence and size
+  frame_coherence_error_vs_time.png     mean |A - A_ref| against ms/frame at u = 1: Embree's ray counts as a
+                                        curve, the cone engines as points (speed at matched accuracy)
+  frame_coherence_scaling.png           ms/frame against vertices, log-log, per method (u = 1), with slopes
+Needs matplotlib (Debian: python3-matplotlib).
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib import ticker  # noqa: E402
+
+METHOD_STYLE = {
+    "static": dict(color="#1f77b4", marker="s", label="static engine"),
+    "kinetic": dict(color="#d62728", marker="o", label="kinetic engine"),
+    "embree64": dict(color="#7f7f7f", marker="v", label="Embree 64 rays"),
+    "embree256": dict(color="#2ca02c", marker="^", label="Embree 256 rays"),
+    "embree1024": dict(color="#9467bd", marker="D", label="Embree 1024 rays"),
+}
+SEQUENCE_ORDER = ["drape", "curtain", "roll", "flag", "sleeve"]
+
+
+def number(text):
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        return math.nan
+    return value
+
+
+def load(path):
+    rows = []
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            if r.get("status", "ok") != "ok":
+                continue
+            r["vertices"] = int(r["vertices"])
+            r["upsample"] = number(r["upsample"])
+            for key in ("ms_per_frame", "mean_err", "p95_err"):
+                r[key] = number(r[key])
+            rows.append(r)
+    return rows
+
+
+def ordered(names):
+    return sorted(names, key=lambda s: (SEQUENCE_ORDER.index(s) if s in SEQUENCE_ORDER else 99, s))
+
+
+def methods_in(rows):
+    present = {r["method"] for r in rows}
+    return [m for m in METHOD_STYLE if m in present]
+
+
+def u_label(u):
+    return f"{u:g}"
+
+
+def log_y(ax):
+    """Log y axis with plain-number labels at 1, 2, 5 x 10^k (a decade or less shows several labels)."""
+    ax.set_yscale("log")
+    ax.yaxis.set_major_locator(ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    ax.yaxis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.yaxis.set_minor_formatter(ticker.NullFormatter())
+
+
+def log_x(ax):
+    ax.set_xscale("log")
+    ax.xaxis.set_major_locator(ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    ax.xaxis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.xaxis.set_minor_formatter(ticker.NullFormatter())
+
+
+def save(fig, path, title, legend_axes=None, legend_cols=None):
+    """Title, an optional legend gathered from all panels below them, tight layout, PNG."""
+    bottom = 0.0
+    if legend_axes is not None:
+        handles, labels = [], []
+        for ax in legend_axes:
+            for h, l in zip(*ax.get_legend_handles_labels()):
+                if l not in labels:
+                    handles.append(h)
+                    labels.append(l)
+        ncol = min(len(labels), legend_cols or 4)
+        legend_rows = math.ceil(len(labels) / max(1, ncol))
+        height = fig.get_size_inches()[1]
+        bottom = min(0.3, (0.32 * legend_rows + 0.15) / height)
+        fig.legend(handles, labels, loc="lower center", ncol=ncol, fontsize=10, frameon=False)
+    top = 1 - 0.5 / fig.get_size_inches()[1]
+    fig.suptitle(title, fontsize=14)
+    fig.tight_layout(rect=(0, bottom, 1, top))
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    print(f"plot_frame_coherence: wrote {path}")
+
+
+def panel_grid(count, rows=1, width=4.2, height=3.8, min_width=10.0):
+    cols = max(1, count)
+    width = max(width, min_width / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows + 1.3), squeeze=False)
+    return fig, axes
+
+
+def plot_time_vs_upsample(rows, out):
+    sequences = ordered({r["sequence"] for r in rows})
+    sizes = sorted({r["vertices"] for r in rows if r["source"] == "generated"}) or [0]
+    fig, axes = panel_grid(len(sequences), rows=len(sizes))
+    for i, size in enumerate(sizes):
+        for j, seq in enumerate(sequences):
+            ax = axes[i][j]
+            sel = [r for r in rows if r["sequence"] == seq and (r["source"] != "generated" or r["vertices"] == size)]
+            if not sel or (i > 0 and sel[0]["source"] != "generated"):
+                ax.axis("off")
+                continue
+            for method in methods_in(sel):
+                pts = sorted((r["upsample"], r["ms_per_frame"]) for r in sel if r["method"] == method)
+                if not pts:
+                    continue
+                st = METHOD_STYLE[method]
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], marker=st["marker"], color=st["color"],
+                        label=st["label"], linewidth=1.5, markersize=5)
+            ax.set_xscale("log", base=2)
+            log_y(ax)
+            us = sorted({r["upsample"] for r in sel})
+            ax.set_xticks(us)
+            ax.set_xticklabels([u_label(u) for u in us])
+            ax.set_title(f"{seq}, {sel[0]['vertices']:,} vertices", fontsize=11)
+            ax.set_xlabel("temporal resolution u (frames per native frame)")
+            if j == 0:
+                ax.set_ylabel("wall ms per frame")
+            ax.grid(True, which="both", alpha=0.3)
+    save(fig, os.path.join(out, "frame_coherence_time_vs_upsample.png"),
+         "Time per frame against temporal resolution (higher u: smaller motion per frame)", axes.flat, 5)
+
+
+def plot_ratio(rows, out):
+    by = defaultdict(dict)
+    for r in rows:
+        if r["method"] in ("static", "kinetic"):
+            by[(r["sequence"], r["vertices"], r["upsample"])][r["method"]] = r["ms_per_frame"]
+    series = defaultdict(list)
+    for (seq, n, u), d in by.items():
+        if "static" in d and "kinetic" in d and d["static"] > 0:
+            series[(seq, n)].append((u, d["kinetic"] / d["static"]))
+    fig, ax = plt.subplots(figsize=(9.5, 6))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    seqs = ordered({s for s, _ in series})
+    sizes = sorted({n for _, n in series})
+    for (seq, n), pts in sorted(series.items(), key=lambda kv: (seqs.index(kv[0][0]), kv[0][1])):
+        pts.sort()
+        small = n == min(m for s, m in series if s == seq)
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "-" if small else "--", marker="o" if small else "s",
+                color=colors[seqs.index(seq) % len(colors)], label=f"{seq}, {n:,} vertices")
+    ax.axhline(1.0, color="black", linewidth=1)
+    ax.set_xscale("log", base=2)
+    us = sorted({p[0] for pts in series.values() for p in pts})
+    ax.set_xticks(us)
+    ax.set_xticklabels([u_label(u) for u in us])
+    ax.set_xlabel("temporal resolution u (frames per native frame)")
+    ax.set_ylabel("kinetic ms / static ms (same frames, interleaved)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=9, ncol=2)
+    save(fig, os.path.join(out, "frame_coherence_ratio.png"),
+         "Kinetic engine's time per frame ÷ the static engine's (< 1: kinetic is faster)")
+
+
+def plot_error_vs_time(rows, out):
+    native = [r for r in rows if r["upsample"] == 1 and not math.isnan(r["mean_err"])]
+    sequences = ordered({r["sequence"] for r in native})
+    if not sequences:
+        return
+    fig, axes = panel_grid(len(sequences))
+    u_max = max(r["upsample"] for r in rows)
+    for j, seq in enumerate(sequences):
+        ax = axes[0][j]
+        sel = [r for r in native if r["sequence"] == seq]
+        sizes = sorted({r["vertices"] for r in sel})
+        for k, n in enumerate(sizes):
+            fill = "full" if k == 0 else "none"
+            ray_pts = sorted((int(r["rays"]), r["ms_per_frame"], r["mean_err"]) for r in sel
+                             if r["vertices"] == n and r["method"].startswith("embree"))
+            if ray_pts:
+                ax.plot([p[1] for p in ray_pts], [p[2] for p in ray_pts], "-", color="#555555", linewidth=1,
+                        label="Embree 64/256/1024" if k == 0 else None)
+                for rays, ms, err in ray_pts:
+                    st = METHOD_STYLE.get(f"embree{rays}", METHOD_STYLE["embree256"])
+                    ax.plot(ms, err, st["marker"], color=st["color"], fillstyle=fill, markersize=8,
+                            label=st["label"] if k == 0 else None)
+            for method in ("static", "kinetic"):
+                for r in sel:
+                    if r["vertices"] == n and r["method"] == method:
+                        st = METHOD_STYLE[method]
+                        ax.plot(r["ms_per_frame"], r["mean_err"], st["marker"], color=st["color"], fillstyle=fill,
+                                markersize=9, label=f"{st['label']} (u=1)" if k == 0 else None)
+            # the kinetic engine at the finest temporal resolution: same error, its time there
+            for r in rows:
+                if (r["sequence"] == seq and r["vertices"] == n and r["method"] == "kinetic" and r["upsample"] == u_max
+                        and u_max != 1 and not math.isnan(r["mean_err"])):
+                    ax.plot(r["ms_per_frame"], r["mean_err"], "*", color="#d62728", fillstyle=fill, markersize=12,
+                            label=f"kinetic engine (u={u_label(u_max)})" if k == 0 else None)
+            if len(sizes) > 1:
+                ax.annotate(f"{n:,} v", (min(p[1] for p in ray_pts), ray_pts[0][2]) if ray_pts else (1, 1),
+                            textcoords="offset points", xytext=(-8, 8), fontsize=8, ha="right")
+        log_x(ax)
+        log_y(ax)
+        ax.set_title(seq + ("" if len(sizes) == 1 else ": filled " + f"{sizes[0]:,}" + ", hollow " +
+                            ", ".join(f"{n:,}" for n in sizes[1:]) + " vertices"), fontsize=10)
+        ax.set_xlabel("wall ms per frame")
+        if j == 0:
+            ax.set_ylabel("mean |A − A_ref| (4096 rays)")
+        ax.grid(True, which="both", alpha=0.3)
+    save(fig, os.path.join(out, "frame_coherence_error_vs_time.png"),
+         "Mean error against time per frame (lower left is better; u = 1 unless marked)", axes.flat, 4)
+
+
+def plot_scaling(rows, out):
+    gen = [r for r in rows if r["source"] == "generated" and r["upsample"] == 1]
+    sequences = ordered({r["sequence"] for r in gen})
+    sizes = sorted({r["vertices"] for r in gen})
+    if len(sizes) < 2:
+        print("plot_frame_coherence: one size only, no scaling plot", file=sys.stderr)
+        return
+    fig, axes = panel_grid(len(sequences))
+    for j, seq in enumerate(sequences):
+        ax = axes[0][j]
+        sel = [r for r in gen if r["sequence"] == seq]
+        for method in methods_in(sel):
+            pts = sorted((r["vertices"], r["ms_per_frame"]) for r in sel if r["method"] == method)
+            if len(pts) < 2:
+                continue
+            slope = math.log(pts[-1][1] / pts[0][1]) / math.log(pts[-1][0] / pts[0][0])
+            st = METHOD_STYLE[method]
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker=st["marker"], color=st["color"],
+                    label=f"{st['label']}: slope {slope:.2f}")
+        ax.set_xscale("log")
+        log_y(ax)
+        ax.set_xticks(sizes)
+        ax.set_xticklabels([f"{n:,}" for n in sizes])
+        ax.minorticks_off()
+        ax.set_title(f"{seq}, u = 1", fontsize=11)
+        ax.set_xlabel("vertices")
+        if j == 0:
+            ax.set_ylabel("wall ms per frame")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8, loc="upper left")
+    save(fig, os.path.join(out, "frame_coherence_scaling.png"),
+         "Time per frame against vertex count (log-log; slope 1 = linear)")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("csv", nargs="?", default="bench/results/frame_coherence.csv")
+    parser.add_argument("--out", default=None)
+    args = parser.parse_args()
+    rows = load(args.csv)
+    if not rows:
+        sys.exit(f"plot_frame_coherence: no usable rows in {args.csv}")
+    out = args.out or os.path.dirname(os.path.abspath(args.csv))
+    os.makedirs(out, exist_ok=True)
+    plot_time_vs_upsample(rows, out)
+    plot_ratio(rows, out)
+    plot_error_vs_time(rows, out)
+    plot_scaling(rows, out)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The frame-coherence benchmark (issue 6), in one command: builds bench/frame_coherence_bench in Release,
+# runs it with its defaults (all five sequences; 3,025 and 29,929 vertices; u = 0.5, 1, 2, 4, 8; see the flags
+# at the top of bench/frame_coherence_bench.cpp) and draws the plots. Everything goes to bench/results/:
+# frame_coherence.md, frame_coherence.csv, frame_coherence_*.png. About 15 minutes on 2 shared cores.
+#
+# Usage: bench/run_frame_coherence.sh [flags for frame_coherence_bench, e.g. --sequences drape --frames 12]
+#   BUILD_DIR   build directory (default: build)
+# Exit status: the benchmark's (1 when an engine failed or static and kinetic disagreed; the outputs say where).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build_dir="${BUILD_DIR:-build}"
+out=bench/results
+
+# The first Python that has matplotlib (a pyenv/venv python3 on PATH may not see Debian's python3-matplotlib).
+python=""
+for candidate in python3 /usr/bin/python3; do
+  if "$candidate" -c "import matplotlib" 2>/dev/null; then python="$candidate"; break; fi
+done
+[ -n "$python" ] ||
+  { echo "run_frame_coherence: matplotlib is missing (Debian: apt-get install python3-matplotlib)" >&2; exit 2; }
+
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build_dir" --target frame_coherence_bench -j "$(nproc 2>/dev/null || echo 2)"
+
+start=$(date +%s)
+status=0
+"$build_dir/bench/frame_coherence_bench" --out "$out" "$@" || status=$?
+"$python" bench/plot_frame_coherence.py "$out/frame_coherence.csv" --out "$out"
+echo "run_frame_coherence: $(( $(date +%s) - start )) s; wrote $out/frame_coherence.md, $out/frame_coherence.csv," \
+     "$out/frame_coherence_*.png" >&2
+exit "$status"
