@@ -974,7 +974,10 @@ void write_markdown(const fs::path& path, const Options& options, const std::vec
   const fs::path root = fs::path(__FILE__).parent_path().parent_path();
   const std::string git = "git -C '" + root.string() + "' ";
   std::string commit = shell_output(git + "rev-parse --short HEAD 2>/dev/null");
-  const std::string dirty = shell_output(git + "status --porcelain --untracked-files=no 2>/dev/null | head -1");
+  // Tracked files that differ from HEAD (the measured code may include another engineer's work in progress),
+  // and a hash of that difference, so the run can be tied to an exact source state.
+  const std::string dirty = shell_output(git + "diff HEAD --name-only 2>/dev/null | paste -sd, - | sed 's/,/, /g'");
+  const std::string dirty_hash = shell_output(git + "diff HEAD 2>/dev/null | sha256sum | cut -c1-12");
   if (commit.empty()) commit = "unknown";
   std::string cpu = shell_output("grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'");
   const std::string nproc = shell_output("nproc");
@@ -983,7 +986,9 @@ void write_markdown(const fs::path& path, const Options& options, const std::vec
   out << "# Frame coherence: kinetic vs static engine vs Embree ray casting\n\n";
   out << "Written by `bench/frame_coherence_bench` (`" << options.command_line << "`; `bench/run_frame_coherence.sh` "
       << "runs it and the plots). Commit **" << commit << "**"
-      << (dirty.empty() ? "" : " (with uncommitted changes in the working tree)") << ". Machine: " << nproc
+      << (dirty.empty() ? std::string()
+                        : " plus uncommitted changes to " + dirty + " (`git diff HEAD | sha256sum`: " + dirty_hash + "…)")
+      << ". Machine: " << nproc
       << " cores (`nproc`), " << (cpu.empty() ? "unknown CPU" : cpu) << ", load average at the end " << load
       << " (shared: other jobs may run on the same cores). Whole run: " << format("%.0f", total_seconds)
       << " s wall.\n\n";

@@ -215,7 +215,7 @@ def plot_error_vs_time(rows, out):
                             label=f"kinetic engine (u={u_label(u_max)})" if k == 0 else None)
             if len(sizes) > 1:
                 ax.annotate(f"{n:,} v", (min(p[1] for p in ray_pts), ray_pts[0][2]) if ray_pts else (1, 1),
-                            textcoords="offset points", xytext=(-8, 8), fontsize=8, ha="right")
+                            textcoords="offset points", xytext=(0, -14), fontsize=8, ha="center")
         log_x(ax)
         log_y(ax)
         ax.set_title(seq + ("" if len(sizes) == 1 else ": filled " + f"{sizes[0]:,}" + ", hollow " +
