@@ -28,6 +28,7 @@ struct VisibilityOptions {
   std::string stats;
   PlanOptions plan;
   bool serial = false;
+  kinetic::KineticPolicy policy;
 };
 
 nlohmann::json stats_json(std::size_t frame, double seconds, const VisibilityStats& s) {
@@ -66,7 +67,9 @@ nlohmann::json kinetic_json(const KineticFrameStats& k) {
 /// One engine behind one call per frame: the static engine recomputes, the kinetic one advances.
 class Engine {
  public:
-  Engine(const std::string& kind, const MeshTopology& topology, const SlicingPlan& plan, bool parallel) {
+  Engine(const std::string& kind, const MeshTopology& topology, const SlicingPlan& plan, bool parallel,
+         const kinetic::KineticPolicy& policy)
+      : m_policy(policy) {
     if (kind == "static")
       m_static.emplace(topology, plan, VisibilityParams{parallel});
     else
@@ -75,7 +78,7 @@ class Engine {
   const FrameVisibility& next(const Frame& frame) {
     if (m_static) return m_static->compute(frame);
     if (!m_kinetic) {
-      m_kinetic.emplace(*m_topology, m_plan, frame, KineticParams{m_parallel, {}, false});
+      m_kinetic.emplace(*m_topology, m_plan, frame, KineticParams{m_parallel, m_policy, false});
       return m_kinetic->current();
     }
     return m_kinetic->advance(frame);
@@ -88,6 +91,7 @@ class Engine {
   SlicingPlan m_plan;
   const MeshTopology* m_topology = nullptr;
   bool m_parallel = true;
+  kinetic::KineticPolicy m_policy;
 };
 
 void run(const VisibilityOptions& options) {
@@ -112,7 +116,7 @@ void run(const VisibilityOptions& options) {
   params.parallel = !options.serial;
   Progress progress("visibility", last - first);
   std::size_t crossing_frames = 0;
-  Engine engine(options.engine, topology, plan, params.parallel);
+  Engine engine(options.engine, topology, plan, params.parallel, options.policy);
   for (std::size_t f = first; f < last; ++f) {
     const Frame frame = f == first ? first_frame : sequence.frame(f);
     const auto start = std::chrono::steady_clock::now();
@@ -152,6 +156,14 @@ void register_visibility_command(CLI::App& app) {
       ->check(CLI::IsMember({"static", "kinetic"}));
   cmd->add_option("--frames", options->frames, "frames A:B (first A, up to but excluding B; either may be omitted) or N");
   cmd->add_option("--stats", options->stats, "also write per-frame statistics as JSON");
+  cmd->add_option("--max-events-per-vertex", options->policy.max_events_per_vertex,
+                  "kinetic: rebuild a slice when its events in a frame exceed this many per slice vertex (+16)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--max-edit-fraction", options->policy.max_edit_fraction,
+                  "kinetic: rebuild a slice when the slice vertices removed plus inserted exceed this fraction (+2)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_flag("--serial", options->serial, "one thread (default: TBB over slices)");
   options->plan.add_to(*cmd);
   cmd->footer("Example:\n  pleat visibility data/drape/drape.obj --cache data/drape/drape.pc2 -o drape.csv --stats stats.json");

@@ -252,8 +252,14 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticS
     for (FaceHandle h : touched) certify(h, t, immediate);
   };
 
-  const std::size_t max_events =
-      16 + static_cast<std::size_t>(policy.max_events_per_vertex * double(cdt.number_of_vertices()));
+  // The policy's bound, and in any case a bound on same-instant cascades (flips at one exact time that keep
+  // producing degenerate triangles) and on the total (a kinetic triangulation has O(n^2) events at most).
+  const std::size_t n = cdt.number_of_vertices();
+  const std::size_t max_events = std::min<std::size_t>(
+      16 + static_cast<std::size_t>(policy.max_events_per_vertex * double(n)), 4 * n * n + 64);
+  const std::size_t max_same_instant = n + 16;
+  std::size_t same_instant = 0;
+  RootTime last_time;
   const RootTime one = RootTime::one();
   while (!queue.empty()) {
     std::pop_heap(queue.begin(), queue.end(), LaterEvent());
@@ -262,6 +268,9 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticS
     const FaceHandle f = event.face;
     if (f->info().version != event.version) continue;  // replaced by a repair
     if (counts.events() >= max_events) return RebuildReason::policy;
+    same_instant = event.time == last_time ? same_instant + 1 : 0;
+    if (same_instant > max_same_instant) return RebuildReason::policy;
+    last_time = event.time;
     const bool at_end = event.time == one;
     const bool inverts = event.polynomial.is_zero() || sign_after(event.polynomial, event.time) < 0;
     if (at_end ? cdt.is_infinite(f) : !inverts) {

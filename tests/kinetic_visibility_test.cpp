@@ -173,8 +173,6 @@ SlicingPlan plan_for(const MeshTopology& topology, const std::vector<Frame>& fra
   return plan;
 }
 
-KineticFrameStats g_random_totals;
-std::size_t g_random_frames = 0;
 
 RC_GTEST_PROP(KineticVisibility, EqualsAFullRecomputeAtEveryFrameOnRandomCoherentMotions, ()) {
   const auto kind = *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
@@ -198,29 +196,36 @@ RC_GTEST_PROP(KineticVisibility, EqualsAFullRecomputeAtEveryFrameOnRandomCoheren
     through.emplace_back(*rc::gen::inRange<std::size_t>(0, frames.size()),
                          *rc::gen::inRange<Index>(0, cloth.topology().num_vertices));
   const SlicingPlan plan = plan_for(cloth.topology(), frames, *rc::gen::inRange(2, 7), through);
-  const std::string why = run_and_compare(cloth.topology(), frames, plan, true, &g_random_totals);
-  g_random_frames += frames.size();
+  // The default policy, and one that repairs far more (so every repair path runs often).
+  const bool repair_everything = *rc::gen::arbitrary<bool>();
+  KineticParams params{false, {}, true};
+  if (repair_everything) params.policy = {4.0, 1.0};
+  const std::string why = run_and_compare(cloth.topology(), frames, plan, true, nullptr, params);
   if (!why.empty()) RC_FAIL(why);
 }
 
-TEST(KineticVisibility, RandomMotionsExerciseRepairsNotOnlyRebuilds) {
-  // Runs after the property (same executable, declaration order): the motions must really exercise the
-  // kinetic paths, or the property would only compare the static engine with itself.
-  std::cout << "random motions: " << g_random_frames << " frames; flips " << g_random_totals.flips
-            << ", hull enter/leave " << g_random_totals.hull_enter << "/" << g_random_totals.hull_leave
-            << ", touches " << g_random_totals.touches << ", regular/critical crossings "
-            << g_random_totals.side_changes_regular << "/" << g_random_totals.side_changes_critical
-            << ", slices unchanged/repaired/rebuilt " << g_random_totals.slices_unchanged << "/"
-            << g_random_totals.slices_repaired << "/" << g_random_totals.slices_rebuilt << " (";
-  for (int r = 1; r < int(kinetic::RebuildReason::count); ++r)
-    std::cout << kinetic::rebuild_reason_name(kinetic::RebuildReason(r)) << " " << g_random_totals.rebuilt_because[r] << " ";
-  std::cout << ")\n";
-  EXPECT_GT(g_random_frames, 1000u);  // ctest runs 200 cases (RC_PARAMS in tests/CMakeLists.txt)
-  EXPECT_GT(g_random_totals.flips, 0u);
-  EXPECT_GT(g_random_totals.hull_enter + g_random_totals.hull_leave, 0u);
-  EXPECT_GT(g_random_totals.side_changes_regular, 0u);
-  EXPECT_GT(g_random_totals.side_changes_critical, 0u);
-  EXPECT_GT(g_random_totals.slices_repaired + g_random_totals.slices_unchanged, g_random_totals.slices_rebuilt);
+/// The property above must exercise the kinetic paths, not only compare the static engine with itself:
+/// coherent motions of every kind, with a policy that repairs far more than the default, give flips, hull events,
+/// regular and critical crossings, and more slices repaired than rebuilt (and equal a recompute).
+TEST(KineticVisibility, CoherentMotionsExerciseEveryRepair) {
+  KineticFrameStats totals;
+  for (ClothKind kind : {ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve}) {
+    const ClothGenerator cloth(kind, {12, 48, 24.0, 5});
+    std::vector<Frame> frames;
+    for (std::size_t f = 0; f < 12; ++f) frames.push_back(cloth.frame(f));
+    const SlicingPlan plan = plan_for(cloth.topology(), frames, 5, {{3, 40}});
+    EXPECT_EQ(run_and_compare(cloth.topology(), frames, plan, true, &totals, {false, {4.0, 1.0}, true}), "");
+  }
+  std::cout << "flips " << totals.flips << ", hull enter/leave " << totals.hull_enter << "/" << totals.hull_leave
+            << ", regular/critical crossings " << totals.side_changes_regular << "/" << totals.side_changes_critical
+            << ", slices unchanged/repaired/rebuilt " << totals.slices_unchanged << "/" << totals.slices_repaired << "/"
+            << totals.slices_rebuilt << "\n";
+  EXPECT_GT(totals.flips, 0u);
+  EXPECT_GT(totals.hull_enter, 0u);
+  EXPECT_GT(totals.hull_leave, 0u);
+  EXPECT_GT(totals.side_changes_regular, 0u);
+  EXPECT_GT(totals.side_changes_critical, 0u);
+  EXPECT_GT(totals.slices_repaired, totals.slices_rebuilt);
 }
 
 /// A sheet in z = 0 turning in its own plane: every slice is collinear (dimension 1).
