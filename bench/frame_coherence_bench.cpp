@@ -968,17 +968,31 @@ double growth_slope(const std::vector<Measurement>& all, const std::string& seq,
   return std::log(b->ms_per_frame() / a->ms_per_frame()) / std::log(double(large) / double(small));
 }
 
-void write_markdown(const fs::path& path, const Options& options, const std::vector<Measurement>& all,
-                    double total_seconds, bool memory_reset, const std::vector<std::string>& failures) {
-  std::ofstream out(path);
+/// The source state, read when the run starts (the tree may change while it runs): HEAD, the tracked files that
+/// differ from it (the measured code may include another engineer's work in progress) and a hash of that
+/// difference, so that the results can be tied to an exact source state.
+struct SourceState {
+  std::string commit, dirty, dirty_hash;
+};
+
+SourceState read_source_state() {
   const fs::path root = fs::path(__FILE__).parent_path().parent_path();
   const std::string git = "git -C '" + root.string() + "' ";
-  std::string commit = shell_output(git + "rev-parse --short HEAD 2>/dev/null");
-  // Tracked files that differ from HEAD (the measured code may include another engineer's work in progress),
-  // and a hash of that difference, so the run can be tied to an exact source state.
-  const std::string dirty = shell_output(git + "diff HEAD --name-only 2>/dev/null | paste -sd, - | sed 's/,/, /g'");
-  const std::string dirty_hash = shell_output(git + "diff HEAD 2>/dev/null | sha256sum | cut -c1-12");
-  if (commit.empty()) commit = "unknown";
+  SourceState s;
+  s.commit = shell_output(git + "rev-parse --short HEAD 2>/dev/null");
+  s.dirty = shell_output(git + "diff HEAD --name-only 2>/dev/null | paste -sd, - | sed 's/,/, /g'");
+  s.dirty_hash = shell_output(git + "diff HEAD 2>/dev/null | sha256sum | cut -c1-12");
+  if (s.commit.empty()) s.commit = "unknown";
+  return s;
+}
+
+void write_markdown(const fs::path& path, const Options& options, const SourceState& source,
+                    const std::vector<Measurement>& all, double total_seconds, bool memory_reset,
+                    const std::vector<std::string>& failures) {
+  std::ofstream out(path);
+  const std::string& commit = source.commit;
+  const std::string& dirty = source.dirty;
+  const std::string& dirty_hash = source.dirty_hash;
   std::string cpu = shell_output("grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'");
   const std::string nproc = shell_output("nproc");
   const std::string load = shell_output("cut -d' ' -f1-3 /proc/loadavg");
@@ -1171,6 +1185,7 @@ int run(int argc, char** argv) {
   const Options options = parse_options(argc, argv);
   if (!options.kinetic_worker.empty()) return run_kinetic_worker(options);
   const auto run_start = Clock::now();
+  const SourceState source = read_source_state();
   fs::create_directories(options.out);
   const fs::path csv_path = options.out / "frame_coherence.csv";
   const fs::path md_path = options.out / "frame_coherence.md";
@@ -1221,7 +1236,7 @@ int run(int argc, char** argv) {
   csv.close();
   fs::rename(csv_tmp, csv_path);
   const double total = elapsed_ms(run_start) / 1000.0;
-  write_markdown(md_path, options, all, total, memory_reset, failures);
+  write_markdown(md_path, options, source, all, total, memory_reset, failures);
   std::printf("frame_coherence: wrote %s and %s (%zu measurements, %.0f s)\n", csv_path.c_str(), md_path.c_str(),
               all.size(), total);
   if (!failures.empty()) {
