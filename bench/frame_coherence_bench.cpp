@@ -69,6 +69,7 @@
 #include <variant>
 #include <vector>
 
+#include "bench/bench_args.hpp"
 #include "kinetic/kinetic_visibility.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/ray_visibility.hpp"
@@ -111,13 +112,7 @@ struct Options {
   std::string command_line;
 };
 
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> parts;
-  std::stringstream in(text);
-  for (std::string part; std::getline(in, part, ',');)
-    if (!part.empty()) parts.push_back(part);
-  return parts;
-}
+using bench::split;
 
 template <class T, class F>
 std::vector<T> parse_list(const std::string& text, F&& convert) {
@@ -382,33 +377,28 @@ std::vector<double> abs_errors(const SkyValues& a, const SkyValues& ref) {
 }
 
 /// Kinetic counters, summed over the timed frames (divided by their number when written).
+/// The kinetic engine's counters summed over the timed frames.
 struct KineticTotals {
-  double certificates = 0, exact_certificates = 0, flips = 0, hull_enter = 0, hull_leave = 0, touches = 0,
-         side_changes_regular = 0, side_changes_critical = 0, removed = 0, inserted = 0, slices_unchanged = 0,
-         slices_repaired = 0, slices_rebuilt = 0, events = 0;
-  std::array<double, static_cast<std::size_t>(kinetic::RebuildReason::count)> rebuilt_because{};
+  KineticFrameStats sum;
   int frames = 0;
 
   void add(const KineticFrameStats& s) {
-    certificates += double(s.certificates);
-    exact_certificates += double(s.exact_certificates);
-    flips += double(s.flips);
-    hull_enter += double(s.hull_enter);
-    hull_leave += double(s.hull_leave);
-    touches += double(s.touches);
-    side_changes_regular += double(s.side_changes_regular);
-    side_changes_critical += double(s.side_changes_critical);
-    removed += double(s.removed);
-    inserted += double(s.inserted);
-    slices_unchanged += double(s.slices_unchanged);
-    slices_repaired += double(s.slices_repaired);
-    slices_rebuilt += double(s.slices_rebuilt);
-    events += double(s.events());
-    for (std::size_t i = 0; i < rebuilt_because.size(); ++i) rebuilt_because[i] += double(s.rebuilt_because[i]);
+    sum += s;
     ++frames;
   }
-  double per_frame(double total) const { return frames ? total / frames : NAN; }
+  double per_frame(std::size_t total) const { return frames ? double(total) / frames : NAN; }
 };
+
+/// The counters a worker hands to its parent, in this order (then the rebuild reasons).
+constexpr std::size_t KineticFrameStats::*kKineticCounters[] = {
+    &KineticFrameStats::certificates,          &KineticFrameStats::exact_certificates,
+    &KineticFrameStats::flips,                 &KineticFrameStats::hull_enter,
+    &KineticFrameStats::hull_leave,            &KineticFrameStats::touches,
+    &KineticFrameStats::side_changes_regular,  &KineticFrameStats::side_changes_critical,
+    &KineticFrameStats::removed,               &KineticFrameStats::inserted,
+    &KineticFrameStats::slices_unchanged,      &KineticFrameStats::slices_repaired,
+    &KineticFrameStats::slices_rebuilt};
+constexpr std::size_t kNumKineticCounters = std::size(kKineticCounters);
 
 struct MethodRow {
   std::string method;  // static, kinetic, embree64, ...
@@ -573,22 +563,20 @@ void write_values(std::ostream& out, const std::string& key, const std::vector<d
 }
 
 std::vector<double> kinetic_fields(const KineticTotals& t) {
-  std::vector<double> f{double(t.frames), t.certificates, t.exact_certificates, t.flips, t.hull_enter, t.hull_leave,
-                        t.touches, t.side_changes_regular, t.side_changes_critical, t.removed, t.inserted,
-                        t.slices_unchanged, t.slices_repaired, t.slices_rebuilt, t.events};
-  f.insert(f.end(), t.rebuilt_because.begin(), t.rebuilt_because.end());
+  std::vector<double> f{double(t.frames)};
+  for (auto counter : kKineticCounters) f.push_back(double(t.sum.*counter));
+  for (std::size_t r : t.sum.rebuilt_because) f.push_back(double(r));
   return f;
 }
 
 KineticTotals kinetic_from_fields(const std::vector<double>& f) {
   KineticTotals t;
-  if (f.size() != 15 + t.rebuilt_because.size()) throw std::runtime_error("bad kinetic counter line");
+  if (f.size() != 1 + kNumKineticCounters + t.sum.rebuilt_because.size())
+    throw std::runtime_error("bad kinetic counter line");
   t.frames = int(f[0]);
-  double* fields[] = {&t.certificates, &t.exact_certificates, &t.flips, &t.hull_enter, &t.hull_leave, &t.touches,
-                      &t.side_changes_regular, &t.side_changes_critical, &t.removed, &t.inserted,
-                      &t.slices_unchanged, &t.slices_repaired, &t.slices_rebuilt, &t.events};
-  for (std::size_t i = 0; i < 14; ++i) *fields[i] = f[i + 1];
-  for (std::size_t i = 0; i < t.rebuilt_because.size(); ++i) t.rebuilt_because[i] = f[15 + i];
+  for (std::size_t i = 0; i < kNumKineticCounters; ++i) t.sum.*kKineticCounters[i] = std::size_t(f[1 + i]);
+  for (std::size_t i = 0; i < t.sum.rebuilt_because.size(); ++i)
+    t.sum.rebuilt_because[i] = std::size_t(f[1 + kNumKineticCounters + i]);
   return t;
 }
 
@@ -786,8 +774,8 @@ Measurement measure(const Sequence& seq, double u, int frame_count, bool with_em
     if (k.ok())
       progress(m, format("kinetic %.1f ms/frame (construction %.1f), %.1f events/frame, rebuilt %.1f of %zu "
                          "slices/frame",
-                         k.ms_per_frame(), k.ms_first, k.kinetic->per_frame(k.kinetic->events),
-                         k.kinetic->per_frame(k.kinetic->slices_rebuilt), plan.planes.size()));
+                         k.ms_per_frame(), k.ms_first, k.kinetic->per_frame(k.kinetic->sum.events()),
+                         k.kinetic->per_frame(k.kinetic->sum.slices_rebuilt), plan.planes.size()));
     else {
       progress(m, "kinetic FAILED: " + k.status);
       failures.push_back(format("%s %u u=%g: kinetic %s", m.sequence.c_str(), m.vertices, u, k.status.c_str()));
@@ -929,11 +917,12 @@ void write_csv_rows(std::ostream& out, const Measurement& m) {
         << num(r.peak_mb - r.rss_before_mb, "%.1f") << ',' << (r.peak_reset ? 1 : 0);
     if (r.kinetic && r.kinetic->frames) {
       const KineticTotals& t = *r.kinetic;
-      for (double v : {t.events, t.flips, t.hull_enter, t.hull_leave, t.touches, t.side_changes_regular,
-                       t.side_changes_critical, t.removed, t.inserted, t.slices_unchanged, t.slices_repaired,
-                       t.slices_rebuilt, t.certificates, t.exact_certificates})
+      const KineticFrameStats& k = t.sum;
+      for (std::size_t v : {k.events(), k.flips, k.hull_enter, k.hull_leave, k.touches, k.side_changes_regular,
+                            k.side_changes_critical, k.removed, k.inserted, k.slices_unchanged, k.slices_repaired,
+                            k.slices_rebuilt, k.certificates, k.exact_certificates})
         out << ',' << num(t.per_frame(v), "%.2f");
-      for (std::size_t i = 1; i < t.rebuilt_because.size(); ++i) out << ',' << num(t.per_frame(t.rebuilt_because[i]), "%.2f");
+      for (std::size_t i = 1; i < k.rebuilt_because.size(); ++i) out << ',' << num(t.per_frame(k.rebuilt_because[i]), "%.2f");
     } else {
       for (std::size_t i = 0; i < 14 + rebuild_reason_columns().size(); ++i) out << ',';
     }
@@ -1138,9 +1127,10 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
       out << " | " << (k ? k->status : "–") << " | | | | | | | | | |\n";
       continue;
     }
-    const KineticTotals& t = *k->kinetic;
-    auto pf = [&](double v) { return format("%.1f", t.per_frame(v)); };
-    out << " | " << pf(t.events) << " | " << pf(t.flips) << " | " << pf(t.hull_enter) << " / " << pf(t.hull_leave)
+    const KineticTotals& totals = *k->kinetic;
+    const KineticFrameStats& t = totals.sum;
+    auto pf = [&](std::size_t v) { return format("%.1f", totals.per_frame(v)); };
+    out << " | " << pf(t.events()) << " | " << pf(t.flips) << " | " << pf(t.hull_enter) << " / " << pf(t.hull_leave)
         << " | " << pf(t.touches) << " | " << pf(t.side_changes_regular) << " / " << pf(t.side_changes_critical)
         << " | " << pf(t.removed) << " / " << pf(t.inserted) << " | " << pf(t.slices_unchanged) << " | "
         << pf(t.slices_repaired) << " | " << pf(t.slices_rebuilt) << " | " << pf(t.certificates) << " ("

@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_args.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/ray_visibility.hpp"
 #include "sim_io/cloth_generators.hpp"
@@ -109,13 +110,7 @@ constexpr std::size_t kFrameIndex =
 constexpr int kRays = 256;
 constexpr int kLargeResolution = 200;  // above this, fixed iterations and fewer repetitions
 
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> parts;
-  std::stringstream in(text);
-  for (std::string part; std::getline(in, part, ',');)
-    if (!part.empty()) parts.push_back(part);
-  return parts;
-}
+using bench::split;
 
 /// Removes our flags from argv (Google Benchmark rejects unknown ones). Returns false on a bad value.
 bool parse_options(int& argc, char** argv) {

@@ -17,7 +17,6 @@ using cgal::VertexHandle;
 const char* rebuild_reason_name(RebuildReason reason) {
   switch (reason) {
     case RebuildReason::none: return "none";
-    case RebuildReason::first_frame: return "first_frame";
     case RebuildReason::degenerate: return "degenerate";
     case RebuildReason::crossing: return "crossing";
     case RebuildReason::policy: return "policy";
@@ -194,13 +193,16 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticS
   auto& queue = scratch.queue;
   queue.clear();
   std::uint64_t sequence = 0;
+  auto schedule = [&](const RootTime& time, FaceHandle f, ExactPolynomial poly) {
+    queue.push_back({time, f, f->info().version, sequence++, std::move(poly)});
+    std::push_heap(queue.begin(), queue.end(), LaterEvent());
+  };
   // (Re)certifies face f from time t0: a finite face stays positively oriented; an infinite face (oo, a, b)
-  // certifies the hull corner at b (orient(c, b, a) >= 0). Returns false when the certificate already fails
-  // just after t0 (a repair left a triangle that is inverted right away).
-  auto certify = [&](FaceHandle f, const RootTime& t0, bool& immediate) {
+  // certifies the hull corner at b (orient(c, b, a) >= 0). A certificate that already fails just after t0 (a
+  // repair left a triangle inverted right away, or degenerate for all t) gets its event at t0.
+  auto certify = [&](FaceHandle f, const RootTime& t0) {
     ++f->info().version;
     ++counts.certificates;
-    immediate = false;
     const bool hull = cdt.is_infinite(f);
     std::array<MovingPoint, 3> p;
     if (hull) {
@@ -217,27 +219,19 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticS
     ++counts.exact_certificates;
     ExactPolynomial poly = orientation_polynomial(p[0], p[1], p[2]);
     if (poly.is_zero()) {
-      immediate = !hull;  // a triangle degenerate for all t cannot be valid
-      if (!immediate) return;
-      queue.push_back({t0, f, f->info().version, sequence++, std::move(poly)});
-      std::push_heap(queue.begin(), queue.end(), LaterEvent());
+      if (!hull) schedule(t0, f, std::move(poly));  // a flat hull corner for all t holds; a flat triangle never
       return;
     }
-    std::optional<RootTime> root;
     if (sign_after(poly, t0) < 0)
-      root = t0;
-    else
-      root = first_root_after(poly, t0);
-    if (!root) return;
-    queue.push_back({*root, f, f->info().version, sequence++, std::move(poly)});
-    std::push_heap(queue.begin(), queue.end(), LaterEvent());
+      schedule(t0, f, std::move(poly));
+    else if (auto root = first_root_after(poly, t0))
+      schedule(*root, f, std::move(poly));
   };
-  bool immediate = false;
-  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f, RootTime::zero(), immediate);
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f, RootTime::zero());
 
   // After a flip of (f, i) at time t: the two new faces and, around every new infinite face, the hull corners
   // whose neighbours changed.
-  std::vector<FaceHandle> touched;
+  std::vector<FaceHandle>& touched = scratch.touched;
   auto recertify_around = [&](FaceHandle f, FaceHandle g, const RootTime& t) {
     touched.clear();
     for (FaceHandle h : {f, g}) {
@@ -249,7 +243,7 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticS
     }
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-    for (FaceHandle h : touched) certify(h, t, immediate);
+    for (FaceHandle h : touched) certify(h, t);
   };
 
   // The policy's bound, and in any case a bound on same-instant cascades (flips at one exact time that keep
@@ -278,10 +272,7 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticS
       // collinear hull points as hull vertices): no repair; look for its next zero.
       ++counts.touches;
       if (at_end) continue;
-      if (auto next = first_root_after(event.polynomial, event.time)) {
-        queue.push_back({*next, f, f->info().version, sequence++, std::move(event.polynomial)});
-        std::push_heap(queue.begin(), queue.end(), LaterEvent());
-      }
+      if (auto next = first_root_after(event.polynomial, event.time)) schedule(*next, f, std::move(event.polynomial));
       continue;
     }
     if (cdt.is_infinite(f)) {
@@ -341,18 +332,10 @@ bool KineticSlice::check_invariants(std::string* why) const {
     if (why) *why = message;
     return false;
   };
-  const Cdt& cdt = m_tri.cdt();
-  if (m_tri.dimension() < 2) return m_tri.check_invariants(why);
-  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
-    if (CGAL::orientation(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) != CGAL::LEFT_TURN)
-      return fail("a triangle is not positively oriented");
-  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) {
-    if (!cdt.is_infinite(f)) continue;
-    const HullCorner h = hull_corner(cdt, f);
-    if (h.a != h.c && CGAL::orientation(h.c->point(), h.b->point(), h.a->point()) == CGAL::RIGHT_TURN)
-      return fail("the hull is not convex");
-  }
+  // Orientations, hull convexity and the triangulation's combinatorics: CGAL's check, inside this one.
   if (!m_tri.check_invariants(why)) return false;
+  const Cdt& cdt = m_tri.cdt();
+  if (m_tri.dimension() < 2) return true;
   // The constraints are exactly the chain edges (between distinct points).
   std::size_t constrained = 0;
   for (auto e = cdt.finite_edges_begin(); e != cdt.finite_edges_end(); ++e) constrained += cdt.is_constrained(*e);

@@ -64,6 +64,7 @@ struct KineticScratch {
   std::vector<cgal::VertexHandle> vertex_of_new;  ///< per slice vertex of the next frame
   struct Event;
   std::vector<Event> queue;
+  std::vector<cgal::FaceHandle> touched;  ///< faces to re-certify after a flip
   KineticScratch();
   ~KineticScratch();
 };

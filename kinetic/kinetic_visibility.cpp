@@ -25,7 +25,8 @@ struct KineticVisibility::Impl {
         slices(plan.planes.size()),
         counts(plan.planes.size()),
         assembler(topology, edges, plan, {params.parallel}),
-        previous(first) {
+        previous(first),
+        crossed_stamp(topology.num_vertices, 0) {
     index_vertex_faces();
     candidate_faces_per_plane(topology, first, plan, faces);
     for_each_plane([&](std::size_t p) {
@@ -112,7 +113,6 @@ struct KineticVisibility::Impl {
         for (Index v : edges.endpoints[e]) {
           if (on_or_above(plan.planes[p], previous.positions[v]) == on_or_above(plan.planes[p], next.positions[v]))
             continue;
-          if (crossed_stamp.size() != topology.num_vertices) crossed_stamp.assign(topology.num_vertices, 0);
           if (crossed_stamp[v] == p + 1 + stamp_base) continue;
           crossed_stamp[v] = p + 1 + stamp_base;
           ++(is_regular(v, plan.planes[p], next) ? stats.side_changes_regular : stats.side_changes_critical);
@@ -148,6 +148,25 @@ struct KineticVisibility::Impl {
   FrameVisibility result;
   KineticFrameStats stats;
 };
+
+KineticFrameStats& KineticFrameStats::operator+=(const KineticFrameStats& o) {
+  seconds += o.seconds;
+  certificates += o.certificates;
+  exact_certificates += o.exact_certificates;
+  flips += o.flips;
+  hull_enter += o.hull_enter;
+  hull_leave += o.hull_leave;
+  touches += o.touches;
+  side_changes_regular += o.side_changes_regular;
+  side_changes_critical += o.side_changes_critical;
+  removed += o.removed;
+  inserted += o.inserted;
+  slices_unchanged += o.slices_unchanged;
+  slices_repaired += o.slices_repaired;
+  slices_rebuilt += o.slices_rebuilt;
+  for (std::size_t r = 0; r < rebuilt_because.size(); ++r) rebuilt_because[r] += o.rebuilt_because[r];
+  return *this;
+}
 
 KineticVisibility::KineticVisibility(const MeshTopology& topology, SlicingPlan plan, const Frame& first,
                                      const KineticParams& params)

@@ -26,7 +26,7 @@ namespace kinetic {
 class KineticSlice;
 
 /// Why a slice was built from scratch in an interval.
-enum class RebuildReason : int { none = 0, first_frame, degenerate, crossing, policy, repair_failed, count };
+enum class RebuildReason : int { none = 0, degenerate, crossing, policy, repair_failed, count };
 const char* rebuild_reason_name(RebuildReason reason);
 
 /// When repairing a slice costs more than rebuilding it. Measured with `pleat visibility --serial
@@ -69,6 +69,8 @@ struct KineticFrameStats {
   std::array<std::size_t, static_cast<std::size_t>(kinetic::RebuildReason::count)> rebuilt_because{};
 
   std::size_t events() const { return flips + hull_enter + hull_leave + touches; }
+  /// Sums every counter (and the time): totals over frames.
+  KineticFrameStats& operator+=(const KineticFrameStats& other);
 };
 
 class KineticVisibility {

@@ -9,10 +9,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
-#include <cmath>
 #include <memory>
-#include <numeric>
 
 namespace pleat {
 namespace {

@@ -141,21 +141,7 @@ std::string run_and_compare(const MeshTopology& topology, const std::vector<Fram
       for (std::size_t p = 0; p < plan.planes.size(); ++p)
         if (std::string why = compare_slice(kinetic, p, topology, edges, frames[f]); !why.empty())
           return "frame " + std::to_string(f) + " plane " + std::to_string(p) + ": " + why;
-    if (total && f > 0) {
-      const KineticFrameStats& s = kinetic.last_stats();
-      total->flips += s.flips;
-      total->hull_enter += s.hull_enter;
-      total->hull_leave += s.hull_leave;
-      total->touches += s.touches;
-      total->removed += s.removed;
-      total->inserted += s.inserted;
-      total->slices_unchanged += s.slices_unchanged;
-      total->slices_repaired += s.slices_repaired;
-      total->slices_rebuilt += s.slices_rebuilt;
-      total->side_changes_regular += s.side_changes_regular;
-      total->side_changes_critical += s.side_changes_critical;
-      for (std::size_t r = 0; r < s.rebuilt_because.size(); ++r) total->rebuilt_because[r] += s.rebuilt_because[r];
-    }
+    if (total && f > 0) *total += kinetic.last_stats();
   }
   return {};
 }
