@@ -78,7 +78,10 @@ class Engine {
   const FrameVisibility& next(const Frame& frame) {
     if (m_static) return m_static->compute(frame);
     if (!m_kinetic) {
-      m_kinetic.emplace(*m_topology, m_plan, frame, KineticParams{m_parallel, m_policy, false});
+      KineticParams params;  // invariant checks: on in Debug builds only
+      params.parallel = m_parallel;
+      params.policy = m_policy;
+      m_kinetic.emplace(*m_topology, m_plan, frame, params);
       return m_kinetic->current();
     }
     return m_kinetic->advance(frame);

@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <optional>
+#include <sstream>
+#include <unordered_map>
 
 #include "static_core/assert.hpp"
 
@@ -25,15 +28,6 @@ const char* rebuild_reason_name(RebuildReason reason) {
   }
   return "?";
 }
-
-/// A certificate's first zero: which face, which kind, and its exact polynomial (for the sign after it).
-struct KineticScratch::Event {
-  RootTime time;
-  FaceHandle face;
-  std::uint32_t version = 0;
-  std::uint64_t sequence = 0;  ///< creation order: the deterministic tie-break
-  ExactPolynomial polynomial;
-};
 
 KineticScratch::KineticScratch() = default;
 KineticScratch::~KineticScratch() = default;
@@ -60,12 +54,30 @@ HullCorner hull_corner(const Cdt& cdt, FaceHandle f) {
   return {f->vertex(Cdt::ccw(i)), f->vertex(Cdt::cw(i)), g->vertex(Cdt::cw(j))};
 }
 
+/// The moving points of face f's certificate, in the order whose orientation must stay non-negative: a finite
+/// face (v0, v1, v2); an infinite face (oo, a, b) the hull corner (c, b, a) at b. False when there is nothing
+/// to certify (a hull of two vertices, only while the slice degenerates).
+template <class Motion>
+bool certificate_points(const Cdt& cdt, FaceHandle f, const Motion& motion, std::array<MovingPoint, 3>& p) {
+  if (cdt.is_infinite(f)) {
+    const HullCorner h = hull_corner(cdt, f);
+    if (h.a == h.c) return false;
+    p = {motion(h.c), motion(h.b), motion(h.a)};
+  } else {
+    p = {motion(f->vertex(0)), motion(f->vertex(1)), motion(f->vertex(2))};
+  }
+  return true;
+}
+
 /// Flips the edge (f, i) (either face may be infinite) and keeps the constraint flags of the four outer
 /// edges, as CGAL's Constrained_triangulation_2::flip does, without its geometric preconditions (the points
 /// are those of t = 0 while the flip happens at the event time). Precondition: (f, i) is not constrained.
-void flip_edge(Cdt& cdt, FaceHandle f, int i) {
+/// Returns false, changing nothing, when the flip is combinatorially impossible: the two opposite vertices are
+/// one vertex or already joined by an edge (a repair sequence decided on doubles can lead there).
+bool flip_edge(Cdt& cdt, FaceHandle f, int i) {
   const FaceHandle g = f->neighbor(i);
   const int j = cdt.mirror_index(f, i);
+  if (f->vertex(i) == g->vertex(j) || cdt.tds().is_edge(f->vertex(i), g->vertex(j))) return false;
   std::array<std::pair<FaceHandle, int>, 4> outer{{{f->neighbor(Cdt::cw(i)), cdt.mirror_index(f, Cdt::cw(i))},
                                                    {f->neighbor(Cdt::ccw(i)), cdt.mirror_index(f, Cdt::ccw(i))},
                                                    {g->neighbor(Cdt::cw(j)), cdt.mirror_index(g, Cdt::cw(j))},
@@ -74,9 +86,75 @@ void flip_edge(Cdt& cdt, FaceHandle f, int i) {
   f->set_constraint(f->index(g), false);
   g->set_constraint(g->index(f), false);
   for (const auto& [h, k] : outer) h->neighbor(k)->set_constraint(cdt.mirror_index(h, k), h->is_constrained(k));
+  return true;
 }
 
 }  // namespace
+
+std::string event_invariants(const Cdt& cdt, std::span<const SliceVertex> next,
+                             const std::vector<KineticScratch::Event>& queue, const RootTime& t, std::size_t constraints) {
+  auto motion = [&](VertexHandle v) { return MovingPoint{cgal::to_glm(v->point()), next[v->info().slice_vertex].point}; };
+  if (!cdt.tds().is_valid()) return "the triangulation's combinatorics are invalid";
+  std::size_t constrained = 0;
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      if (f->is_constrained(i) != f->neighbor(i)->is_constrained(cdt.mirror_index(f, i)))
+        return "a constraint flag differs on the two sides of an edge";
+      constrained += f->is_constrained(i);
+    }
+  if (constrained != 2 * constraints)
+    return std::to_string(constrained / 2) + " constrained edges for " + std::to_string(constraints) + " chain edges";
+  std::unordered_map<const void*, const KineticScratch::Event*> live;
+  for (const KineticScratch::Event& e : queue) {
+    if (e.face->info().version != e.version) continue;
+    if (compare(e.time, t) < 0) return "a live event lies in the past";
+    if (!live.emplace(&*e.face, &e).second) return "a face has two live events";
+  }
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) {
+    const auto it = live.find(&*f);
+    const KineticScratch::Event* pending = it == live.end() ? nullptr : it->second;
+    std::array<MovingPoint, 3> p;
+    if (!certificate_points(cdt, f, motion, p)) {
+      if (pending) return "a two-vertex hull has an event";
+      continue;
+    }
+    {
+      CGAL::Protect_FPU_rounding<true> rounding;
+      if (certainly_positive(p[0], p[1], p[2])) {
+        if (pending) return "a face positive over the interval has an event";
+        continue;
+      }
+    }
+    const ExactPolynomial poly = orientation_polynomial(p[0], p[1], p[2]);
+    const bool hull = cdt.is_infinite(f);
+    if (poly.is_zero()) {
+      if (hull ? pending != nullptr : !(pending && pending->time == t))
+        return hull ? "a hull corner flat for all t has an event" : "a triangle flat for all t is not repaired now";
+      continue;
+    }
+    if (t == RootTime::one()) {
+      // The end of the interval: every triangle must be strictly positive (one degenerate at t = 1 is flipped,
+      // since static_core has none), a hull corner may be flat.
+      const int s = sign_at(poly, t);
+      if (hull ? s < 0 : s <= 0) {
+        if (hull) return "a hull corner is reflex at t = 1";
+        if (!(pending && pending->time == t)) return "a triangle flat or inverted at t = 1 has no event now";
+      } else if (pending && !(s == 0 && pending->time == t)) {
+        return "a certificate that holds at t = 1 has an event";
+      }
+      continue;
+    }
+    if (sign_after(poly, t) < 0) {
+      if (!(pending && pending->time == t)) return "an inverted certificate has no event now";
+      continue;
+    }
+    if (pending && pending->time == t && sign_at(poly, t) == 0) continue;  // this instant's touch, still queued
+    const std::optional<RootTime> next = first_root_after(poly, t);
+    if (next.has_value() != (pending != nullptr) || (next && !(pending->time == *next)))
+      return "a certificate's event is not at its first zero";
+  }
+  return {};
+}
 
 void KineticSlice::build(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
                          const SlicingPlane& plane, std::span<const Index> faces, KineticScratch& scratch) {
@@ -103,7 +181,7 @@ void KineticSlice::finish_frame(const MeshTopology& topology, bool structure_cha
 
 SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshEdges& edges, const Frame& next,
                                        const SlicingPlane& plane, std::span<const Index> faces,
-                                       const KineticPolicy& policy, KineticScratch& scratch) {
+                                       const KineticPolicy& policy, KineticScratch& scratch, bool check_every_event) {
   SliceEventCounts counts;
   m_changed_edges.clear();
   slice_mesh(topology, edges, next, plane, faces, scratch.slicer, m_next);
@@ -160,7 +238,14 @@ SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshE
   }
 
   // 2. Move the survivors from t = 0 to t = 1, repairing at every event.
-  if (const RebuildReason r = move_survivors(policy, scratch, counts); r != RebuildReason::none) return rebuild(r);
+  std::optional<std::size_t> surviving_chain_edges;
+  if (check_every_event) {
+    surviving_chain_edges = 0;
+    for (const SliceEdge& e : old.edges)
+      *surviving_chain_edges += scratch.new_of_old[e.from] >= 0 && scratch.new_of_old[e.to] >= 0;
+  }
+  if (const RebuildReason r = move_survivors(policy, surviving_chain_edges, scratch, counts); r != RebuildReason::none)
+    return rebuild(r);
 
   // 3. Insert the appearing slice vertices and their chain edges at t = 1.
   for (Index y : scratch.born) {
@@ -183,8 +268,8 @@ SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshE
   return counts;
 }
 
-RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticScratch& scratch,
-                                           SliceEventCounts& counts) {
+RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::optional<std::size_t> check_constraints,
+                                           KineticScratch& scratch, SliceEventCounts& counts) {
   Cdt& cdt = m_tri.cdt_for_editing();
   const VertexHandle infinite = cdt.infinite_vertex();
   auto motion = [&](VertexHandle v) {
@@ -205,13 +290,7 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticS
     ++counts.certificates;
     const bool hull = cdt.is_infinite(f);
     std::array<MovingPoint, 3> p;
-    if (hull) {
-      const HullCorner h = hull_corner(cdt, f);
-      if (h.a == h.c) return;  // a hull of two vertices (only while the slice degenerates): nothing to certify
-      p = {motion(h.c), motion(h.b), motion(h.a)};
-    } else {
-      p = {motion(f->vertex(0)), motion(f->vertex(1)), motion(f->vertex(2))};
-    }
+    if (!certificate_points(cdt, f, motion, p)) return;
     {
       CGAL::Protect_FPU_rounding<true> rounding;
       if (certainly_positive(p[0], p[1], p[2])) return;
@@ -222,12 +301,20 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticS
       if (!hull) schedule(t0, f, std::move(poly));  // a flat hull corner for all t holds; a flat triangle never
       return;
     }
-    if (sign_after(poly, t0) < 0)
+    // Fails now: negative just after t0, or, for a triangle created by a flip at t = 1, flat at t = 1.
+    if (sign_after(poly, t0) < 0 || (!hull && t0 == RootTime::one() && sign_at(poly, t0) == 0))
       schedule(t0, f, std::move(poly));
     else if (auto root = first_root_after(poly, t0))
       schedule(*root, f, std::move(poly));
   };
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f, RootTime::zero());
+  // check_every_event: the kinetic invariants after each event (event_invariants); a violation is a bug.
+  auto check = [&](const RootTime& t) {
+    if (!check_constraints) return;
+    const std::string why = event_invariants(cdt, m_next.vertices, queue, t, *check_constraints);
+    PLEAT_ASSERT(why.empty(), "after the event at " + [&] { std::ostringstream o; o << t; return o.str(); }() + ": " + why);
+  };
+  check(RootTime::zero());
 
   // After a flip of (f, i) at time t: the two new faces and, around every new infinite face, the hull corners
   // whose neighbours changed.
@@ -271,16 +358,19 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticS
       // A certificate that touches zero and keeps its sign, or a hull corner flat at t = 1 (static_core keeps
       // collinear hull points as hull vertices): no repair; look for its next zero.
       ++counts.touches;
-      if (at_end) continue;
-      if (auto next = first_root_after(event.polynomial, event.time)) schedule(*next, f, std::move(event.polynomial));
+      if (!at_end)
+        if (auto next = first_root_after(event.polynomial, event.time)) schedule(*next, f, std::move(event.polynomial));
+      check(event.time);
       continue;
     }
     if (cdt.is_infinite(f)) {
       const int i = f->index(infinite);
       const FaceHandle g = f->neighbor(Cdt::ccw(i));
-      flip_edge(cdt, f, Cdt::ccw(i));  // edge (b, oo): b leaves the hull, triangle (a, b, c) appears
+      // Edge (b, oo): b leaves the hull, triangle (a, b, c) appears.
+      if (!flip_edge(cdt, f, Cdt::ccw(i))) return RebuildReason::repair_failed;
       ++counts.hull_leave;
       recertify_around(f, g, event.time);
+      check(event.time);
       continue;
     }
     // The triangle collapses: flip the edge opposite the vertex that lies between the other two. (Chosen on
@@ -296,11 +386,9 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, KineticS
     if (f->is_constrained(k)) return RebuildReason::crossing;  // a vertex reaches a chain edge
     const FaceHandle g = f->neighbor(k);
     ++(cdt.is_infinite(g) ? counts.hull_enter : counts.flips);
-    flip_edge(cdt, f, k);
+    if (!flip_edge(cdt, f, k)) return RebuildReason::repair_failed;
     recertify_around(f, g, event.time);
-#ifndef NDEBUG
-    PLEAT_ASSERT(cdt.tds().is_valid(), "the triangulation's combinatorics after a flip");
-#endif
+    check(event.time);
   }
 
   // Every vertex at its t = 1 point; then the exact guard: the static engine's predicates on these points.

@@ -31,6 +31,7 @@
 #include "static_core/slice_triangulation.hpp"
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,15 @@ struct SliceEventCounts {
   std::size_t events() const { return flips + hull_enter + hull_leave + touches; }
 };
 
+/// A certificate's first zero: its face (and the face's certificate version then), its exact polynomial.
+struct KineticEvent {
+  RootTime time;
+  cgal::FaceHandle face;
+  std::uint32_t version = 0;
+  std::uint64_t sequence = 0;  ///< creation order: the deterministic tie-break
+  ExactPolynomial polynomial;
+};
+
 /// Per-thread memory of KineticSlice (no allocation per frame once warmed up, outside exact fallbacks).
 struct KineticScratch {
   SlicerScratch slicer;
@@ -62,22 +72,36 @@ struct KineticScratch {
   std::vector<Index> born;
   std::vector<char> is_born;                      ///< per slice vertex of the next frame
   std::vector<cgal::VertexHandle> vertex_of_new;  ///< per slice vertex of the next frame
-  struct Event;
-  std::vector<Event> queue;
+  using Event = KineticEvent;
+  std::vector<Event> queue;  ///< a binary heap, earliest event on top
   std::vector<cgal::FaceHandle> touched;  ///< faces to re-certify after a flip
   KineticScratch();
   ~KineticScratch();
 };
+
+/// The kinetic invariants of a slice in move (KineticSlice::advance's `check_every_event`), after the events
+/// at time t: the triangulation's combinatorics are valid (CGAL's check), constraint flags agree on both sides
+/// of every edge and number `constraints`, and every certificate is scheduled where it fails. Each face has at
+/// most one live event (its version current): at t when its certificate is zero at t (an event of this instant
+/// not yet processed) or negative just after t (a repair still to come), else at its first zero after t, else
+/// none; at t = 1 a triangle must be positive or have its event now. A finite face certifies its orientation,
+/// an infinite face (oo, a, b) the hull corner at b; a CDT vertex moves from its point to
+/// next[its slice_vertex].point. Exact (interval filter, then exact polynomials). Empty when they hold, else
+/// the first violation.
+std::string event_invariants(const cgal::Cdt& cdt, std::span<const SliceVertex> next,
+                             const std::vector<KineticEvent>& queue, const RootTime& t, std::size_t constraints);
 
 class KineticSlice {
  public:
   /// The static build of `frame` (also the fallback).
   void build(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame, const SlicingPlane& plane,
              std::span<const Index> faces, KineticScratch& scratch);
-  /// From the current frame to `next` (see the header comment).
+  /// From the current frame to `next` (see the header comment). With `check_every_event`, the kinetic
+  /// invariants are checked exactly after every event (the triangulation's combinatorics, the constraints, and
+  /// every certificate scheduled at its first failure); a violation throws InvariantError (a bug).
   SliceEventCounts advance(const MeshTopology& topology, const MeshEdges& edges, const Frame& next,
                            const SlicingPlane& plane, std::span<const Index> faces, const KineticPolicy& policy,
-                           KineticScratch& scratch);
+                           KineticScratch& scratch, bool check_every_event = false);
 
   const PlaneCones& cones() const { return m_out; }
   /// The mesh edges that started or stopped crossing the plane in the last advance() (local edits only).
@@ -90,7 +114,8 @@ class KineticSlice {
  private:
   void finish_build(const MeshTopology& topology, KineticScratch& scratch);
   void finish_frame(const MeshTopology& topology, bool structure_changed, KineticScratch& scratch);
-  RebuildReason move_survivors(const KineticPolicy& policy, KineticScratch& scratch, SliceEventCounts& counts);
+  RebuildReason move_survivors(const KineticPolicy& policy, std::optional<std::size_t> check_constraints,
+                               KineticScratch& scratch, SliceEventCounts& counts);
 
   PlaneCones m_out;
   Slice m_next;

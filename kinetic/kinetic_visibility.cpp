@@ -87,7 +87,8 @@ struct KineticVisibility::Impl {
     const auto start = std::chrono::steady_clock::now();
     candidate_faces_per_plane(topology, next, plan, faces);
     for_each_plane([&](std::size_t p) {
-      counts[p] = slices[p].advance(topology, edges, next, plan.planes[p], faces[p], params.policy, scratch.local());
+      counts[p] = slices[p].advance(topology, edges, next, plan.planes[p], faces[p], params.policy, scratch.local(),
+                                    params.check_invariants);
       check(p);
     });
     gather_and_assemble(next);

@@ -47,7 +47,13 @@ struct KineticPolicy {
 struct KineticParams {
   bool parallel = true;           ///< TBB-parallel over slices and vertices
   kinetic::KineticPolicy policy;  ///< repair or rebuild
-  bool check_invariants = false;  ///< check every slice's invariants after each interval (tests, Debug)
+  /// Check the kinetic invariants exactly after every event and every slice's invariants after each interval
+  /// (KineticSlice::advance, check_invariants); a violation throws InvariantError. On in Debug builds.
+#ifdef NDEBUG
+  bool check_invariants = false;
+#else
+  bool check_invariants = true;
+#endif
 };
 
 /// Counters of one advance(), summed over slices (reported by `pleat visibility --stats`).

@@ -215,6 +215,30 @@ TEST(KineticVisibility, CoherentMotionsExerciseEveryRepair) {
 }
 
 /// A sheet in z = 0 turning in its own plane: every slice is collinear (dimension 1).
+// The per-event check (on in Debug builds and in these tests) must be able to fail: a square with a point
+// inside that moves out through the bottom edge has an event, so an empty queue violates the invariants, as
+// do a wrong constraint count and an event for a triangle that never fails; without motion all holds.
+TEST(KineticVisibility, EventInvariantsCatchAMissingEvent) {
+  cgal::Cdt cdt;
+  const std::vector<glm::dvec2> points{{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0.2}};
+  std::vector<SliceVertex> still(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    cdt.insert(cgal::to_point(points[i]))->info().slice_vertex = static_cast<int>(i);
+    still[i].point = points[i];
+  }
+  std::vector<SliceVertex> moving = still;
+  moving[4].point = {0.5, -0.5};
+  const std::vector<kinetic::KineticEvent> none;
+  EXPECT_EQ(kinetic::event_invariants(cdt, still, none, kinetic::RootTime::zero(), 0), "");
+  EXPECT_NE(kinetic::event_invariants(cdt, moving, none, kinetic::RootTime::zero(), 0), "");
+  EXPECT_NE(kinetic::event_invariants(cdt, still, none, kinetic::RootTime::zero(), 1), "");
+  std::vector<kinetic::KineticEvent> spurious(1);
+  spurious[0].face = cdt.finite_faces_begin();
+  spurious[0].version = spurious[0].face->info().version;
+  spurious[0].time = kinetic::RootTime(0.5);
+  EXPECT_NE(kinetic::event_invariants(cdt, still, spurious, kinetic::RootTime::zero(), 0), "");
+}
+
 TEST(KineticVisibility, FlatSheetEveryFrame) {
   test::TestMesh sheet = test::flat_sheet(9, 7, 0.1);
   std::vector<Frame> frames;
