@@ -310,6 +310,18 @@ CertificatePolynomial plane_side_certificate(const SlicingPlane& plane, const gl
   return out;
 }
 
+CertificatePolynomial planar_orientation_certificate(const std::array<glm::dvec2, 6>& points) {
+  CertificatePolynomial out;
+  {
+    CGAL::Protect_FPU_rounding<true> upward;
+    const std::array<Interval, 3> h = planar_orientation_coefficients<Interval>(points);
+    for (int k = 0; k < 3; ++k) out.m_h[k] = h[k];
+  }
+  out.m_degree = 2;
+  out.m_source = CertificatePolynomial::PlanarOrientation{points};
+  return out;
+}
+
 std::array<Rational, 6> exact_orientation_coefficients(const SlicingPlane& plane, const SliceVertexMotion& a,
                                                        const SliceVertexMotion& b,
                                                        const SliceVertexMotion& c) {
@@ -339,6 +351,8 @@ ExactPolynomial CertificatePolynomial::exact() const {
     return ExactPolynomial(monomial_from_homogeneous(std::array<Dyadic, 2>{
         dot<Dyadic>(s->plane.normal, s->p0) - d, dot<Dyadic>(s->plane.normal, s->p1) - d}));
   }
+  if (const auto* o = std::get_if<PlanarOrientation>(&m_source))
+    return ExactPolynomial(monomial_from_homogeneous(planar_orientation_coefficients<Dyadic>(o->points)));
   if (const auto* p = std::get_if<ExactPolynomial>(&m_source)) return *p;
   PLEAT_ASSERT(false, "exact() of an empty certificate");
   return {};

@@ -31,6 +31,7 @@
 #include <CGAL/Interval_nt.h>
 
 #include <array>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <variant>
 #include <vector>
@@ -133,14 +134,18 @@ class CertificatePolynomial {
     SlicingPlane plane;
     glm::dvec3 p0, p1;
   };
+  struct PlanarOrientation {
+    std::array<glm::dvec2, 6> points;
+  };
   friend CertificatePolynomial orientation_certificate(const SlicingPlane&, const SliceVertexTrack&,
                                                        const SliceVertexTrack&, const SliceVertexTrack&);
   friend CertificatePolynomial plane_side_certificate(const SlicingPlane&, const glm::dvec3&,
                                                       const glm::dvec3&);
+  friend CertificatePolynomial planar_orientation_certificate(const std::array<glm::dvec2, 6>&);
 
   int m_degree = -1;
   std::array<Interval, kMaxCertificateDegree + 1> m_h{};
-  std::variant<std::monostate, Orientation, PlaneSide, ExactPolynomial> m_source;
+  std::variant<std::monostate, Orientation, PlaneSide, PlanarOrientation, ExactPolynomial> m_source;
 };
 
 /// Interval homogeneous coordinates of one slice vertex (about 90 interval operations, no allocation).
@@ -159,6 +164,25 @@ CertificatePolynomial orientation_certificate(const SlicingPlane& plane, const S
 /// rational -s(0) / (s(1) - s(0)). Under the slicer's symbolic perturbation s = 0 counts as above.
 CertificatePolynomial plane_side_certificate(const SlicingPlane& plane, const glm::dvec3& p0,
                                              const glm::dvec3& p1);
+
+/// The homogeneous-Bernstein coefficients (B0, 2 B1, B2) of orient(a(t), b(t), c(t)) for points moving linearly
+/// in a plane, p(t) = (1 - t) p0 + t p1, given as {a0, a1, b0, b1, c0, c1}: B0 = u0 x v0, B2 = u1 x v1,
+/// 2 B1 = u0 x v1 + u1 x v0 with u = b - a, v = c - a at t = 0 and 1 (kinetic/moving_orientation.hpp). N: any
+/// ring the doubles convert into exactly (an interval type for enclosures, an exact type).
+template <class N>
+std::array<N, 3> planar_orientation_coefficients(const std::array<glm::dvec2, 6>& p) {
+  auto cross = [](const N& ux, const N& uy, const N& vx, const N& vy) { return ux * vy - uy * vx; };
+  const N u0x = N(p[2].x) - N(p[0].x), u0y = N(p[2].y) - N(p[0].y);
+  const N v0x = N(p[4].x) - N(p[0].x), v0y = N(p[4].y) - N(p[0].y);
+  const N u1x = N(p[3].x) - N(p[1].x), u1y = N(p[3].y) - N(p[1].y);
+  const N v1x = N(p[5].x) - N(p[1].x), v1y = N(p[5].y) - N(p[1].y);
+  return {cross(u0x, u0y, v0x, v0y), cross(u0x, u0y, v1x, v1y) + cross(u1x, u1y, v0x, v0y),
+          cross(u1x, u1y, v1x, v1y)};
+}
+
+/// The orientation certificate of three points moving linearly in a plane (degree 2; the points as in
+/// planar_orientation_coefficients): an interval enclosure now, the exact polynomial on demand (CGAL::Gmpzf).
+CertificatePolynomial planar_orientation_certificate(const std::array<glm::dvec2, 6>& points);
 
 /// Exact homogeneous-Bernstein coefficients H_0..H_5 of the orientation polynomial (test and debug aid).
 std::array<Rational, 6> exact_orientation_coefficients(const SlicingPlane& plane, const SliceVertexMotion& a,

@@ -278,8 +278,8 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::opt
   auto& queue = scratch.queue;
   queue.clear();
   std::uint64_t sequence = 0;
-  auto schedule = [&](const RootTime& time, FaceHandle f, ExactPolynomial poly) {
-    queue.push_back({time, f, f->info().version, sequence++, std::move(poly)});
+  auto schedule = [&](const RootTime& time, FaceHandle f, const CertificatePolynomial& certificate, bool crosses) {
+    queue.push_back({time, f, f->info().version, sequence++, certificate, crosses});
     std::push_heap(queue.begin(), queue.end(), LaterEvent());
   };
   // (Re)certifies face f from time t0: a finite face stays positively oriented; an infinite face (oo, a, b)
@@ -296,18 +296,57 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::opt
       if (certainly_positive(p[0], p[1], p[2])) return;
     }
     ++counts.exact_certificates;
-    ExactPolynomial poly = orientation_polynomial(p[0], p[1], p[2]);
+    const CertificatePolynomial certificate = orientation_certificate(p[0], p[1], p[2]);
+    if (t0.upper_bound() == 0.0) {
+      // The start of the interval: the exact signs of the Bernstein coefficients decide most undecided
+      // certificates (degenerate ones: collinear for all t, or touching zero at an end) without rationals.
+      const std::array<int, 3> s = bernstein_signs(p[0], p[1], p[2]);
+      if (s == std::array<int, 3>{0, 0, 0}) {
+        if (!hull) schedule(t0, f, certificate, false);  // a flat hull corner for all t holds; a flat triangle never
+        return;
+      }
+      if (s[0] >= 0 && s[1] >= 0 && s[2] >= 0) {
+        if (s[2] == 0) schedule(RootTime::one(), f, certificate, false);  // its one zero in (0, 1]
+        return;
+      }
+    }
+    // Intervals first: a certain sign at t0 (most certificates undecided by the filter); the first zero after
+    // t0 by interval subdivision, a simple one where the certificate fails (exact arithmetic only if needed).
+    if (const int s = certain_sign_at(certificate, t0); s != 0) {
+      if (s < 0) {
+        schedule(t0, f, certificate, false);
+        return;
+      }
+      IsolationStage stage = IsolationStage::filter;
+      const std::optional<RootTime> root = first_root_after(certificate, t0, &stage);
+      counts.exact_certificates += stage == IsolationStage::exact;
+      if (root) schedule(*root, f, certificate, stage == IsolationStage::subdivision);
+      return;
+    }
+    ++counts.exact_certificates;
+    const ExactPolynomial poly = certificate.exact();
     if (poly.is_zero()) {
-      if (!hull) schedule(t0, f, std::move(poly));  // a flat hull corner for all t holds; a flat triangle never
+      if (!hull) schedule(t0, f, certificate, false);  // a flat hull corner for all t holds; a flat triangle never
       return;
     }
     // Fails now: negative just after t0, or, for a triangle created by a flip at t = 1, flat at t = 1.
     if (sign_after(poly, t0) < 0 || (!hull && t0 == RootTime::one() && sign_at(poly, t0) == 0))
-      schedule(t0, f, std::move(poly));
+      schedule(t0, f, certificate, false);
     else if (auto root = first_root_after(poly, t0))
-      schedule(*root, f, std::move(poly));
+      schedule(*root, f, certificate, false);
   };
-  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f, RootTime::zero());
+  // The policy's bound, and in any case a bound on same-instant cascades (flips at one exact time that keep
+  // producing degenerate triangles) and on the total (a kinetic triangulation has O(n^2) events at most).
+  const std::size_t n = cdt.number_of_vertices();
+  const std::size_t max_events = std::min<std::size_t>(
+      16 + static_cast<std::size_t>(policy.max_events_per_vertex * double(n)), 4 * n * n + 64);
+  const std::size_t max_same_instant = n + 16;
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) {
+    certify(f, RootTime::zero());
+    // More certificates fail than the policy allows events: rebuild now, before certifying the rest.
+    // Or more need exact arithmetic (microseconds each, a sign of degenerate motion that cascades).
+    if (queue.size() > max_events || counts.exact_certificates > max_events) return RebuildReason::policy;
+  }
   // check_every_event: the kinetic invariants after each event (event_invariants); a violation is a bug.
   auto check = [&](const RootTime& t) {
     if (!check_constraints) return;
@@ -333,12 +372,6 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::opt
     for (FaceHandle h : touched) certify(h, t);
   };
 
-  // The policy's bound, and in any case a bound on same-instant cascades (flips at one exact time that keep
-  // producing degenerate triangles) and on the total (a kinetic triangulation has O(n^2) events at most).
-  const std::size_t n = cdt.number_of_vertices();
-  const std::size_t max_events = std::min<std::size_t>(
-      16 + static_cast<std::size_t>(policy.max_events_per_vertex * double(n)), 4 * n * n + 64);
-  const std::size_t max_same_instant = n + 16;
   std::size_t same_instant = 0;
   RootTime last_time;
   const RootTime one = RootTime::one();
@@ -348,18 +381,20 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::opt
     queue.pop_back();
     const FaceHandle f = event.face;
     if (f->info().version != event.version) continue;  // replaced by a repair
-    if (counts.events() >= max_events) return RebuildReason::policy;
+    if (counts.events() >= max_events || counts.exact_certificates > max_events) return RebuildReason::policy;
     same_instant = event.time == last_time ? same_instant + 1 : 0;
     if (same_instant > max_same_instant) return RebuildReason::policy;
     last_time = event.time;
     const bool at_end = event.time == one;
-    const bool inverts = event.polynomial.is_zero() || sign_after(event.polynomial, event.time) < 0;
+    ExactPolynomial poly;  // only when the interval stages did not see the certificate fail
+    if (!event.crosses) poly = event.certificate.exact();
+    const bool inverts = event.crosses || poly.is_zero() || sign_after(poly, event.time) < 0;
     if (at_end ? cdt.is_infinite(f) : !inverts) {
       // A certificate that touches zero and keeps its sign, or a hull corner flat at t = 1 (static_core keeps
       // collinear hull points as hull vertices): no repair; look for its next zero.
       ++counts.touches;
       if (!at_end)
-        if (auto next = first_root_after(event.polynomial, event.time)) schedule(*next, f, std::move(event.polynomial));
+        if (auto next = first_root_after(poly, event.time)) schedule(*next, f, event.certificate, false);
       check(event.time);
       continue;
     }

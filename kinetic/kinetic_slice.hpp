@@ -40,7 +40,7 @@ namespace pleat::kinetic {
 /// What happened to one slice in one interval.
 struct SliceEventCounts {
   std::size_t certificates = 0;        ///< triangle and hull certificates computed
-  std::size_t exact_certificates = 0;  ///< of which the interval filter could not decide
+  std::size_t exact_certificates = 0;  ///< of which intervals could not decide (exact arithmetic)
   std::size_t flips = 0;               ///< a triangle collapsed: its edge flipped
   std::size_t hull_enter = 0;          ///< a vertex crossed a hull edge and joined the hull
   std::size_t hull_leave = 0;          ///< a hull vertex went reflex and left the hull
@@ -53,13 +53,14 @@ struct SliceEventCounts {
   std::size_t events() const { return flips + hull_enter + hull_leave + touches; }
 };
 
-/// A certificate's first zero: its face (and the face's certificate version then), its exact polynomial.
+/// A certificate's first zero: its face (and the face's certificate version then) and its certificate.
 struct KineticEvent {
   RootTime time;
   cgal::FaceHandle face;
   std::uint32_t version = 0;
   std::uint64_t sequence = 0;  ///< creation order: the deterministic tie-break
-  ExactPolynomial polynomial;
+  CertificatePolynomial certificate;
+  bool crosses = false;  ///< a simple zero found by interval subdivision: the certificate fails (no exact work)
 };
 
 /// Per-thread memory of KineticSlice (no allocation per frame once warmed up, outside exact fallbacks).

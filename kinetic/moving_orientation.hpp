@@ -12,10 +12,11 @@
 // The orientation of three such points is a quadratic in t with homogeneous-Bernstein coefficients
 // (B0, 2 B1, B2) on [0, 1]: B0 = u0 x v0, B2 = u1 x v1, 2 B1 = u0 x v1 + u1 x v0, where u = b - a and
 // v = c - a at t = 0 and 1. All three strictly positive proves "positive on [0, 1]": the filter, in interval
-// arithmetic. Otherwise the exact rational polynomial goes to root_isolation.
+// arithmetic. Otherwise the certificate goes to root_isolation: interval subdivision, exact only when needed.
 // Internal to pleat::kinetic.
 #pragma once
 
+#include <array>
 #include <glm/vec2.hpp>
 
 #include "kinetic/root_isolation.hpp"
@@ -33,7 +34,18 @@ struct MovingPoint {
 /// Precondition: a CGAL::Protect_FPU_rounding<true> guard is alive (rounding towards +infinity).
 bool certainly_positive(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c);
 
-/// orient(a(t), b(t), c(t)) as an exact polynomial of degree <= 2 (allocates; the filter's fallback).
+/// The exact signs (-1, 0, 1) of the Bernstein coefficients (B0, B1, B2) of orient(a(t), b(t), c(t)) on [0, 1]
+/// (CGAL::Mpzf: exact, no allocation for these sizes, no rational arithmetic). All zero: the points stay
+/// collinear; all non-negative: the orientation is non-negative on [0, 1], zero in (0, 1] at most at t = 1
+/// (when B2 = 0). The exact decision for certificates the interval filter leaves undecided, mostly degenerate
+/// ones (collinear slice points of flat or ruled cloth).
+std::array<int, 3> bernstein_signs(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c);
+
+/// orient(a(t), b(t), c(t)) as a certificate: its interval enclosure (no allocation), the exact polynomial on
+/// demand. root_isolation decides most roots on the enclosure (interval subdivision) without exact arithmetic.
+CertificatePolynomial orientation_certificate(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c);
+
+/// orient(a(t), b(t), c(t)) as an exact polynomial of degree <= 2 (allocates).
 ExactPolynomial orientation_polynomial(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c);
 
 }  // namespace pleat::kinetic

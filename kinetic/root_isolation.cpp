@@ -50,6 +50,8 @@ struct RootTimeAccess {
 namespace {
 
 constexpr int kSubdivisionDepth = 6;
+/// A lazy root's enclosure wider than this after interval narrowing is narrowed with exact arithmetic.
+constexpr double kLazyWidth = 1e-11;
 
 int sign_of(const Rational& r) { return static_cast<int>(CGAL::sign(r)); }
 
@@ -188,6 +190,13 @@ RootTime lazy_root(const CertificatePolynomial& c, double a, double b, int sign_
   e->hi = Rational(b);
   e->sign_lo = sign_a;
   if (const std::optional<double> root = narrow(*e)) return RootTime(*root);
+  // Intervals could not narrow it well (tiny coefficients, clustered roots): finish with the exact polynomial,
+  // so that every time's enclosure is narrow (its approximate() value is used for geometric choices).
+  if (CGAL::to_double(e->hi - e->lo) > kLazyWidth) {
+    e->poly();
+    e->source.reset();
+    if (const std::optional<double> root = narrow(*e)) return RootTime(*root);
+  }
   return from_exact(std::move(e));
 }
 
@@ -483,6 +492,21 @@ int sign_at(const ExactPolynomial& p, const RootTime& t) {
     if (neg) return -1;
     b.refine();
   }
+}
+
+int certain_sign_at(const CertificatePolynomial& p, const RootTime& t) {
+  if (p.degree() < 0) return 0;
+  CGAL::Protect_FPU_rounding<true> upward;
+  // Homogeneous Bernstein form: sum_k H_k t^k (1 - t)^(n - k), evaluated on t's enclosure.
+  const Interval x(t.lower_bound(), t.upper_bound()), y = Interval(1) - x;
+  Interval sum(0);
+  for (int k = 0; k <= p.degree(); ++k) {
+    Interval term = p.enclosure()[k];
+    for (int i = 0; i < k; ++i) term = term * x;
+    for (int i = k; i < p.degree(); ++i) term = term * y;
+    sum = sum + term;
+  }
+  return certain_sign(sum);
 }
 
 int sign_after(const ExactPolynomial& p, const RootTime& t) {
