@@ -975,6 +975,72 @@ SourceState read_source_state() {
   return s;
 }
 
+/// The cheapest Embree row whose mean error is at most the cone engine's (of those measured), or null.
+const MethodRow* matched_embree(const Measurement& m, const Options& options) {
+  const MethodRow* s = m.row("static");
+  if (!s || std::isnan(s->err.mean)) return nullptr;
+  const MethodRow* match = nullptr;
+  for (int rays : options.rays) {
+    const MethodRow* e = m.row("embree" + std::to_string(rays));
+    if (e && e->ok() && !std::isnan(e->err.mean) && e->err.mean <= s->err.mean &&
+        (!match || e->ms_per_frame() < match->ms_per_frame()))
+      match = e;
+  }
+  return match;
+}
+
+/// The README's headline (bench/run_frame_coherence.sh puts it there): per sequence and size, kinetic ÷ static
+/// per frame at every temporal resolution, and the cone engines against Embree at matched error (u = 1).
+std::string headline_table(const Options& options, const SourceState& source, const std::vector<Measurement>& all) {
+  std::vector<double> ups;
+  for (const auto& m : all)
+    if (std::find(ups.begin(), ups.end(), m.upsample) == ups.end()) ups.push_back(m.upsample);
+  std::sort(ups.begin(), ups.end());
+  std::ostringstream out;
+  out << "| sequence | vertices |";
+  for (double u : ups) out << " kinetic ÷ static, u = " << upsample_label(u) << " |";
+  out << " cone err (mean) | Embree rays at matched err | static ÷ Embree | kinetic ÷ Embree |\n|---|---|";
+  for (std::size_t i = 0; i < ups.size(); ++i) out << "---|";
+  out << "---|---|---|---|\n";
+  std::vector<std::pair<std::string, Index>> keys;
+  for (const auto& m : all)
+    if (std::find(keys.begin(), keys.end(), std::make_pair(m.sequence, m.vertices)) == keys.end())
+      keys.emplace_back(m.sequence, m.vertices);
+  for (const auto& [seq, vertices] : keys) {
+    out << "| " << seq << " | " << vertices << " |";
+    const Measurement* native = nullptr;
+    for (double u : ups) {
+      std::string cell = "–";
+      for (const auto& m : all) {
+        if (m.sequence != seq || m.vertices != vertices || m.upsample != u) continue;
+        if (u == 1) native = &m;
+        const MethodRow* s = m.row("static");
+        const MethodRow* k = m.row("kinetic");
+        if (s && k && s->ok() && k->ok()) cell = format("%.2f", k->ms_per_frame() / s->ms_per_frame());
+      }
+      out << ' ' << cell << " |";
+    }
+    const MethodRow* match = native ? matched_embree(*native, options) : nullptr;
+    const MethodRow* s = native ? native->row("static") : nullptr;
+    const MethodRow* k = native ? native->row("kinetic") : nullptr;
+    if (!match || !s) {
+      out << ' ' << (s && !std::isnan(s->err.mean) ? format("%.3f", s->err.mean) : std::string("–"))
+          << " | – | – | – |\n";
+      continue;
+    }
+    out << ' ' << format("%.3f", s->err.mean) << " | " << match->rays << format(" (err %.3f)", match->err.mean)
+        << " | " << format("%.2f", s->ms_per_frame() / match->ms_per_frame()) << " | "
+        << (k && k->ok() ? format("%.2f", k->ms_per_frame() / match->ms_per_frame()) : std::string("–")) << " |\n";
+  }
+  out << "\nMedian wall time per frame, all engines in one run of `bench/run_frame_coherence.sh` on commit "
+      << source.commit << (source.dirty.empty() ? "" : " (plus uncommitted changes)") << ", "
+      << shell_output("nproc") << " cores (" << shell_output("grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'")
+      << ", shared); < 1 means the first is faster. Matched error: the cheapest of " << options.rays.size()
+      << " ray counts whose mean |A − A_ref| (against " << options.reference_rays
+      << " rays) is at most the cone engine's. Everything else: `bench/results/frame_coherence.md`.\n";
+  return out.str();
+}
+
 void write_markdown(const fs::path& path, const Options& options, const SourceState& source,
                     const std::vector<Measurement>& all, double total_seconds, bool memory_reset,
                     const std::vector<std::string>& failures) {
@@ -1008,6 +1074,7 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
             "ones, 0.5 every other native frame. drape: the bundled Blender simulation from sample 20 (Blender "
             "frame 41); generated kinds: 48 frames per cycle from frame 8.\n\n";
 
+  out << "## Headline\n\n" << headline_table(options, source, all) << "\n";
   out << "## Time per frame and accuracy\n\n";
   out << "| sequence | vertices | u | frames | static ms | kinetic ms | kinetic / static | Embree 64 ms (err) | Embree "
          "256 ms (err) | Embree 1024 ms (err) | cone err (mean / p95) | max \\|A_s − A_k\\| |\n";
@@ -1056,13 +1123,7 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
     if (m.upsample != 1) continue;
     const MethodRow* s = m.row("static");
     if (!s || std::isnan(s->err.mean)) continue;
-    const MethodRow* match = nullptr;
-    for (int rays : options.rays) {
-      const MethodRow* e = m.row("embree" + std::to_string(rays));
-      if (e && e->ok() && !std::isnan(e->err.mean) && e->err.mean <= s->err.mean &&
-          (!match || e->ms_per_frame() < match->ms_per_frame()))
-        match = e;
-    }
+    const MethodRow* match = matched_embree(m, options);
     out << "| " << m.sequence << " | " << m.vertices << " | " << format("%.3f", s->err.mean) << " | ";
     if (!match) {
       out << "none of " << options.rays.size() << " | – | – | – | – | – |\n";
@@ -1227,6 +1288,10 @@ int run(int argc, char** argv) {
   fs::rename(csv_tmp, csv_path);
   const double total = elapsed_ms(run_start) / 1000.0;
   write_markdown(md_path, options, source, all, total, memory_reset, failures);
+  {
+    std::ofstream headline(options.out / "frame_coherence_headline.md");
+    headline << headline_table(options, source, all);
+  }
   std::printf("frame_coherence: wrote %s and %s (%zu measurements, %.0f s)\n", csv_path.c_str(), md_path.c_str(),
               all.size(), total);
   if (!failures.empty()) {

@@ -2,7 +2,8 @@
 # The frame-coherence benchmark (issue 6), in one command: builds bench/frame_coherence_bench in Release,
 # runs it with its defaults (all five sequences; 3,025 and 29,929 vertices; u = 0.5, 1, 2, 4, 8; see the flags
 # at the top of bench/frame_coherence_bench.cpp) and draws the plots. Everything goes to bench/results/:
-# frame_coherence.md, frame_coherence.csv, frame_coherence_*.png. About 15 minutes on 2 shared cores.
+# frame_coherence.md, frame_coherence.csv, frame_coherence_*.png, and (a full run) the README's headline table.
+# About 15 minutes on 2 shared cores.
 #
 # Usage: bench/run_frame_coherence.sh [flags for frame_coherence_bench, e.g. --sequences drape --frames 12]
 #   BUILD_DIR   build directory (default: build)
@@ -27,6 +28,18 @@ start=$(date +%s)
 status=0
 "$build_dir/bench/frame_coherence_bench" --out "$out" "$@" || status=$?
 "$python" bench/plot_frame_coherence.py "$out/frame_coherence.csv" --out "$out"
+# A full run (no flags) also puts its headline table into the README, between the markers there.
+if [ "$#" -eq 0 ] && [ -f "$out/frame_coherence_headline.md" ]; then
+  "$python" - "$out/frame_coherence_headline.md" README.md <<'PY'
+import sys
+headline, readme = sys.argv[1], sys.argv[2]
+begin, end = "<!-- frame-coherence headline: begin -->", "<!-- frame-coherence headline: end -->"
+text = open(readme).read()
+if begin in text and end in text:
+    text = text[: text.index(begin) + len(begin)] + "\n" + open(headline).read() + text[text.index(end):]
+    open(readme, "w").write(text)
+PY
+fi
 echo "run_frame_coherence: $(( $(date +%s) - start )) s; wrote $out/frame_coherence.md, $out/frame_coherence.csv," \
      "$out/frame_coherence_*.png" >&2
 exit "$status"
