@@ -1,6 +1,7 @@
 // Command-line helpers shared by the benchmark programs of bench/ (header-only).
 #pragma once
 
+#include <cstring>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -14,6 +15,12 @@ inline std::vector<std::string> split(const std::string& text) {
   for (std::string part; std::getline(in, part, ',');)
     if (!part.empty()) parts.push_back(part);
   return parts;
+}
+
+/// The value of `--name=value` when `arg` is that flag (a pointer into arg), else nullptr.
+inline const char* flag_value(const char* arg, const char* name) {
+  const std::size_t n = std::strlen(name);
+  return std::strncmp(arg, name, n) == 0 && arg[n] == '=' && arg[n + 1] != '\0' ? arg + n + 1 : nullptr;
 }
 
 }  // namespace pleat::bench

@@ -101,10 +101,7 @@ bool parse_options(int& argc, char** argv) {
   int kept = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    auto value = [&](const char* name) -> const char* {
-      const std::size_t n = std::strlen(name);
-      return arg.compare(0, n, name) == 0 && arg.size() > n && arg[n] == '=' ? argv[i] + n + 1 : nullptr;
-    };
+    auto value = [&](const char* name) { return bench::flag_value(argv[i], name); };
     if (const char* v = value("--pleat_sequences")) {
       g_options.sequences = bench::split(v);
       for (const auto& s : g_options.sequences)

@@ -23,6 +23,8 @@
 #include "static_core/visibility.hpp"
 
 #include <benchmark/benchmark.h>
+
+#include "bench/bench_args.hpp"
 #include <glm/geometric.hpp>
 #include <tbb/global_control.h>
 
@@ -153,10 +155,7 @@ void parse_own_flags(int& argc, char** argv) {
   int kept = 1;
   for (int i = 1; i < argc; ++i) {
     const char* a = argv[i];
-    auto value = [&](const char* name) -> const char* {
-      const std::size_t len = std::strlen(name);
-      return std::strncmp(a, name, len) == 0 && a[len] == '=' ? a + len + 1 : nullptr;
-    };
+    auto value = [&](const char* name) { return bench::flag_value(a, name); };
     if (const char* v = value("--pleat_resolutions"))
       g_resolutions = parse_list(v);
     else if (const char* v = value("--pleat_frame"))
