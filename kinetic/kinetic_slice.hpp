@@ -10,14 +10,21 @@
 //   2. Motion: the surviving slice vertices move linearly from their frame-k points to their frame-k+1
 //      points (moving_orientation.hpp). Certificates: every finite triangle stays positively oriented, every
 //      hull vertex stays convex or flat. Each certificate's first root in (t, 1] goes into a queue ordered by
-//      exact time (ties: by creation order, so deterministic). A collapsing triangle flips the edge opposite
+//      exact time (ties: by creation order, so deterministic); cheapest decision first: the interval filter,
+//      exact Bernstein signs at t = 0, interval subdivision, rational arithmetic only where intervals cannot
+//      decide (root_isolation.hpp). A collapsing triangle flips the edge opposite
 //      the vertex that crosses it — across a hull edge, that vertex joins the hull; a hull vertex going
 //      reflex leaves the hull by a flip with the outside. Touching zeros need no repair. A triangle
 //      degenerate at t = 1 is flipped too (static_core's triangulation has no degenerate triangles).
 //   3. The slice vertices of edges that start crossing are inserted with their chain edges at t = 1.
 //   4. Regions, windows and corners are re-derived from the triangulation when its combinatorics changed
-//      (they depend on nothing else); the funnel trees and cones are grown on it (static_core's code).
-// Guard: before step 3 every triangle is checked exactly at t = 1 (the static engine's predicates on the
+//      (they depend on nothing else); the funnel trees and cones are grown on it (static_core's code). Trees
+//      are regrown, not kept with tautness certificates: between two frames the tree at t = 1 is a function of
+//      the kept triangulation and the points at t = 1, and certifying a kept tree over the interval (a
+//      tautness and a visibility certificate per node and tree, 13-27 ns each) costs as much as regrowing it
+//      (65-71 ns per node and tree; bench/results/kinetic_micro.md).
+// Checks: with check_every_event (Debug builds, tests) the kinetic invariants after every event
+// (event_invariants). Guard: before step 3 every triangle is checked exactly at t = 1 (the static engine's predicates on the
 // same points); a failure, chains that cross, points that coincide, a collinear slice, or more events or
 // edits than the policy allows rebuild the slice from scratch with static_core, and the reason is counted.
 // Because hull, regions, windows and corners of a valid constrained triangulation do not depend on which
