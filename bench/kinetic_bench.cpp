@@ -293,22 +293,17 @@ void exact_benchmark(benchmark::State& state, std::string name) {
   state.counters["s_per_certificate"] = per_item(double(w.undecided.size()));
 }
 
-/// How KineticSlice's certify decides an undecided triangle certificate at t = 0 (kinetic_slice.cpp): which
-/// stage settled it (0: exact Bernstein signs, 1: intervals, 2: rational arithmetic).
+/// How KineticSlice's certify decides an undecided triangle certificate at t = 0 (kinetic::first_failure):
+/// which stage settled it (0: exact Bernstein signs, 1: intervals, 2: rational arithmetic).
 int decide_lazily(const Triple& t, const RootTime& t0) {
-  const kinetic::CertificatePolynomial certificate = kinetic::orientation_certificate(t[0], t[1], t[2]);
-  const std::array<int, 3> s = kinetic::bernstein_signs(t[0], t[1], t[2]);
-  if (s == std::array<int, 3>{0, 0, 0}) return 0;          // collinear for all t
-  if (s[0] >= 0 && s[1] >= 0 && s[2] >= 0) return 0;        // non-negative on [0, 1]
-  if (const int sign = kinetic::certain_sign_at(certificate, t0); sign != 0) {
-    if (sign < 0) return 1;
-    kinetic::IsolationStage stage = kinetic::IsolationStage::filter;
-    benchmark::DoNotOptimize(kinetic::first_root_after(certificate, t0, &stage));
-    return stage == kinetic::IsolationStage::exact ? 2 : 1;
+  const kinetic::CertificateFailure failure = kinetic::first_failure(t, t0, true);
+  benchmark::DoNotOptimize(failure.time);
+  switch (failure.decided_by) {
+    case kinetic::CertificateFailure::DecidedBy::filter:
+    case kinetic::CertificateFailure::DecidedBy::exact_signs: return 0;
+    case kinetic::CertificateFailure::DecidedBy::intervals: return 1;
+    case kinetic::CertificateFailure::DecidedBy::rationals: return 2;
   }
-  const kinetic::ExactPolynomial poly = certificate.exact();
-  if (!poly.is_zero() && kinetic::sign_after(poly, t0) >= 0)
-    benchmark::DoNotOptimize(kinetic::first_root_after(poly, t0));
   return 2;
 }
 

@@ -278,8 +278,8 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::opt
   auto& queue = scratch.queue;
   queue.clear();
   std::uint64_t sequence = 0;
-  auto schedule = [&](const RootTime& time, FaceHandle f, const CertificatePolynomial& certificate, bool crosses) {
-    queue.push_back({time, f, f->info().version, sequence++, certificate, crosses});
+  auto schedule = [&](const RootTime& time, FaceHandle f, CertificatePolynomial certificate, bool crosses) {
+    queue.push_back({time, f, f->info().version, sequence++, std::move(certificate), crosses});
     std::push_heap(queue.begin(), queue.end(), LaterEvent());
   };
   // (Re)certifies face f from time t0: a finite face stays positively oriented; an infinite face (oo, a, b)
@@ -288,52 +288,11 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::opt
   auto certify = [&](FaceHandle f, const RootTime& t0) {
     ++f->info().version;
     ++counts.certificates;
-    const bool hull = cdt.is_infinite(f);
     std::array<MovingPoint, 3> p;
     if (!certificate_points(cdt, f, motion, p)) return;
-    {
-      CGAL::Protect_FPU_rounding<true> rounding;
-      if (certainly_positive(p[0], p[1], p[2])) return;
-    }
-    ++counts.exact_certificates;
-    const CertificatePolynomial certificate = orientation_certificate(p[0], p[1], p[2]);
-    if (t0.upper_bound() == 0.0) {
-      // The start of the interval: the exact signs of the Bernstein coefficients decide most undecided
-      // certificates (degenerate ones: collinear for all t, or touching zero at an end) without rationals.
-      const std::array<int, 3> s = bernstein_signs(p[0], p[1], p[2]);
-      if (s == std::array<int, 3>{0, 0, 0}) {
-        if (!hull) schedule(t0, f, certificate, false);  // a flat hull corner for all t holds; a flat triangle never
-        return;
-      }
-      if (s[0] >= 0 && s[1] >= 0 && s[2] >= 0) {
-        if (s[2] == 0) schedule(RootTime::one(), f, certificate, false);  // its one zero in (0, 1]
-        return;
-      }
-    }
-    // Intervals first: a certain sign at t0 (most certificates undecided by the filter); the first zero after
-    // t0 by interval subdivision, a simple one where the certificate fails (exact arithmetic only if needed).
-    if (const int s = certain_sign_at(certificate, t0); s != 0) {
-      if (s < 0) {
-        schedule(t0, f, certificate, false);
-        return;
-      }
-      IsolationStage stage = IsolationStage::filter;
-      const std::optional<RootTime> root = first_root_after(certificate, t0, &stage);
-      counts.exact_certificates += stage == IsolationStage::exact;
-      if (root) schedule(*root, f, certificate, stage == IsolationStage::subdivision);
-      return;
-    }
-    ++counts.exact_certificates;
-    const ExactPolynomial poly = certificate.exact();
-    if (poly.is_zero()) {
-      if (!hull) schedule(t0, f, certificate, false);  // a flat hull corner for all t holds; a flat triangle never
-      return;
-    }
-    // Fails now: negative just after t0, or, for a triangle created by a flip at t = 1, flat at t = 1.
-    if (sign_after(poly, t0) < 0 || (!hull && t0 == RootTime::one() && sign_at(poly, t0) == 0))
-      schedule(t0, f, certificate, false);
-    else if (auto root = first_root_after(poly, t0))
-      schedule(*root, f, certificate, false);
+    CertificateFailure failure = first_failure(p, t0, !cdt.is_infinite(f));
+    counts.exact_certificates += failure.decided_by != CertificateFailure::DecidedBy::filter;
+    if (failure.time) schedule(*failure.time, f, std::move(failure.certificate), failure.crosses);
   };
   // The policy's bound, and in any case a bound on same-instant cascades (flips at one exact time that keep
   // producing degenerate triangles) and on the total (a kinetic triangulation has O(n^2) events at most).
@@ -459,19 +418,24 @@ bool KineticSlice::check_invariants(std::string* why) const {
   if (!m_tri.check_invariants(why)) return false;
   const Cdt& cdt = m_tri.cdt();
   if (m_tri.dimension() < 2) return true;
-  // The constraints are exactly the chain edges (between distinct points).
+  // The constraints are exactly the chain edges between distinct points (several chain edges may join the same
+  // two points where slice points coincide: a mesh edge lying in the plane).
   std::size_t constrained = 0;
   for (auto e = cdt.finite_edges_begin(); e != cdt.finite_edges_end(); ++e) constrained += cdt.is_constrained(*e);
-  std::size_t chain_edges = 0;
+  std::vector<std::pair<const void*, const void*>> chain_edges;
   for (const SliceEdge& e : m_out.slice.edges) {
     const VertexHandle a = m_tri.vertex_of(e.from), b = m_tri.vertex_of(e.to);
     if (a == b) continue;
-    ++chain_edges;
+    const void* pa = &*a;
+    const void* pb = &*b;
+    chain_edges.emplace_back(std::less<const void*>()(pa, pb) ? std::make_pair(pa, pb) : std::make_pair(pb, pa));
     FaceHandle f;
     int i = 0;
     if (!cdt.is_edge(a, b, f, i) || !f->is_constrained(i)) return fail("a chain edge is not a constrained edge");
   }
-  if (m_out.crossings == 0 && constrained != chain_edges) return fail("a constrained edge is not a chain edge");
+  std::sort(chain_edges.begin(), chain_edges.end());
+  const std::size_t distinct = std::unique(chain_edges.begin(), chain_edges.end()) - chain_edges.begin();
+  if (m_out.crossings == 0 && constrained != distinct) return fail("a constrained edge is not a chain edge");
   return true;
 }
 

@@ -18,6 +18,7 @@
 
 #include <array>
 #include <glm/vec2.hpp>
+#include <optional>
 
 #include "kinetic/root_isolation.hpp"
 
@@ -47,5 +48,21 @@ CertificatePolynomial orientation_certificate(const MovingPoint& a, const Moving
 
 /// orient(a(t), b(t), c(t)) as an exact polynomial of degree <= 2 (allocates).
 ExactPolynomial orientation_polynomial(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c);
+
+/// Where a certificate orient(a(t), b(t), c(t)) >= 0, watched from t0, first needs the kinetic layer. For a
+/// `triangle` it must also stay nonzero (a flat triangle is repaired: collinear for all t, it fails at once,
+/// and a flip at t = 1 must not leave it flat there); a hull corner may stay flat.
+struct CertificateFailure {
+  enum class DecidedBy { filter, exact_signs, intervals, rationals };
+  std::optional<RootTime> time;  ///< none: it holds on (t0, 1]; else the time of its event (t0: fails now)
+  bool crosses = false;          ///< a simple zero isolated by intervals: the certificate fails there
+  DecidedBy decided_by = DecidedBy::filter;
+  CertificatePolynomial certificate;  ///< built unless the filter decided
+};
+
+/// Cheapest decision first: the interval filter (positive on [0, 1]); at t0 = 0 the exact Bernstein signs;
+/// the certificate's interval sign at t0 and interval subdivision for its first zero; rational arithmetic only
+/// where intervals cannot decide. Exact in every case.
+CertificateFailure first_failure(const std::array<MovingPoint, 3>& p, const RootTime& t0, bool triangle);
 
 }  // namespace pleat::kinetic
