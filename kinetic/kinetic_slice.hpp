@@ -21,8 +21,9 @@
 //      (they depend on nothing else); the funnel trees and cones are grown on it (static_core's code). Trees
 //      are regrown, not kept with tautness certificates: between two frames the tree at t = 1 is a function of
 //      the kept triangulation and the points at t = 1, and certifying a kept tree over the interval (a
-//      tautness and a visibility certificate per node and tree, 13-27 ns each) costs as much as regrowing it
-//      (65-71 ns per node and tree; bench/results/kinetic_micro.md).
+//      tautness certificate per node and tree, a visibility one per triangle edge its tree edge crosses,
+//      13-27 ns each) costs nearly as much as regrowing it (65-71 ns per node and tree), while the wedges are
+//      re-evaluated either way: a few percent of a frame at best (bench/results/kinetic_micro.md).
 // Checks: with check_every_event (Debug builds, tests) the kinetic invariants after every event
 // (event_invariants). Guard: before step 3 every triangle is checked exactly at t = 1 (the static engine's predicates on the
 // same points); a failure, chains that cross, points that coincide, a collinear slice, or more events or
