@@ -100,7 +100,6 @@ constexpr std::size_t kCurtainFrame = 12;  // a quarter of the cycle: moving fas
 bool parse_options(int& argc, char** argv) {
   int kept = 1;
   for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
     auto value = [&](const char* name) { return bench::flag_value(argv[i], name); };
     if (const char* v = value("--pleat_sequences")) {
       g_options.sequences = bench::split(v);

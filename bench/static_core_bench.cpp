@@ -116,7 +116,6 @@ using bench::split;
 bool parse_options(int& argc, char** argv) {
   int kept = 1;
   for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
     auto value = [&](const char* name) { return bench::flag_value(argv[i], name); };
     if (const char* v = value("--pleat_resolutions")) {
       g_options.resolutions.clear();
