@@ -48,7 +48,7 @@ namespace pleat::kinetic {
 /// What happened to one slice in one interval.
 struct SliceEventCounts {
   std::size_t certificates = 0;        ///< triangle and hull certificates computed
-  std::size_t exact_certificates = 0;  ///< of which the filter could not decide (an exact decision, ~5 us)
+  std::size_t exact_certificates = 0;  ///< of which the filter could not decide (exact signs, intervals or rationals)
   std::size_t flips = 0;               ///< a triangle collapsed: its edge flipped
   std::size_t hull_enter = 0;          ///< a vertex crossed a hull edge and joined the hull
   std::size_t hull_leave = 0;          ///< a hull vertex went reflex and left the hull
@@ -68,7 +68,7 @@ struct KineticEvent {
   std::uint32_t version = 0;
   std::uint64_t sequence = 0;  ///< creation order: the deterministic tie-break
   CertificatePolynomial certificate;
-  bool crosses = false;  ///< a simple zero found by interval subdivision: the certificate fails (no exact work)
+  bool fails = false;  ///< known to fail at `time` (CertificateFailure::fails): no exact sign test there
 };
 
 /// Per-thread memory of KineticSlice (no allocation per frame once warmed up, outside exact fallbacks).

@@ -48,8 +48,9 @@ struct KineticVisibility::Impl {
   void check(std::size_t p) const {
     if (!params.check_invariants) return;
     std::string why;
-    PLEAT_ASSERT(slices[p].check_invariants(&why),
-                 "plane " + std::to_string(p) + " (" + kinetic::rebuild_reason_name(counts[p].rebuild) + "): " + why);
+    if (!slices[p].check_invariants(&why))  // thrown whatever PLEAT_CHECK_INVARIANTS says: the caller asked
+      throw InvariantError("plane " + std::to_string(p) + " (" + kinetic::rebuild_reason_name(counts[p].rebuild) +
+                           "): " + why);
   }
 
   void index_vertex_faces() {

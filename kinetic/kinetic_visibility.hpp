@@ -29,15 +29,16 @@ class KineticSlice;
 enum class RebuildReason : int { none = 0, degenerate, crossing, policy, repair_failed, count };
 const char* rebuild_reason_name(RebuildReason reason);
 
-/// When repairing a slice costs more than rebuilding it. Measured with `pleat visibility --serial
-/// --max-events-per-vertex X --max-edit-fraction X` for X in {0, 0.5, 2, 100} (README, "Kinetic engine"): on
-/// the bundled drape (3,111 vertices, 185 planes) the median frame took 139 / 173 / 194 / 203 ms for X = 0 /
-/// 0.5 / 2 / 100 (static: 140 ms), on the curtain at 3,025 vertices 82 / 97 / 100 ms for X = 0 / 0.5 / 2
-/// (static: 102 ms); at 4x the frame rate the settings were within 5% of each other. An event costs more
-/// (certificates, exact roots, flips) than CGAL's rebuild of a small share of the slice, so the defaults
-/// repair only slices with few events and edits (the constants below) and keep every slice that has none.
+/// When repairing a slice costs more than rebuilding it. Measured by bench/run_kinetic_policy.sh
+/// (bench/results/kinetic_policy.md: static vs X = 0, 0.25, 1, 100 for `--max-events-per-vertex X
+/// --max-edit-fraction X` on the drape and a curtain at native and 4x rate): X = 0 is the best on the drape
+/// and the curtain at native rate, and within 4% of the best at 4x. An event or edit costs more (certificates, exact decisions, flips, CGAL's vertex removal and
+/// insertion) than CGAL's rebuild of a small share of the slice, so the defaults repair only slices with few
+/// events and edits (the constants below) and keep every slice that has none.
 struct KineticPolicy {
-  /// Rebuild when an interval's events exceed 16 plus this many per slice vertex.
+  /// Rebuild when an interval's events exceed 16 plus this many per slice vertex; also, before processing
+  /// them, when more certificates than that fail in the interval or are left undecided by the interval filter
+  /// (an exact decision costs about 5 us on average, bench/results/kinetic_micro.md).
   double max_events_per_vertex = 0.0;
   /// Rebuild when the slice vertices removed plus inserted exceed 2 plus this fraction of the slice.
   double max_edit_fraction = 0.0;
@@ -60,7 +61,7 @@ struct KineticParams {
 struct KineticFrameStats {
   double seconds = 0.0;              ///< wall time of advance()
   std::size_t certificates = 0;      ///< triangle and hull certificates computed
-  std::size_t exact_certificates = 0;  ///< of which the filter could not decide (an exact decision, ~5 us)
+  std::size_t exact_certificates = 0;  ///< of which the filter could not decide (exact signs, intervals or rationals)
   std::size_t flips = 0;             ///< triangle collapses repaired by an edge flip
   std::size_t hull_enter = 0;        ///< vertices that crossed a hull edge (windows change)
   std::size_t hull_leave = 0;        ///< hull vertices that went reflex (windows change)

@@ -43,7 +43,7 @@ CertificateFailure first_failure(const std::array<MovingPoint, 3>& p, const Root
     out.decided_by = DecidedBy::exact_signs;
     const std::array<int, 3> s = bernstein_signs(p[0], p[1], p[2]);
     if (s == std::array<int, 3>{0, 0, 0}) {
-      if (triangle) out.time = t0;
+      if (triangle) out.time = t0, out.fails = true;
       return out;
     }
     if (s[0] >= 0 && s[1] >= 0 && s[2] >= 0) {
@@ -56,24 +56,25 @@ CertificateFailure first_failure(const std::array<MovingPoint, 3>& p, const Root
   if (const int s = certain_sign_at(out.certificate, t0); s != 0) {
     out.decided_by = DecidedBy::intervals;
     if (s < 0) {
-      out.time = t0;
+      out.time = t0, out.fails = true;
       return out;
     }
     IsolationStage stage = IsolationStage::filter;
     out.time = first_root_after(out.certificate, t0, &stage);
-    out.crosses = out.time && stage == IsolationStage::subdivision;
+    // A zero found by subdivision after a certainly positive start is simple: the certificate crosses it.
+    out.fails = out.time && stage == IsolationStage::subdivision;
     if (stage == IsolationStage::exact) out.decided_by = DecidedBy::rationals;
     return out;
   }
   out.decided_by = DecidedBy::rationals;
   const ExactPolynomial poly = out.certificate.exact();
   if (poly.is_zero()) {
-    if (triangle) out.time = t0;
+    if (triangle) out.time = t0, out.fails = true;
     return out;
   }
   // Fails now: negative just after t0, or a triangle flat at t0 = 1 (created by a flip at the end).
   if (sign_after(poly, t0) < 0 || (triangle && t0 == RootTime::one() && sign_at(poly, t0) == 0))
-    out.time = t0;
+    out.time = t0, out.fails = true;
   else
     out.time = first_root_after(poly, t0);
   return out;

@@ -55,7 +55,9 @@ ExactPolynomial orientation_polynomial(const MovingPoint& a, const MovingPoint& 
 struct CertificateFailure {
   enum class DecidedBy { filter, exact_signs, intervals, rationals };
   std::optional<RootTime> time;  ///< none: it holds on (t0, 1]; else the time of its event (t0: fails now)
-  bool crosses = false;          ///< a simple zero isolated by intervals: the certificate fails there
+  /// Known to fail at `time` (negative just after it, flat for all t, or a triangle flat at t = 1), so the
+  /// event needs no exact sign test; false when that is left to the event (a touch is possible).
+  bool fails = false;
   DecidedBy decided_by = DecidedBy::filter;
   CertificatePolynomial certificate;  ///< built unless the filter decided
 };

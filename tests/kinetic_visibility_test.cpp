@@ -214,7 +214,6 @@ TEST(KineticVisibility, CoherentMotionsExerciseEveryRepair) {
   EXPECT_GT(totals.slices_repaired, totals.slices_rebuilt);
 }
 
-/// A sheet in z = 0 turning in its own plane: every slice is collinear (dimension 1).
 // The per-event check (on in Debug builds and in these tests) must be able to fail: a square with a point
 // inside that moves out through the bottom edge has an event, so an empty queue violates the invariants, as
 // do a wrong constraint count and an event for a triangle that never fails; without motion all holds.
@@ -239,6 +238,7 @@ TEST(KineticVisibility, EventInvariantsCatchAMissingEvent) {
   EXPECT_NE(kinetic::event_invariants(cdt, still, spurious, kinetic::RootTime::zero(), 0), "");
 }
 
+/// A sheet in z = 0 turning in its own plane: every slice is collinear (dimension 1).
 TEST(KineticVisibility, FlatSheetEveryFrame) {
   test::TestMesh sheet = test::flat_sheet(9, 7, 0.1);
   std::vector<Frame> frames;
