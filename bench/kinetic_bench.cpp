@@ -375,14 +375,7 @@ void advance_benchmark(benchmark::State& state, std::string name, KineticPolicy 
     for (std::size_t p = 0; p < slices.size(); ++p) {
       const SliceEventCounts c =
           slices[p].advance(w.topology, *w.edges, w.frame1, w.plan.planes[p], w.faces1[p], policy, scratch);
-      total.certificates += c.certificates;
-      total.exact_certificates += c.exact_certificates;
-      total.flips += c.flips;
-      total.hull_enter += c.hull_enter;
-      total.hull_leave += c.hull_leave;
-      total.touches += c.touches;
-      total.removed += c.removed;
-      total.inserted += c.inserted;
+      total += c;
       rebuilt += c.rebuild != kinetic::RebuildReason::none;
       ++because[static_cast<std::size_t>(c.rebuild)];
     }

@@ -172,14 +172,17 @@ void KineticSlice::finish_build(const MeshTopology& topology, KineticScratch& sc
   m_out.crossings = m_tri.crossings();
   m_editable = m_tri.dimension() == 2 && m_out.crossings == 0 &&
                m_tri.cdt().number_of_vertices() == m_out.slice.vertices.size();
-  compute_slice_cones(m_out.slice, m_tri, scratch.cones, m_out.cones);
-  store_cones(topology.num_vertices, m_out, scratch.best);
+  grow_cones(topology, scratch);
 }
 
 void KineticSlice::finish_frame(const MeshTopology& topology, bool structure_changed, KineticScratch& scratch) {
   std::swap(m_out.slice, m_next);
   m_tri.adopt_edits(m_out.slice, structure_changed);
   m_out.crossings = 0;
+  grow_cones(topology, scratch);
+}
+
+void KineticSlice::grow_cones(const MeshTopology& topology, KineticScratch& scratch) {
   compute_slice_cones(m_out.slice, m_tri, scratch.cones, m_out.cones);
   store_cones(topology.num_vertices, m_out, scratch.best);
 }

@@ -59,6 +59,18 @@ struct SliceEventCounts {
   RebuildReason rebuild = RebuildReason::none;
 
   std::size_t events() const { return flips + hull_enter + hull_leave + touches; }
+  /// Sums the counters (not `structure_changed` or `rebuild`): totals over slices.
+  SliceEventCounts& operator+=(const SliceEventCounts& o) {
+    certificates += o.certificates;
+    exact_certificates += o.exact_certificates;
+    flips += o.flips;
+    hull_enter += o.hull_enter;
+    hull_leave += o.hull_leave;
+    touches += o.touches;
+    removed += o.removed;
+    inserted += o.inserted;
+    return *this;
+  }
 };
 
 /// A certificate's first zero: its face (and the face's certificate version then) and its certificate.
@@ -123,6 +135,7 @@ class KineticSlice {
  private:
   void finish_build(const MeshTopology& topology, KineticScratch& scratch);
   void finish_frame(const MeshTopology& topology, bool structure_changed, KineticScratch& scratch);
+  void grow_cones(const MeshTopology& topology, KineticScratch& scratch);
   RebuildReason move_survivors(const KineticPolicy& policy, std::optional<std::size_t> check_constraints,
                                KineticScratch& scratch, SliceEventCounts& counts);
 
