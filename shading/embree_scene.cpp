@@ -278,6 +278,83 @@ bool EmbreeScene::occluded(const RayQuery& ray, IgnoredTriangles ignore) const {
   return r.tfar == -std::numeric_limits<float>::infinity();
 }
 
+namespace {
+
+/// Rays of escaping_rays from one origin (in the scene's offset frame), all with tnear = t0 and tfar = inf.
+struct RayFan {
+  float ox, oy, oz, t0;
+  std::span<const glm::vec3> directions;
+};
+
+constexpr float kOccluded = -std::numeric_limits<float>::infinity();  // Embree's tfar after a hit
+
+/// Fills lane `lane` of an RTCRay (W = 1) or RTCRayW packet with ray `i` of the fan.
+template <class Ray>
+void fill_lane(Ray& r, int lane, const RayFan& fan, std::size_t i) {
+  const glm::vec3& d = fan.directions[i];
+  if constexpr (requires { r.org_x[0]; }) {
+    r.org_x[lane] = fan.ox, r.org_y[lane] = fan.oy, r.org_z[lane] = fan.oz, r.tnear[lane] = fan.t0;
+    r.dir_x[lane] = d.x, r.dir_y[lane] = d.y, r.dir_z[lane] = d.z, r.time[lane] = 0.0f;
+    r.tfar[lane] = std::numeric_limits<float>::infinity(), r.mask[lane] = ~0u, r.id[lane] = unsigned(i),
+    r.flags[lane] = 0;
+  } else {
+    r.org_x = fan.ox, r.org_y = fan.oy, r.org_z = fan.oz, r.tnear = fan.t0;
+    r.dir_x = d.x, r.dir_y = d.y, r.dir_z = d.z, r.time = 0.0f;
+    r.tfar = std::numeric_limits<float>::infinity(), r.mask = ~0u, r.id = unsigned(i), r.flags = 0;
+  }
+}
+
+/// rtcOccluded4/8/16 over the fan, W lanes at a time (the last packet masked).
+template <int W, class Packet, auto occluded>
+void occluded_packets(RTCScene scene, RTCIntersectContext* context, const RayFan& fan, std::span<std::uint8_t> escaped) {
+  alignas(64) int valid[W];
+  alignas(64) Packet packet;
+  for (std::size_t begin = 0; begin < fan.directions.size(); begin += W) {
+    const std::size_t count = std::min<std::size_t>(W, fan.directions.size() - begin);
+    for (int lane = 0; lane < W; ++lane) {
+      valid[lane] = std::size_t(lane) < count ? -1 : 0;
+      fill_lane(packet, lane, fan, begin + std::min<std::size_t>(std::size_t(lane), count - 1));
+    }
+    occluded(valid, scene, context, &packet);
+    for (std::size_t i = 0; i < count; ++i) escaped[begin + i] = packet.tfar[i] == kOccluded ? 0 : 1;
+  }
+}
+
+/// rtcOccluded1M over chunks of 64 rays: enough for Embree to form packets, small enough for L1.
+void occluded_stream(RTCScene scene, RTCIntersectContext* context, const RayFan& fan, std::span<std::uint8_t> escaped) {
+  constexpr std::size_t kChunk = 64;
+  RTCRay rays[kChunk];
+  for (std::size_t begin = 0; begin < fan.directions.size(); begin += kChunk) {
+    const std::size_t count = std::min(kChunk, fan.directions.size() - begin);
+    for (std::size_t i = 0; i < count; ++i) fill_lane(rays[i], 0, fan, begin + i);
+    rtcOccluded1M(scene, context, rays, static_cast<unsigned>(count), sizeof(RTCRay));
+    for (std::size_t i = 0; i < count; ++i) escaped[begin + i] = rays[i].tfar == kOccluded ? 0 : 1;
+  }
+}
+
+void occluded_single(RTCScene scene, RTCIntersectContext* context, const RayFan& fan, std::span<std::uint8_t> escaped) {
+  RTCRay ray;
+  for (std::size_t i = 0; i < fan.directions.size(); ++i) {
+    fill_lane(ray, 0, fan, i);
+    rtcOccluded1(scene, context, &ray);
+    escaped[i] = ray.tfar == kOccluded ? 0 : 1;
+  }
+}
+
+}  // namespace
+
+const char* ray_call_name(EmbreeSceneParams::RayCall call) {
+  using C = EmbreeSceneParams::RayCall;
+  switch (call) {
+    case C::Stream: return "stream";
+    case C::Packet4: return "packet4";
+    case C::Packet8: return "packet8";
+    case C::Packet16: return "packet16";
+    case C::Single: return "single";
+  }
+  return "?";
+}
+
 void EmbreeScene::escaping_rays(const glm::dvec3& origin, std::span<const glm::vec3> directions, double tnear,
                                 IgnoredTriangles ignore, std::span<std::uint8_t> escaped) const {
   if (escaped.size() != directions.size())
@@ -285,32 +362,17 @@ void EmbreeScene::escaping_rays(const glm::dvec3& origin, std::span<const glm::v
   const Impl& s = *m_impl;
   FilterContext context;
   init_context(context, ignore);
+  if (s.params.coherent) context.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   const glm::dvec3 o = origin - s.offset;
-  const float ox = static_cast<float>(o.x), oy = static_cast<float>(o.y), oz = static_cast<float>(o.z);
-  const float t0 = static_cast<float>(tnear);
-  constexpr std::size_t kChunk = 64;  // stream length: enough for Embree to form packets, fits in L1
-  RTCRay rays[kChunk];
-  for (std::size_t begin = 0; begin < directions.size(); begin += kChunk) {
-    const std::size_t count = std::min(kChunk, directions.size() - begin);
-    for (std::size_t i = 0; i < count; ++i) {
-      RTCRay& r = rays[i];
-      const glm::vec3& d = directions[begin + i];
-      r.org_x = ox;
-      r.org_y = oy;
-      r.org_z = oz;
-      r.tnear = t0;
-      r.dir_x = d.x;
-      r.dir_y = d.y;
-      r.dir_z = d.z;
-      r.time = 0.0f;
-      r.tfar = std::numeric_limits<float>::infinity();
-      r.mask = ~0u;
-      r.id = static_cast<unsigned>(i);
-      r.flags = 0;
-    }
-    rtcOccluded1M(s.scene, &context.base, rays, static_cast<unsigned>(count), sizeof(RTCRay));
-    for (std::size_t i = 0; i < count; ++i)
-      escaped[begin + i] = rays[i].tfar == -std::numeric_limits<float>::infinity() ? 0 : 1;
+  const RayFan fan{static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z),
+                   static_cast<float>(tnear), directions};
+  using C = EmbreeSceneParams::RayCall;
+  switch (s.params.ray_call) {
+    case C::Stream: return occluded_stream(s.scene, &context.base, fan, escaped);
+    case C::Packet4: return occluded_packets<4, RTCRay4, rtcOccluded4>(s.scene, &context.base, fan, escaped);
+    case C::Packet8: return occluded_packets<8, RTCRay8, rtcOccluded8>(s.scene, &context.base, fan, escaped);
+    case C::Packet16: return occluded_packets<16, RTCRay16, rtcOccluded16>(s.scene, &context.base, fan, escaped);
+    case C::Single: return occluded_single(s.scene, &context.base, fan, escaped);
   }
 }
 

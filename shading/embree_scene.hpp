@@ -40,7 +40,22 @@ struct EmbreeSceneParams {
   BuildMode mode = BuildMode::Refit;
   /// RTC_SCENE_FLAG_ROBUST: watertight traversal without accuracy-reducing shortcuts. On for ground truth.
   bool robust = true;
+  /// How escaping_rays hands its rays to Embree. Every call gives the same answers; which is fastest depends
+  /// on the CPU and the scene (bench/frame_coherence_bench measures them and uses the fastest).
+  enum class RayCall {
+    Stream,    ///< rtcOccluded1M over chunks of 64 rays (Embree forms packets itself)
+    Packet4,   ///< rtcOccluded4 (SSE-width packets)
+    Packet8,   ///< rtcOccluded8 (AVX-width packets)
+    Packet16,  ///< rtcOccluded16 (AVX-512-width packets; emulated on narrower CPUs)
+    Single,    ///< rtcOccluded1, one ray at a time
+  };
+  RayCall ray_call = RayCall::Stream;
+  /// RTC_INTERSECT_CONTEXT_FLAG_COHERENT for escaping_rays (its rays share an origin): a hint, same answers.
+  bool coherent = false;
 };
+
+/// "stream", "packet4", "packet8", "packet16", "single".
+const char* ray_call_name(EmbreeSceneParams::RayCall call);
 
 /// One ray, in world coordinates. `direction` need not be unit; t is measured in units of |direction|.
 struct RayQuery {

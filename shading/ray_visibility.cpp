@@ -139,15 +139,18 @@ RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topolo
                                   const std::vector<glm::dvec3>& normals, const RayVisibilityParams& params) {
   check_vertex_estimator_inputs("ray_cast_visibility", "rays_per_vertex", params.rays_per_vertex, scene, topology,
                                 frame, normals);
+  if (params.vertex_stride < 1) throw std::invalid_argument("ray_cast_visibility: vertex_stride must be >= 1");
   scene.update(frame);
 
   const Index n_vertices = topology.num_vertices;
   const int k = params.rays_per_vertex;
   const double tnear = 1e-6 * scene.scene_diameter();
   RayVisibility out;
+  const Index stride = params.vertex_stride;
+  const double unset = stride == 1 ? 0.0 : std::numeric_limits<double>::quiet_NaN();
   for (int s = 0; s < 2; ++s) {
-    out.sky_visibility[s].assign(n_vertices, 0.0);
-    out.bent_normals[s].assign(n_vertices, glm::dvec3(0.0));
+    out.sky_visibility[s].assign(n_vertices, unset);
+    out.bent_normals[s].assign(n_vertices, glm::dvec3(unset));
   }
   std::vector<std::uint64_t> cast(n_vertices, 0);
 
@@ -160,6 +163,7 @@ RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topolo
     world.reserve(static_cast<std::size_t>(k));
     to_cast.reserve(static_cast<std::size_t>(k));
     for (Index v = begin; v < end; ++v) {
+      if (v % stride != 0) continue;
       const glm::dvec3 n = glm::length(normals[v]) > 0.0 ? normals[v] : glm::dvec3(0.0, 0.0, 1.0);
       fan.build(topology, frame, scene.incident_triangles(v), v, n);
       for (Side side : kBothSides) {

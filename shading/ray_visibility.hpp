@@ -50,6 +50,8 @@ struct RayVisibilityParams {
   int rays_per_vertex = 256;  ///< K, per vertex and side (the ground truth uses 4096)
   std::uint64_t seed = 1;
   bool parallel = true;       ///< TBB-parallel over vertices
+  /// Estimate only vertices 0, s, 2s, ... (a ground truth on a sample of a large mesh); the others get NaN.
+  Index vertex_stride = 1;
 };
 
 /// Per-vertex results, indexed [side][vertex] (side 0 = Front, 1 = Back).

@@ -228,6 +228,51 @@ TEST(RayVisibility, RefitAgreesWithRebuild) {
   EXPECT_EQ(refitted.refits(), 1u);
 }
 
+TEST(RayVisibility, EveryRayCallGivesTheSameAnswers) {
+  // Streams, packets of 4/8/16 (the last one partly masked: 100 rays), single rays, coherent or not, with a
+  // refitted or rebuilt BVH: the same rays, so the same escapes.
+  const VFold fold = v_fold(0.5, {0.0, 0.5, 1.0, 3.0}, {-3.0, -1.0, -0.5, 0.0, 0.5, 1.0, 3.0});
+  RayVisibilityParams params;
+  params.rays_per_vertex = 100;
+  const RayVisibility reference = run(fold.mesh, params);
+  bool any_blocked = false;
+  for (double a : reference.sky_visibility[0]) any_blocked |= a < 1.0;
+  ASSERT_TRUE(any_blocked) << "the fold must block some rays, or the comparison proves nothing";
+  using C = EmbreeSceneParams::RayCall;
+  for (C call : {C::Stream, C::Packet4, C::Packet8, C::Packet16, C::Single})
+    for (bool coherent : {false, true})
+      for (auto mode : {EmbreeSceneParams::BuildMode::Refit, EmbreeSceneParams::BuildMode::Rebuild}) {
+        EmbreeSceneParams scene_params;
+        scene_params.ray_call = call;
+        scene_params.coherent = coherent;
+        scene_params.mode = mode;
+        const RayVisibility r = run(fold.mesh, params, scene_params);
+        for (int s = 0; s < 2; ++s) EXPECT_EQ(r.sky_visibility[s], reference.sky_visibility[s]) << ray_call_name(call);
+        EXPECT_EQ(r.rays_cast, reference.rays_cast);
+      }
+}
+
+TEST(RayVisibility, VertexStrideEstimatesASampleWithTheSameValues) {
+  const VFold fold = v_fold(0.5, {0.0, 0.5, 1.0, 3.0}, {-3.0, -1.0, -0.5, 0.0, 0.5, 1.0, 3.0});
+  RayVisibilityParams params;
+  params.rays_per_vertex = 64;
+  const RayVisibility all = run(fold.mesh, params);
+  params.vertex_stride = 3;
+  const RayVisibility sample = run(fold.mesh, params);
+  for (int s = 0; s < 2; ++s)
+    for (Index v = 0; v < fold.mesh.topology.num_vertices; ++v) {
+      if (v % 3 == 0) {
+        EXPECT_EQ(sample.sky_visibility[s][v], all.sky_visibility[s][v]);
+        EXPECT_EQ(sample.bent_normals[s][v], all.bent_normals[s][v]);
+      } else {
+        EXPECT_TRUE(std::isnan(sample.sky_visibility[s][v]));
+      }
+    }
+  EXPECT_LT(sample.rays_cast, all.rays_cast);
+  params.vertex_stride = 0;
+  EXPECT_THROW(run(fold.mesh, params), std::invalid_argument);
+}
+
 TEST(RayVisibility, CosineSamplesAreUnitAndCosineDistributed) {
   std::vector<glm::dvec3> d;
   cosine_hemisphere_directions(4096, 3, 17, Side::Back, d);
