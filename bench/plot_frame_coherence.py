@@ -8,9 +8,11 @@ Usage: bench/plot_frame_coherence.py [CSV] [--out DIR]
 Writes (PNG, one panel per sequence):
   frame_coherence_time_vs_upsample.png  ms/frame against temporal resolution u, per method (one row per size)
   frame_coherence_ratio.png             kinetic / static time per frame against u, per sequence and size
-  frame_coherence_error_vs_time.png     mean |A - A_ref| against ms/frame at u = 1: Embree's ray counts as a
-                                        curve, the cone engines as points (speed at matched accuracy)
+  frame_coherence_error_vs_time.png     mean |A - A_ref| against ms/frame at u = 1, one thread: Embree's ray
+                                        ladder as a curve, the cone engines as points (speed at matched accuracy)
+  frame_coherence_flicker_vs_time.png   the same for temporal flicker
   frame_coherence_scaling.png           ms/frame against vertices, log-log, per method (u = 1), with slopes
+Every plot uses the one-thread rows.
 Needs matplotlib (Debian: python3-matplotlib).
 """
 import argparse
@@ -29,11 +31,11 @@ from matplotlib import ticker  # noqa: E402
 METHOD_STYLE = {
     "static": dict(color="#1f77b4", marker="s", label="static engine"),
     "kinetic": dict(color="#d62728", marker="o", label="kinetic engine"),
-    "embree64": dict(color="#7f7f7f", marker="v", label="Embree 64 rays"),
-    "embree256": dict(color="#2ca02c", marker="^", label="Embree 256 rays"),
-    "embree1024": dict(color="#9467bd", marker="D", label="Embree 1024 rays"),
+    "embree": dict(color="#555555", marker="v", label="Embree (ray ladder)"),
+    "embree-random": dict(color="#2ca02c", marker="x", label="Embree, new directions each frame"),
 }
-SEQUENCE_ORDER = ["drape", "curtain", "roll", "flag", "sleeve"]
+SCALING_RAYS = 32  # Embree's ray count in the scaling plot
+SEQUENCE_ORDER = ["drape", "pile", "tube", "curtain", "roll", "flag", "sleeve"]
 
 
 def number(text):
@@ -48,11 +50,12 @@ def load(path):
     rows = []
     with open(path, newline="") as f:
         for r in csv.DictReader(f):
-            if r.get("status", "ok") != "ok":
+            if r.get("status", "ok") != "ok" or r.get("threads", "1") != "1":
                 continue
             r["vertices"] = int(r["vertices"])
+            r["rays"] = int(r["rays"])
             r["upsample"] = number(r["upsample"])
-            for key in ("ms_per_frame", "mean_err", "p95_err"):
+            for key in ("ms_per_frame", "mean_err", "p95_err", "flicker"):
                 r[key] = number(r[key])
             rows.append(r)
     return rows
@@ -60,11 +63,6 @@ def load(path):
 
 def ordered(names):
     return sorted(names, key=lambda s: (SEQUENCE_ORDER.index(s) if s in SEQUENCE_ORDER else 99, s))
-
-
-def methods_in(rows):
-    present = {r["method"] for r in rows}
-    return [m for m in METHOD_STYLE if m in present]
 
 
 def u_label(u):
@@ -127,7 +125,7 @@ def plot_time_vs_upsample(rows, out):
             if not sel or (i > 0 and sel[0]["source"] != "generated"):
                 ax.axis("off")
                 continue
-            for method in methods_in(sel):
+            for method in ("static", "kinetic"):
                 pts = sorted((r["upsample"], r["ms_per_frame"]) for r in sel if r["method"] == method)
                 if not pts:
                     continue
@@ -179,8 +177,8 @@ def plot_ratio(rows, out):
          "Kinetic engine's time per frame ÷ the static engine's (< 1: kinetic is faster)")
 
 
-def plot_error_vs_time(rows, out):
-    native = [r for r in rows if r["upsample"] == 1 and not math.isnan(r["mean_err"])]
+def plot_accuracy_vs_time(rows, out, metric, label, filename, title):
+    native = [r for r in rows if r["upsample"] == 1 and not math.isnan(r[metric])]
     sequences = ordered({r["sequence"] for r in native})
     if not sequences:
         return
@@ -192,40 +190,35 @@ def plot_error_vs_time(rows, out):
         sizes = sorted({r["vertices"] for r in sel})
         for k, n in enumerate(sizes):
             fill = "full" if k == 0 else "none"
-            ray_pts = sorted((int(r["rays"]), r["ms_per_frame"], r["mean_err"]) for r in sel
-                             if r["vertices"] == n and r["method"].startswith("embree"))
-            if ray_pts:
-                ax.plot([p[1] for p in ray_pts], [p[2] for p in ray_pts], "-", color="#555555", linewidth=1,
-                        label="Embree 64/256/1024" if k == 0 else None)
-                for rays, ms, err in ray_pts:
-                    st = METHOD_STYLE.get(f"embree{rays}", METHOD_STYLE["embree256"])
-                    ax.plot(ms, err, st["marker"], color=st["color"], fillstyle=fill, markersize=8,
-                            label=st["label"] if k == 0 else None)
-            for method in ("static", "kinetic"):
+            ladder = sorted((r["rays"], r["ms_per_frame"], r[metric]) for r in sel
+                            if r["vertices"] == n and r["method"] == "embree")
+            if ladder:
+                st = METHOD_STYLE["embree"]
+                ax.plot([p[1] for p in ladder], [p[2] for p in ladder], "-", marker=st["marker"], color=st["color"],
+                        fillstyle=fill, linewidth=1, markersize=5, label=st["label"] if k == 0 else None)
+                for rays, ms, value in ladder:
+                    if rays in (8, 16, 32, 64, 256, 1024):
+                        ax.annotate(f"{rays}", (ms, value), textcoords="offset points", xytext=(4, 3), fontsize=7,
+                                    color="#555555")
+            for method in ("static", "kinetic", "embree-random"):
                 for r in sel:
                     if r["vertices"] == n and r["method"] == method:
                         st = METHOD_STYLE[method]
-                        ax.plot(r["ms_per_frame"], r["mean_err"], st["marker"], color=st["color"], fillstyle=fill,
-                                markersize=9, label=f"{st['label']} (u=1)" if k == 0 else None)
-            # the kinetic engine at the finest temporal resolution: same error, its time there
-            for r in rows:
-                if (r["sequence"] == seq and r["vertices"] == n and r["method"] == "kinetic" and r["upsample"] == u_max
-                        and u_max != 1 and not math.isnan(r["mean_err"])):
-                    ax.plot(r["ms_per_frame"], r["mean_err"], "*", color="#d62728", fillstyle=fill, markersize=12,
-                            label=f"kinetic engine (u={u_label(u_max)})" if k == 0 else None)
-            if len(sizes) > 1:
-                ax.annotate(f"{n:,} v", (min(p[1] for p in ray_pts), ray_pts[0][2]) if ray_pts else (1, 1),
-                            textcoords="offset points", xytext=(0, -14), fontsize=8, ha="center")
+                        name = st["label"] + (f" ({r['rays']} rays)" if method == "embree-random" else " (u=1)")
+                        ax.plot(r["ms_per_frame"], r[metric], st["marker"], color=st["color"], fillstyle=fill,
+                                markersize=9, label=name if k == 0 else None)
+            if len(sizes) > 1 and ladder:
+                ax.annotate(f"{n:,} v", (ladder[0][1], ladder[0][2]), textcoords="offset points", xytext=(0, -14),
+                            fontsize=8, ha="center")
         log_x(ax)
         log_y(ax)
         ax.set_title(seq + ("" if len(sizes) == 1 else ": filled " + f"{sizes[0]:,}" + ", hollow " +
                             ", ".join(f"{n:,}" for n in sizes[1:]) + " vertices"), fontsize=10)
-        ax.set_xlabel("wall ms per frame")
+        ax.set_xlabel("wall ms per frame, one thread")
         if j == 0:
-            ax.set_ylabel("mean |A − A_ref| (4096 rays)")
+            ax.set_ylabel(label)
         ax.grid(True, which="both", alpha=0.3)
-    save(fig, os.path.join(out, "frame_coherence_error_vs_time.png"),
-         "Mean error against time per frame (lower left is better; u = 1 unless marked)", axes.flat, 4)
+    save(fig, os.path.join(out, filename), title, axes.flat, 4)
 
 
 def plot_scaling(rows, out):
@@ -239,14 +232,16 @@ def plot_scaling(rows, out):
     for j, seq in enumerate(sequences):
         ax = axes[0][j]
         sel = [r for r in gen if r["sequence"] == seq]
-        for method in methods_in(sel):
-            pts = sorted((r["vertices"], r["ms_per_frame"]) for r in sel if r["method"] == method)
+        for method in ("static", "kinetic", "embree"):
+            pts = sorted((r["vertices"], r["ms_per_frame"]) for r in sel
+                         if r["method"] == method and (method != "embree" or r["rays"] == SCALING_RAYS))
             if len(pts) < 2:
                 continue
             slope = math.log(pts[-1][1] / pts[0][1]) / math.log(pts[-1][0] / pts[0][0])
             st = METHOD_STYLE[method]
+            name = f"Embree {SCALING_RAYS} rays" if method == "embree" else st["label"]
             ax.plot([p[0] for p in pts], [p[1] for p in pts], marker=st["marker"], color=st["color"],
-                    label=f"{st['label']}: slope {slope:.2f}")
+                    label=f"{name}: slope {slope:.2f}")
         ax.set_xscale("log")
         log_y(ax)
         ax.set_xticks(sizes)
@@ -274,7 +269,11 @@ def main():
     os.makedirs(out, exist_ok=True)
     plot_time_vs_upsample(rows, out)
     plot_ratio(rows, out)
-    plot_error_vs_time(rows, out)
+    plot_accuracy_vs_time(rows, out, "mean_err", "mean |A − A_ref| (4096 rays)", "frame_coherence_error_vs_time.png",
+                          "Mean error against time per frame (lower left is better; one thread, u = 1)")
+    plot_accuracy_vs_time(rows, out, "flicker", "flicker: mean |ΔA − ΔA_ref| between frames",
+                          "frame_coherence_flicker_vs_time.png",
+                          "Temporal flicker against time per frame (lower left is better; one thread, u = 1)")
     plot_scaling(rows, out)
 
 
