@@ -1,5 +1,6 @@
 // EnvironmentMap: loading, lookup, and the Green's-theorem integral over spherical polygons (see header).
 #include "shading/environment_map.hpp"
+#include "sim_io/srgb.hpp"
 
 #include "sim_io/input_error.hpp"
 
@@ -27,10 +28,6 @@ double integral_sin2(double t) { return 0.5 * t - 0.25 * std::sin(2.0 * t); }
 double integral_sincos(double t) {
   const double s = std::sin(t);
   return 0.5 * s * s;
-}
-
-float srgb_to_linear_component(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
 /// Halves both dimensions, averaging 2x2 blocks weighted by their rows' solid angles.
@@ -85,7 +82,7 @@ EnvironmentMap EnvironmentMap::load(const std::filesystem::path& path, const Env
     unsigned char* data = stbi_load(name.c_str(), &w, &h, &channels, 3);
     if (data == nullptr) throw InputError(name, "", std::string("cannot read image: ") + stbi_failure_reason());
     float table[256];
-    for (int i = 0; i < 256; ++i) table[i] = srgb_to_linear_component(i / 255.0f);
+    for (int i = 0; i < 256; ++i) table[i] = srgb_to_linear(i / 255.0f);
     texels.resize(static_cast<std::size_t>(w) * h);
     for (std::size_t i = 0; i < texels.size(); ++i)
       texels[i] = glm::vec3(table[data[3 * i]], table[data[3 * i + 1]], table[data[3 * i + 2]]);

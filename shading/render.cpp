@@ -1,5 +1,6 @@
 // render: camera helpers, Embree primary rays, PNG output, turntables, labelled side-by-side panels.
 #include "shading/render.hpp"
+#include "sim_io/srgb.hpp"
 
 #include "sim_io/atomic_file.hpp"
 
@@ -21,16 +22,6 @@ namespace pleat {
 namespace {
 
 double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
-
-double srgb_to_linear(double c) {
-  c = std::clamp(c, 0.0, 1.0);
-  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-
-double linear_to_srgb(double c) {
-  c = std::clamp(c, 0.0, 1.0);
-  return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-}
 
 std::uint8_t to_byte(double srgb) { return static_cast<std::uint8_t>(std::lround(std::clamp(srgb, 0.0, 1.0) * 255.0)); }
 

@@ -1,5 +1,6 @@
 // shade_frame and tone mapping (see header).
 #include "shading/shade.hpp"
+#include "sim_io/srgb.hpp"
 
 #include "shading/cone_lighting.hpp"
 
@@ -71,12 +72,6 @@ ShadedFrame shade_frame(const MeshTopology& topology, const Frame& frame, const 
   ShadedFrame out;
   shade_frame(topology, frame, visibility, lighting, params, out);
   return out;
-}
-
-float linear_to_srgb(float linear) {
-  if (!(linear > 0.0f)) return 0.0f;
-  if (linear >= 1.0f) return 1.0f;
-  return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
 }
 
 glm::vec3 tone_map(const glm::vec3& linear, const ToneMapParams& params) {

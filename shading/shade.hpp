@@ -67,8 +67,6 @@ struct ToneMapParams {
   double white = 4.0;  ///< Reinhard white point: this (exposed) luminance maps to 1
 };
 
-/// sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
-float linear_to_srgb(float linear);
 /// One colour through the tone mapping above; components in [0, 1].
 glm::vec3 tone_map(const glm::vec3& linear, const ToneMapParams& params);
 std::vector<glm::vec3> to_srgb(const std::vector<glm::vec3>& linear, const ToneMapParams& params);

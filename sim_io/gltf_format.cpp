@@ -1,4 +1,5 @@
 #include "sim_io/gltf_format.hpp"
+#include "sim_io/srgb.hpp"
 
 #include "sim_io/input_error.hpp"
 #include "sim_io/input_file.hpp"
@@ -637,12 +638,6 @@ void flipbook_keys(std::size_t j, std::size_t n, double fps, std::vector<float>&
 }
 
 }  // namespace
-
-float srgb_to_linear(float c) {
-  if (!(c > 0.0f)) return 0.0f;
-  if (c >= 1.0f) return 1.0f;
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
                                  std::vector<std::size_t> frames, double fps)

@@ -79,7 +79,5 @@ void write_shaded_glb(const std::filesystem::path& path, const MeshSequence& seq
                       const std::vector<std::size_t>& frames, const std::vector<std::vector<glm::vec3>>& front_srgb,
                       const std::vector<std::vector<glm::vec3>>& back_srgb, double fps);
 
-/// sRGB-encoded component in [0,1] to linear (the glTF COLOR_0 encoding); clamps, NaN gives 0.
-float srgb_to_linear(float c);
 
 }  // namespace pleat

@@ -1,5 +1,6 @@
 // glTF: seam welding, morph-target animations (LINEAR, STEP, CUBICSPLINE), node transforms, the flipbook glb
 // written by write_shaded_glb read back, unsupported features, and corruptions of a small glb.
+#include "sim_io/srgb.hpp"
 #include "sim_io/gltf_format.hpp"
 #include "sim_io/input_error.hpp"
 #include "sim_io/mesh_report.hpp"
