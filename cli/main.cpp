@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   app.footer(
       "Examples:\n"
       "  pleat generate curtain -o curtain.obj --frames 60\n"
-      "  pleat info data/flag/flag.obj --cache data/flag/flag.pc2 --check-intersections\n"
+      "  pleat info data/drape/drape.obj --cache data/drape/drape.pc2 --check-intersections\n"
       "  pleat visibility curtain.obj --cache curtain.pc2 -o curtain.csv\n"
       "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --render renders/\n"
       "  pleat compare curtain.obj --cache curtain.pc2 --frame 20 --light sky:1 -o compare.png\n"
