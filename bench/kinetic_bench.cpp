@@ -350,7 +350,7 @@ void rebuild_benchmark(benchmark::State& state, std::string name) {
   build_all();  // warm the slices' and the scratch's memory, as the engine's are after its first frame
   for (auto _ : state) {
     build_all();
-    benchmark::DoNotOptimize(slices.back().cones().stored.data());
+    benchmark::DoNotOptimize(slices.back().cones().cones.wedges.data());
   }
   state.counters["slices"] = double(slices.size());
   state.counters["slice_vertices"] = double(w.slice_vertices1);
@@ -387,7 +387,7 @@ void advance_benchmark(benchmark::State& state, std::string name, KineticPolicy 
     build_all();
     state.ResumeTiming();
     advance_all();
-    benchmark::DoNotOptimize(slices.back().cones().stored.data());
+    benchmark::DoNotOptimize(slices.back().cones().cones.wedges.data());
   }
   const double events = double(total.events()), edits = double(total.removed + total.inserted);
   state.counters["slices"] = double(slices.size());

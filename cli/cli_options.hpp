@@ -27,6 +27,8 @@ struct PlanOptions {
   int planes_per_orientation = 0;
   bool adaptive = false;
   double max_missing = 0.05;
+  std::string storage = "nearest-on-fan";
+  bool paper = false;
 
   void add_to(CLI::App& command);
   SlicingPlan make(const MeshTopology& topology, const Frame& frame) const;

@@ -184,7 +184,6 @@ void KineticSlice::finish_frame(const MeshTopology& topology, bool structure_cha
 
 void KineticSlice::grow_cones(const MeshTopology& topology, KineticScratch& scratch) {
   compute_slice_cones(m_out.slice, m_tri, scratch.cones, m_out.cones);
-  store_cones(topology.num_vertices, m_out, scratch.best);
 }
 
 SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshEdges& edges, const Frame& next,

@@ -87,7 +87,6 @@ struct KineticEvent {
 struct KineticScratch {
   SlicerScratch slicer;
   SliceConeScratch cones;
-  std::vector<std::int64_t> best;
   std::vector<std::int32_t> old_of_edge;  ///< per mesh edge: slice vertex of the previous frame, or -1
   std::vector<std::int32_t> new_of_old;
   std::vector<Index> born;

@@ -11,22 +11,32 @@
 
 namespace pleat {
 
-void store_cones(Index num_vertices, PlaneCones& plane, std::vector<std::int64_t>& best_of) {
+void store_cones(Index num_vertices, ConeStorage storage, const Frame& frame, const Slice& slice,
+                 std::vector<StoredCone>& stored, std::vector<std::int64_t>& best_of) {
   if (best_of.size() != 2 * std::size_t(num_vertices)) best_of.assign(2 * std::size_t(num_vertices), -1);
-  plane.stored.clear();
-  for (Index x = 0; x < plane.slice.vertices.size(); ++x) {
-    const SliceVertex& sv = plane.slice.vertices[x];
+  stored.clear();
+  auto offer = [&](Index vertex, Index x, double distance) {
     for (int side = 0; side < 2; ++side) {
-      std::int64_t& best = best_of[2 * std::size_t(sv.nearer) + side];
-      if (best >= 0 && plane.stored[best].distance <= sv.distance) continue;
+      std::int64_t& best = best_of[2 * std::size_t(vertex) + side];
+      if (best >= 0 && stored[best].distance <= distance) continue;
       if (best < 0) {
-        best = static_cast<std::int64_t>(plane.stored.size());
-        plane.stored.push_back({});
+        best = static_cast<std::int64_t>(stored.size());
+        stored.push_back({});
       }
-      plane.stored[best] = {sv.nearer, side, x, sv.distance};
+      stored[best] = {vertex, side, x, distance};
+    }
+  };
+  for (Index x = 0; x < slice.vertices.size(); ++x) {
+    const SliceVertex& sv = slice.vertices[x];
+    if (storage == ConeStorage::NearerEndpoint) {
+      offer(sv.nearer, x, sv.distance);
+    } else {
+      const double length = glm::distance(frame.positions[sv.above], frame.positions[sv.below]);
+      offer(sv.above, x, sv.t * length);
+      offer(sv.below, x, (1.0 - sv.t) * length);
     }
   }
-  for (const StoredCone& s : plane.stored) best_of[2 * std::size_t(s.vertex) + s.side] = -1;
+  for (const StoredCone& s : stored) best_of[2 * std::size_t(s.vertex) + s.side] = -1;
 }
 
 struct FrameAssembler::Impl {
@@ -37,6 +47,7 @@ struct FrameAssembler::Impl {
   struct Workspace {
     ConeAssemblyScratch scratch;
     std::vector<PlanarCone> cones;
+    std::vector<std::int64_t> best;  // store_cones' scratch
   };
 
   Impl(const MeshTopology& topology, const MeshEdges& edges, const SlicingPlan& plan,
@@ -50,6 +61,7 @@ struct FrameAssembler::Impl {
   const SlicingPlan& plan;
   VisibilityParams params;
   tbb::enumerable_thread_specific<Workspace> workspaces;
+  std::vector<std::vector<StoredCone>> stored;  // per plane
   std::vector<std::uint32_t> first, cursor;
   std::vector<Ref> refs;
   std::vector<std::int32_t> source;
@@ -75,24 +87,50 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     stats.crossing_slices += r.crossings > 0;
   }
 
-  // 1. Per vertex, side and orientation, the stored cones: one CSR array over the key
-  //    (side * orientations + o) * n + v.
+  // 1. Storage: what each plane offers its mesh vertices (per plane, in parallel).
+  stored.resize(planes.size());
+  auto store = [&](std::size_t p) {
+    store_cones(topology.num_vertices, plan.storage, frame, planes[p]->slice, stored[p], workspaces.local().best);
+  };
+  if (params.parallel)
+    tbb::parallel_for(std::size_t(0), planes.size(), store);
+  else
+    for (std::size_t p = 0; p < planes.size(); ++p) store(p);
+
+  // 2. Per vertex, side and orientation, the stored cones: one CSR array over the key
+  //    (side * orientations + o) * n + v, in plane order.
   const std::size_t orientations = plan.orientations.size();
   const std::size_t keys = 2 * orientations * n;
   auto key_of = [&](int side, std::size_t o, Index v) { return (side * orientations + o) * n + v; };
   first.assign(keys + 1, 0);
   for (std::uint32_t p = 0; p < planes.size(); ++p)
-    for (const StoredCone& c : planes[p]->stored) ++first[key_of(c.side, plan.planes[p].orientation, c.vertex) + 1];
+    for (const StoredCone& c : stored[p]) ++first[key_of(c.side, plan.planes[p].orientation, c.vertex) + 1];
   for (std::size_t k = 0; k < keys; ++k) first[k + 1] += first[k];
   refs.resize(first[keys]);
   cursor.assign(first.begin(), first.end() - 1);
   for (std::uint32_t p = 0; p < planes.size(); ++p)
-    for (std::uint32_t s = 0; s < planes[p]->stored.size(); ++s) {
-      const StoredCone& c = planes[p]->stored[s];
+    for (std::uint32_t s = 0; s < stored[p].size(); ++s) {
+      const StoredCone& c = stored[p][s];
       refs[cursor[key_of(c.side, plan.planes[p].orientation, c.vertex)]++] = {p, s};
     }
+  if (plan.storage == ConeStorage::NearestOnFan) {
+    // Keep only the nearest offer of each key (ties: the first, i.e. the lower plane): compact the CSR in place.
+    std::uint32_t out = 0;
+    for (std::size_t k = 0; k < keys; ++k) {
+      const std::uint32_t begin = first[k], end = first[k + 1];
+      first[k] = out;
+      if (begin == end) continue;
+      std::uint32_t best = begin;
+      for (std::uint32_t i = begin + 1; i < end; ++i)
+        if (stored[refs[i].plane][refs[i].stored].distance < stored[refs[best].plane][refs[best].stored].distance)
+          best = i;
+      refs[out++] = refs[best];
+    }
+    first[keys] = out;
+    refs.resize(out);
+  }
 
-  // 2. Fill: a vertex with no cone in an orientation borrows those of its nearest vertex (along mesh
+  // 3. Fill: a vertex with no cone in an orientation borrows those of its nearest vertex (along mesh
   //    edges) that has one — multi-source Dijkstra per orientation and side. source[key] is the vertex
   //    whose cones the key uses (itself when it has its own), or -1.
   stats.filled_fraction.assign(orientations, 0.0);
@@ -134,7 +172,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
       if (side == 0) stats.filled_fraction[o] = n ? double(filled) / double(n) : 0.0;
     }
 
-  // 3. 3D cones and their measures, per vertex and side (per-thread scratch; result memory reused).
+  // 4. 3D cones and their measures, per vertex and side (per-thread scratch; result memory reused).
   for (int side = 0; side < 2; ++side) {
     result.cones[side].resize(n);
     result.measures[side].assign(n, {});
@@ -148,9 +186,9 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         if (from < 0) continue;
         const std::size_t k = key_of(side, o, static_cast<Index>(from));
         for (std::uint32_t i = first[k]; i < first[k + 1]; ++i) {
-          const PlaneCones& pr = *planes[refs[i].plane];
-          const StoredCone& s = pr.stored[refs[i].stored];
-          ws.cones.push_back({&plan.planes[refs[i].plane], pr.cones.cone(s.slice_vertex, static_cast<Side>(side))});
+          const StoredCone& s = stored[refs[i].plane][refs[i].stored];
+          ws.cones.push_back(
+              {&plan.planes[refs[i].plane], planes[refs[i].plane]->cones.cone(s.slice_vertex, static_cast<Side>(side))});
         }
       }
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];

@@ -1,11 +1,12 @@
 // From per-plane 2D cones to a frame's 3D cones: the part of Stewart's algorithm after the slices
 // (Stewart 1999 §2.4; DESIGN.md §2.7–2.8), shared by the static engine and the kinetic one.
 //
-// Each plane's slice vertices hand their 2D cones to their nearer mesh endpoint (per side, the nearest slice
-// vertex of the plane wins; ties: the lower index). A vertex with no cone in an orientation borrows those of
-// its nearest vertex along mesh edges that has one (multi-source Dijkstra per orientation and side). Then
-// every vertex's 2D cones are merged into 3D cones per side and measured. Both engines hand this stage
-// PlaneCones that are equal, so they produce the same output. Internal header: static_core and kinetic only.
+// Each plane's slice vertices hand their 2D cones to mesh vertices by the plan's ConeStorage rule (the paper's:
+// to the nearer endpoint of their edge, nearest per plane; the default: to both endpoints, nearest per
+// orientation). A vertex with no cone in an orientation borrows those of its nearest vertex along mesh edges
+// that has one (multi-source Dijkstra per orientation and side). Then every vertex's 2D cones are merged into
+// 3D cones per side and measured. Both engines hand this stage PlaneCones that are equal, so they produce the
+// same output. Internal header: static_core and kinetic only.
 #pragma once
 
 #include "sim_io/mesh.hpp"
@@ -33,13 +34,14 @@ struct StoredCone {
 struct PlaneCones {
   Slice slice;
   SliceCones cones;
-  std::vector<StoredCone> stored;
   std::size_t crossings = 0;
 };
 
-/// Fills `plane.stored` from `plane.slice` (nearest slice vertex per mesh vertex and side). `best` is
-/// per-thread scratch of 2 * num_vertices entries, all -1 on entry and on return.
-void store_cones(Index num_vertices, PlaneCones& plane, std::vector<std::int64_t>& best);
+/// The cones a plane offers its mesh vertices under `storage`: per mesh vertex and side, the nearest offering
+/// slice vertex of `slice` (ties: the lower index), into `stored`. `best` is per-thread scratch of
+/// 2 * num_vertices entries, all -1 on entry and on return.
+void store_cones(Index num_vertices, ConeStorage storage, const Frame& frame, const Slice& slice,
+                 std::vector<StoredCone>& stored, std::vector<std::int64_t>& best);
 
 /// Steps after the planes: CSR of stored cones, Dijkstra fill, 3D assembly and measures. Keeps its memory
 /// between frames. `topology` and `plan` must outlive it.

@@ -204,4 +204,8 @@ SlicingPlan make_area_light_plan(const MeshTopology& topology, const Frame& fram
   return plan;
 }
 
+const char* cone_storage_name(ConeStorage storage) {
+  return storage == ConeStorage::NearerEndpoint ? "nearer-endpoint" : "nearest-on-fan";
+}
+
 }  // namespace pleat

@@ -22,10 +22,26 @@ struct SlicingPlane {
   int orientation = 0;  ///< index into SlicingPlan::orientations (cones are grouped and filled per orientation)
 };
 
+/// How a plane's 2D cones reach mesh vertices (DESIGN.md §2.7). A slice vertex lies on a mesh edge; its cone is
+/// offered to the edge's endpoints, at their 3D distances from it.
+enum class ConeStorage {
+  /// The paper's rule: to the nearer endpoint only; per plane, side and vertex the nearest offer is kept, and a
+  /// vertex keeps one cone from every plane that offered it one.
+  NearerEndpoint,
+  /// To both endpoints; per orientation, side and vertex only the nearest offer over all planes of the
+  /// orientation is kept (ties: the lower plane, then the lower slice vertex). A vertex gets a cone in every
+  /// orientation whose planes cut its own edges, from the nearest such cut, so far fewer vertices borrow a
+  /// neighbour's, and parallel planes' cones taken from different points are not merged into one vertex.
+  NearestOnFan,
+};
+
 struct SlicingPlan {
   std::vector<glm::dvec3> orientations;  ///< unit normals, one per family of planes
   std::vector<SlicingPlane> planes;
+  ConeStorage storage = ConeStorage::NearestOnFan;
 };
+
+const char* cone_storage_name(ConeStorage storage);  ///< "nearer-endpoint", "nearest-on-fan"
 
 /// The plane through `point` with unit normal `normal` and a deterministic in-plane frame.
 SlicingPlane make_plane(const glm::dvec3& normal, double offset, int orientation);

@@ -18,7 +18,6 @@ struct Workspace {
   SlicerScratch slicer;
   SliceTriangulation triangulation;
   SliceConeScratch cones;
-  std::vector<std::int64_t> best;  // per mesh vertex and side: index into `stored`, -1 if none
 };
 
 void process_plane(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
@@ -27,7 +26,6 @@ void process_plane(const MeshTopology& topology, const MeshEdges& edges, const F
   ws.triangulation.build(out.slice);
   out.crossings = ws.triangulation.crossings();
   compute_slice_cones(out.slice, ws.triangulation, ws.cones, out.cones);
-  store_cones(topology.num_vertices, out, ws.best);
 }
 
 }  // namespace
@@ -74,7 +72,7 @@ struct StaticVisibility::Impl {
 
 void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result) {
   candidate_faces_per_plane(topology, frame, plan, faces);
-  // Every plane on its own: slice, triangulate, shortest-path trees, 2D cones, storage.
+  // Every plane on its own: slice, triangulate, shortest-path trees, 2D cones.
   auto run = [&](std::size_t p) {
     process_plane(topology, edges, frame, plan.planes[p], faces[p], workspaces.local(), planes[p]);
   };

@@ -4,8 +4,8 @@
 // For every plane of the plan: slice the mesh (symbolic perturbation for vertices on the plane), build the
 // convex hull and a constrained triangulation of the chains (CGAL, exact predicates), flood-fill visibility
 // polygons, grow funnel shortest-path trees from each window endpoint, read 2D cones off the first path
-// segments (holes subtracted), store them on the nearer mesh vertex, fill vertices that got none, and
-// merge each vertex's 2D cones into 3D cones per side. Cost: O(sum over slices of n log n) in practice.
+// segments (holes subtracted), store them on mesh vertices (SlicingPlan::storage), fill vertices that got
+// none, and merge each vertex's 2D cones into 3D cones per side. Cost: O(sum over slices of n log n) in practice.
 // Precondition: the surface does not self-intersect (crossing chains are detected, counted and handled).
 #pragma once
 
