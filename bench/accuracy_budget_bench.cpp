@@ -3,12 +3,13 @@
 //
 // For each sequence (every real one in data/ at its last frame, the generated kinds at 3,025 vertices at frame 6
 // of 48) the error |A − A_ref| over every vertex and both sides, against Embree with --reference-rays rays, of:
-//   paper       the default engine: 6 orientations, planes one average edge apart, each slice vertex's cone
-//               stored on the nearer endpoint of its edge, vertices without a cone in an orientation filled from
-//               the nearest vertex that has one; split into vertices that have their own cone in every
-//               orientation and those filled in at least one (the fill's share);
-//   denser      the same engine with 6 orientations at ½ edge, 12 at 1 edge, 12 at ½ edge (what brute force
-//               buys, and at what cost);
+//   paper       the paper's engine: 6 axis orientations, planes one average edge apart, each slice vertex's
+//               cone stored on the nearer endpoint of its edge (ConeStorage::NearerEndpoint), vertices without a
+//               cone in an orientation filled from the nearest vertex that has one; split into vertices that have
+//               their own cone in every orientation and those filled in at least one (the fill's share);
+//   settings    the engine with other orientation sets (the paper's 6 axis-aligned ones, or n spread over the
+//               hemisphere), plane spacings and storage rules (ConeStorage::NearestOnFan: the nearest cut of the
+//               vertex's own edges per orientation), what each buys and at what cost (CPU ms, one thread);
 //   vertex      an oracle: for every vertex and orientation, a plane of that orientation through the vertex
 //               itself (offset by 1e-3 edge so that it cuts the vertex's own edges), and the 2D cone of the slice
 //               vertex on the vertex's edge nearest to it — no offset between slice point and vertex, no fill; the
@@ -230,25 +231,32 @@ int run(int argc, char** argv) {
       results.push_back(r);
     };
     struct Setting {
-      const char* label;
       int orientations;
       double spacing_edges;
+      ConeStorage storage;
     };
-    for (const Setting& s : {Setting{"paper: 6 orientations, 1 edge apart", 6, 1.0},
-                             Setting{"6 orientations, ½ edge apart", 6, 0.5},
-                             Setting{"12 orientations, 1 edge apart", 12, 1.0},
-                             Setting{"12 orientations, ½ edge apart", 12, 0.5}}) {
+    constexpr auto kPaper = ConeStorage::NearerEndpoint, kFan = ConeStorage::NearestOnFan;
+    for (const Setting& s : {Setting{6, 1.0, kPaper}, Setting{6, 0.5, kPaper}, Setting{12, 1.0, kPaper},
+                             Setting{6, 1.0, kFan}, Setting{8, 1.0, kFan}, Setting{8, 0.75, kFan},
+                             Setting{10, 1.0, kFan}, Setting{12, 1.0, kFan}, Setting{12, 0.5, kFan}}) {
       if (quick && s.orientations != 6) continue;
       const double spacing = s.spacing_edges * average_edge_length(topology, frame);
-      const SlicingPlan plan = make_diffuse_plan(topology, frame, {s.orientations, spacing, 0});
-      StaticVisibility engine(topology, plan);
+      SlicingPlan plan = make_diffuse_plan(topology, frame, {s.orientations, spacing, 0});
+      plan.storage = s.storage;
+      StaticVisibility engine(topology, plan, VisibilityParams{false});
       engine.compute(frame);  // warm-up: buffers grow
       const Stopwatch watch;
       const FrameVisibility& vis = engine.compute(frame);
-      const double ms = watch.wall_ms();
+      const double ms = watch.process_cpu_ms();
       const SkyValues a = sky_of(vis.measures);
-      add(compare(a, reference, [](std::size_t) { return true; }), s.label, ms);
-      if (s.orientations == 6 && s.spacing_edges == 1.0) {
+      const std::string label =
+          format("%s%d %s, %g edge apart, %s", s.orientations == 6 && s.spacing_edges == 1 && s.storage == kPaper
+                                                   ? "paper: "
+                                                   : "",
+                 s.orientations, s.orientations == 6 ? "axis orientations" : "spread orientations", s.spacing_edges,
+                 cone_storage_name(s.storage));
+      add(compare(a, reference, [](std::size_t) { return true; }), label, ms);
+      if (s.orientations == 6 && s.spacing_edges == 1.0 && s.storage == kPaper) {
         const std::vector<bool> own = own_in_every_orientation(topology, frame, plan);
         add(compare(a, reference, [&](std::size_t i) { return bool(own[i % n]); }),
             "  of which: vertices with own cones in all", ms);
@@ -259,7 +267,8 @@ int run(int argc, char** argv) {
     const Index stride = std::max<Index>(1, (topology.num_vertices + oracle_sample - 1) / oracle_sample);
     auto sampled = [&](std::size_t i) { return (i % n) % stride == 0; };
     if (stride > 1) {  // the paper's engine on the oracle's sample, so that the two are compared on the same values
-      const SlicingPlan plan = make_diffuse_plan(topology, frame, {});
+      SlicingPlan plan = make_diffuse_plan(topology, frame, {});
+      plan.storage = ConeStorage::NearerEndpoint;
       add(compare(sky_of(compute_visibility(topology, frame, plan).measures), reference, sampled),
           format("paper, on the oracle's sample (every %u-th vertex)", stride), NAN);
     }
@@ -285,8 +294,9 @@ int run(int argc, char** argv) {
      << source.commit << (source.dirty.empty() ? "" : " plus uncommitted changes") << ", in "
      << format("%.0f", run_watch.wall_ms() / 1000) << " s. Error = |A − A_ref| over every vertex and both sides "
      << "against Embree with " << reference_rays << " rays; real sequences at their last frame, generated ones at "
-     << kGeneratedSize << " vertices, frame " << kGeneratedFrame << ". ms = wall time of one frame's cones "
-     << "(both threads; the oracle is not an engine, its time only says what it costs).\n\n";
+     << kGeneratedSize << " vertices, frame " << kGeneratedFrame << ". ms = CPU time of one frame's cones on "
+     << "one thread (the oracle: wall time on all threads; it is not an engine, its time only says what it costs)."
+     << "\n\n";
   md << "| sequence | variant | mean | p95 | bias | share of values | ms |\n|---|---|---|---|---|---|---|\n";
   for (const Result& r : results)
     md << "| " << r.sequence << " | " << r.variant << " | " << format("%.4f", r.err.mean) << " | "
