@@ -27,7 +27,9 @@ glm::dvec3 stewart_langer_radiance(double albedo, const glm::dvec3& irradiance, 
 
 void shade_frame(const MeshTopology& topology, const Frame& frame, const FrameVisibility& visibility,
                  const Lighting& lighting, const ShadeParams& params, ShadedFrame& out) {
-  validate_mesh(topology, frame, "shade_frame");
+  // The frame only: shading reads positions, never triangles, and a topology check would cost several
+  // percent of a sky-only pass (sim_io/mesh_validation.hpp).
+  validate_frame(topology, frame, "shade_frame");
   const std::size_t n = topology.num_vertices;
   if (visibility.normals.size() != n || visibility.cones[0].size() != n || visibility.cones[1].size() != n)
     throw std::invalid_argument("shade_frame: visibility does not match the mesh's " + std::to_string(n) +
