@@ -1,6 +1,7 @@
 #include "kinetic/kinetic_visibility.hpp"
 
 #include "kinetic/kinetic_slice.hpp"
+#include "sim_io/mesh_validation.hpp"
 #include "static_core/assert.hpp"
 #include "static_core/frame_assembly.hpp"
 
@@ -171,14 +172,17 @@ KineticFrameStats& KineticFrameStats::operator+=(const KineticFrameStats& o) {
 }
 
 KineticVisibility::KineticVisibility(const MeshTopology& topology, SlicingPlan plan, const Frame& first,
-                                     const KineticParams& params)
-    : m_impl(std::make_unique<Impl>(topology, std::move(plan), first, params)) {}
+                                     const KineticParams& params) {
+  validate_mesh(topology, first, "KineticVisibility");
+  m_impl = std::make_unique<Impl>(topology, std::move(plan), first, params);
+}
 KineticVisibility::~KineticVisibility() = default;
 KineticVisibility::KineticVisibility(KineticVisibility&&) noexcept = default;
 KineticVisibility& KineticVisibility::operator=(KineticVisibility&&) noexcept = default;
 
 const FrameVisibility& KineticVisibility::current() const { return m_impl->result; }
 const FrameVisibility& KineticVisibility::advance(const Frame& next) {
+  validate_frame(m_impl->topology, next, "KineticVisibility::advance");
   m_impl->advance(next);
   return m_impl->result;
 }

@@ -10,6 +10,8 @@
 // by the same code as the static engine (static_core/frame_assembly.hpp): the output equals a full static
 // recompute of the same frame (tests/kinetic_visibility_test.cpp proves it on random motions).
 // Slices are independent and processed in parallel (TBB). `topology` must outlive the engine.
+// The constructor validates the topology and the first frame, advance() each frame
+// (sim_io/mesh_validation.hpp: InputError; a rejected frame leaves the engine as it was).
 #pragma once
 
 #include "sim_io/mesh.hpp"

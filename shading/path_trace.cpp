@@ -2,6 +2,7 @@
 #include "shading/path_trace.hpp"
 
 #include "shading/ray_visibility.hpp"
+#include "sim_io/mesh_validation.hpp"
 
 #include <glm/glm.hpp>
 #include <tbb/blocked_range.h>
@@ -183,6 +184,7 @@ class Tracer {
 PathTracedFrame path_trace_vertices(EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
                                     const std::vector<glm::dvec3>& normals, const Lighting& lighting,
                                     const PathTraceParams& params) {
+  validate_mesh(topology, frame, "path_trace_vertices");
   check_vertex_estimator_inputs("path_trace_vertices", "paths_per_vertex", params.paths_per_vertex, scene, topology,
                                 frame, normals);
   if (!(params.albedo >= 0.0 && params.albedo < 1.0))

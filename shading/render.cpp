@@ -3,6 +3,7 @@
 #include "sim_io/srgb.hpp"
 
 #include "sim_io/atomic_file.hpp"
+#include "sim_io/mesh_validation.hpp"
 
 #include <glm/glm.hpp>
 #include <stb/stb_image_write.h>
@@ -247,9 +248,8 @@ Image render_image(const EmbreeScene& scene, const Frame& frame, std::span<const
                    std::span<const glm::vec3> back_srgb, const Camera& camera, int width, int height,
                    const RenderParams& params) {
   const MeshTopology& topology = scene.topology();
+  validate_frame(topology, frame, "render_image");
   validate_colours(topology.num_vertices, front_srgb, back_srgb);
-  if (frame.positions.size() != topology.num_vertices)
-    throw std::invalid_argument("render: frame and scene have different vertex counts");
   if (width < 1 || height < 1) throw std::invalid_argument("render: image size must be positive");
   const int n = std::max(1, params.samples_per_axis);
 
@@ -308,6 +308,7 @@ Image render_image(const EmbreeScene& scene, const Frame& frame, std::span<const
 Image render_image(const MeshTopology& topology, const Frame& frame, std::span<const glm::vec3> front_srgb,
                    std::span<const glm::vec3> back_srgb, const Camera& camera, int width, int height,
                    const RenderParams& params) {
+  validate_mesh(topology, frame, "render_image");
   validate_colours(topology.num_vertices, front_srgb, back_srgb);
   EmbreeSceneParams scene_params;
   scene_params.mode = EmbreeSceneParams::BuildMode::Rebuild;
@@ -339,6 +340,7 @@ std::vector<std::filesystem::path> render_turntable(const std::filesystem::path&
                                                     const std::vector<glm::vec3>& front_srgb,
                                                     const std::vector<glm::vec3>& back_srgb, const Camera& camera,
                                                     int count, int width, int height) {
+  validate_mesh(topology, frame, "render_turntable");
   if (count < 1) throw std::invalid_argument("render_turntable: count must be >= 1");
   validate_colours(topology.num_vertices, front_srgb, back_srgb);
   EmbreeSceneParams scene_params;

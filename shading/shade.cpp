@@ -3,6 +3,7 @@
 #include "sim_io/srgb.hpp"
 
 #include "shading/cone_lighting.hpp"
+#include "sim_io/mesh_validation.hpp"
 
 #include <glm/common.hpp>
 #include <tbb/blocked_range.h>
@@ -27,10 +28,12 @@ glm::dvec3 stewart_langer_radiance(double albedo, const glm::dvec3& irradiance, 
 
 void shade_frame(const MeshTopology& topology, const Frame& frame, const FrameVisibility& visibility,
                  const Lighting& lighting, const ShadeParams& params, ShadedFrame& out) {
+  // The frame only: shading reads positions, never triangles, and a topology check would cost several
+  // percent of a sky-only pass (sim_io/mesh_validation.hpp).
+  validate_frame(topology, frame, "shade_frame");
   const std::size_t n = topology.num_vertices;
-  if (frame.positions.size() != n || visibility.normals.size() != n || visibility.cones[0].size() != n ||
-      visibility.cones[1].size() != n)
-    throw std::invalid_argument("shade_frame: frame or visibility does not match the mesh's " + std::to_string(n) +
+  if (visibility.normals.size() != n || visibility.cones[0].size() != n || visibility.cones[1].size() != n)
+    throw std::invalid_argument("shade_frame: visibility does not match the mesh's " + std::to_string(n) +
                                 " vertices");
   if (!(params.albedo >= 0.0 && params.albedo < 1.0))
     throw std::invalid_argument("shade_frame: albedo must be in [0, 1)");

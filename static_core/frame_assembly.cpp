@@ -72,7 +72,7 @@ struct FrameAssembler::Impl {
 void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCones* const> planes,
                                     FrameVisibility& result) {
   const std::size_t n = topology.num_vertices;
-  result.normals = vertex_normals(topology, frame);
+  result.normals = area_weighted_normals(topology, frame);
 
   VisibilityStats& stats = result.stats;
   stats = {};

@@ -22,6 +22,10 @@
 
 namespace pleat {
 
+/// vertex_normals without its validation: for the engines, which validated the topology and the frame
+/// where they entered.
+std::vector<glm::dvec3> area_weighted_normals(const MeshTopology& topology, const Frame& frame);
+
 /// A 2D cone handed to a mesh vertex: which side, which slice vertex of the plane, and its 3D distance.
 struct StoredCone {
   Index vertex = 0;

@@ -1,5 +1,6 @@
 #include "static_core/slicing_plan.hpp"
 
+#include "sim_io/mesh_validation.hpp"
 #include "static_core/mesh_slicer.hpp"
 
 #include <glm/geometric.hpp>
@@ -13,6 +14,18 @@ namespace pleat {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+
+/// average_edge_length without validation (the plans validate where they are entered).
+double mean_edge_length(const MeshTopology& topology, const Frame& frame) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (const auto& t : topology.triangles)
+    for (int i = 0; i < 3; ++i) {
+      sum += glm::distance(frame.positions[t[i]], frame.positions[t[(i + 1) % 3]]);
+      ++count;
+    }
+  return count ? sum / count : 0.0;
+}
 
 /// The paper's six orientations for 6; otherwise n directions spread over the half sphere (a Fibonacci
 /// spiral on the upper hemisphere: a plane normal and its negation are the same family).
@@ -73,20 +86,15 @@ SlicingPlane make_plane(const glm::dvec3& normal, double offset, int orientation
 }
 
 double average_edge_length(const MeshTopology& topology, const Frame& frame) {
-  double sum = 0.0;
-  std::size_t count = 0;
-  for (const auto& t : topology.triangles)
-    for (int i = 0; i < 3; ++i) {
-      sum += glm::distance(frame.positions[t[i]], frame.positions[t[(i + 1) % 3]]);
-      ++count;
-    }
-  return count ? sum / count : 0.0;
+  validate_mesh(topology, frame, "average_edge_length");
+  return mean_edge_length(topology, frame);
 }
 
 SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame, const DiffusePlanParams& params) {
+  validate_mesh(topology, frame, "make_diffuse_plan");
   SlicingPlan plan;
   plan.orientations = diffuse_orientations(params.orientations);
-  double spacing = params.spacing > 0 ? params.spacing : average_edge_length(topology, frame);
+  double spacing = params.spacing > 0 ? params.spacing : mean_edge_length(topology, frame);
   if (!(spacing > 0)) spacing = 1.0;
   for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
     const auto [lo, hi] = extent_along(frame, plan.orientations[o]);
@@ -96,6 +104,7 @@ SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame, 
 }
 
 SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame, const AdaptivePlanParams& params) {
+  validate_mesh(topology, frame, "make_adaptive_plan");
   SlicingPlan plan;
   plan.orientations = diffuse_orientations(params.orientations);
   const MeshEdges edges(topology);
@@ -164,7 +173,7 @@ static void add_pencil(SlicingPlan& plan, const glm::dvec3& point, const glm::dv
     mean_distance += glm::length(d - glm::dot(d, axis) * axis);
   }
   mean_distance /= std::max<std::size_t>(1, frame.positions.size());
-  if (!(spacing > 0)) spacing = average_edge_length(topology, frame);
+  if (!(spacing > 0)) spacing = mean_edge_length(topology, frame);
   const double step = mean_distance > 0 && spacing > 0 ? spacing / mean_distance : 0.01;
   const int count = std::max(1, static_cast<int>(std::ceil((hi - lo) / step)));
   const int orientation = static_cast<int>(plan.orientations.size());
@@ -179,6 +188,7 @@ static void add_pencil(SlicingPlan& plan, const glm::dvec3& point, const glm::dv
 
 SlicingPlan make_point_light_plan(const MeshTopology& topology, const Frame& frame, const glm::dvec3& light,
                                   double spacing) {
+  validate_mesh(topology, frame, "make_point_light_plan");
   // Any line through the light will do (paper §2.1): take one perpendicular to the light->cloth direction.
   glm::dvec3 centroid(0.0);
   for (const auto& p : frame.positions) centroid += p;
@@ -192,6 +202,7 @@ SlicingPlan make_point_light_plan(const MeshTopology& topology, const Frame& fra
 
 SlicingPlan make_area_light_plan(const MeshTopology& topology, const Frame& frame,
                                  const std::vector<glm::dvec3>& light_polygon, double spacing) {
+  validate_mesh(topology, frame, "make_area_light_plan");
   if (light_polygon.size() < 3) throw std::invalid_argument("area light: a polygon needs 3 or more vertices");
   // Planes rotate about lines joining opposite points of the light's hull (paper §2.1): vertex i and
   // vertex i + n/2, one pencil (one orientation family) per line.

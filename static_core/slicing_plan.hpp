@@ -1,7 +1,8 @@
 // Slicing plans (Stewart 1999 §2.1, §2.3.3; DESIGN.md §2.1): which planes cut the cloth.
 //
 // A plan is a plain value computed once (usually from frame 0) and reused for every frame: the kinetic
-// layer keeps the planes fixed in space while the cloth moves through them.
+// layer keeps the planes fixed in space while the cloth moves through them. Every function below that takes
+// (topology, frame) validates them (sim_io/mesh_validation.hpp: InputError).
 #pragma once
 
 #include "sim_io/mesh.hpp"

@@ -1,5 +1,6 @@
 #include "static_core/visibility.hpp"
 
+#include "sim_io/mesh_validation.hpp"
 #include "static_core/frame_assembly.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/slice_cones.hpp"
@@ -30,7 +31,7 @@ void process_plane(const MeshTopology& topology, const MeshEdges& edges, const F
 
 }  // namespace
 
-std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame& frame) {
+std::vector<glm::dvec3> area_weighted_normals(const MeshTopology& topology, const Frame& frame) {
   std::vector<glm::dvec3> n(topology.num_vertices, glm::dvec3(0.0));
   for (const Triangle& t : topology.triangles) {
     const glm::dvec3& a = frame.positions[t[0]];
@@ -42,6 +43,11 @@ std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame
     v = len > 0 ? v / len : glm::dvec3(0, 0, 1);
   }
   return n;
+}
+
+std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame& frame) {
+  validate_mesh(topology, frame, "vertex_normals");
+  return area_weighted_normals(topology, frame);
 }
 
 /// Everything a frame's computation reuses from the previous one: topology-derived structures, per-plane
@@ -84,13 +90,16 @@ void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result
   assembler.assemble(frame, plane_views, result);
 }
 
-StaticVisibility::StaticVisibility(const MeshTopology& topology, SlicingPlan plan, const VisibilityParams& params)
-    : m_impl(std::make_unique<Impl>(topology, std::move(plan), params)) {}
+StaticVisibility::StaticVisibility(const MeshTopology& topology, SlicingPlan plan, const VisibilityParams& params) {
+  validate_topology(topology, "StaticVisibility");
+  m_impl = std::make_unique<Impl>(topology, std::move(plan), params);
+}
 StaticVisibility::~StaticVisibility() = default;
 StaticVisibility::StaticVisibility(StaticVisibility&&) noexcept = default;
 StaticVisibility& StaticVisibility::operator=(StaticVisibility&&) noexcept = default;
 
 const FrameVisibility& StaticVisibility::compute(const Frame& frame) {
+  validate_frame(m_impl->topology, frame, "StaticVisibility::compute");
   m_impl->compute(frame, m_impl->result);
   return m_impl->result;
 }
@@ -106,6 +115,7 @@ FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& fr
 
 void compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
                         const VisibilityParams& params, FrameVisibility& result) {
+  validate_mesh(topology, frame, "compute_visibility");
   StaticVisibility::Impl(topology, plan, params).compute(frame, result);
 }
 

