@@ -89,9 +89,13 @@ struct Run {
     auto child = run_cone_engines_in_child(seq.name, seq.size, m.vertices, m.upsample, m.frames, threads, keep_sky,
                                            options);
     MethodRow s, k;
-    if (auto* rows = std::get_if<std::array<MethodRow, 2>>(&child)) {
+    if (auto* rows = std::get_if<std::vector<MethodRow>>(&child)) {
       s = std::move((*rows)[0]);
       k = std::move((*rows)[1]);
+      if (rows->size() == 3) {
+        if (!(*rows)[2].ok()) fail(m, "paper: " + (*rows)[2].status);
+        m.rows.push_back(std::move((*rows)[2]));
+      }
     } else {
       const std::string why = std::get<std::string>(child);
       progress(m, "the cone engines' process failed (" + why + "); the static engine runs alone");

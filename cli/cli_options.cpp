@@ -63,6 +63,7 @@ void PlanOptions::add_to(CLI::App& command) {
 }
 
 SlicingPlan PlanOptions::make(const MeshTopology& topology, const Frame& frame) const {
+  if (paper && !adaptive && spacing == 0 && planes_per_orientation == 0) return make_paper_plan(topology, frame);
   const int count = paper ? 6 : orientations;
   SlicingPlan plan = adaptive ? make_adaptive_plan(topology, frame, {count, max_missing})
                               : make_diffuse_plan(topology, frame, {count, spacing, planes_per_orientation});

@@ -103,6 +103,12 @@ SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame, 
   return plan;
 }
 
+SlicingPlan make_paper_plan(const MeshTopology& topology, const Frame& frame) {
+  SlicingPlan plan = make_diffuse_plan(topology, frame, {6, 0.0, 0});
+  plan.storage = ConeStorage::NearerEndpoint;
+  return plan;
+}
+
 SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame, const AdaptivePlanParams& params) {
   validate_mesh(topology, frame, "make_adaptive_plan");
   SlicingPlan plan;

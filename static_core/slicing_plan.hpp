@@ -54,6 +54,9 @@ struct DiffusePlanParams {
 };
 /// Uniform diffuse light: parallel families of planes over the frame's extent.
 SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame, const DiffusePlanParams& params);
+/// The paper's plan: its 6 axis-aligned orientations, planes one average edge length apart, nearer-endpoint
+/// storage (the baseline pleat's defaults are measured against).
+SlicingPlan make_paper_plan(const MeshTopology& topology, const Frame& frame);
 
 struct AdaptivePlanParams {
   int orientations = 6;

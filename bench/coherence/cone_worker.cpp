@@ -57,15 +57,25 @@ void timed_frame(MethodRow& row, bool keep_sky, double& slice_vertices, Step&& s
   if (keep_sky) row.sky.push_back(sky_of(r));
 }
 
-std::array<MethodRow, 2> run_both(const MeshTopology& topology, const SlicingPlan& plan,
-                                  const std::vector<Frame>& frames, int threads, bool keep_sky, Heartbeat& heartbeat) {
-  MethodRow s, k;
+/// Static and kinetic engines on `plan`, frame by frame in turn; with `paper`, also the static engine on the
+/// paper's plan (make_paper_plan), the baseline of the accuracy and cost comparison.
+std::vector<MethodRow> run_engines(const MeshTopology& topology, const SlicingPlan& plan,
+                                   const std::vector<Frame>& frames, int threads, bool keep_sky, bool paper,
+                                   Heartbeat& heartbeat) {
+  MethodRow s, k, b;
   s.method = "static";
   k.method = "kinetic";
-  s.threads = k.threads = threads;
+  b.method = "paper";
+  s.threads = k.threads = b.threads = threads;
   k.kinetic.emplace();
-  std::optional<StaticVisibility> static_engine;
+  std::optional<StaticVisibility> static_engine, paper_engine;
   std::optional<KineticVisibility> kinetic_engine;
+  if (paper) try {
+      paper_engine.emplace(topology, make_paper_plan(topology, frames[0]));
+      paper_engine->compute(frames[0]);
+    } catch (const std::exception& e) {
+      b.status = std::string("error at frame 0: ") + e.what();
+    }
   s.peak_reset = start_memory_window(s.rss_before_mb);
   try {
     static_engine.emplace(topology, plan);
@@ -88,7 +98,7 @@ std::array<MethodRow, 2> run_both(const MeshTopology& topology, const SlicingPla
     k.status = "error in the constructor: unknown exception";
   }
   heartbeat.beat("kinetic 0");
-  double static_sv = 0, kinetic_sv = 0;
+  double static_sv = 0, kinetic_sv = 0, paper_sv = 0;
   for (std::size_t f = 1; f < frames.size(); ++f) {
     if (s.ok()) try {
         timed_frame(s, keep_sky, static_sv, [&]() -> const FrameVisibility& { return static_engine->compute(frames[f]); });
@@ -108,11 +118,22 @@ std::array<MethodRow, 2> run_both(const MeshTopology& topology, const SlicingPla
         k.status = "error at frame " + std::to_string(f) + ": unknown exception";
       }
     heartbeat.beat("kinetic " + std::to_string(f));
+    if (paper_engine && b.ok()) try {
+        timed_frame(b, keep_sky, paper_sv, [&]() -> const FrameVisibility& { return paper_engine->compute(frames[f]); });
+      } catch (const std::exception& e) {
+        b.status = "error at frame " + std::to_string(f) + ": " + e.what();
+      }
+    heartbeat.beat("paper " + std::to_string(f));
   }
   k.peak_mb = status_mb("VmHWM");
   if (!s.ms.empty()) s.slice_vertices = static_sv / double(s.ms.size());
   if (!k.ms.empty()) k.slice_vertices = kinetic_sv / double(k.ms.size());
-  return {std::move(s), std::move(k)};
+  if (!b.ms.empty()) b.slice_vertices = paper_sv / double(b.ms.size());
+  std::vector<MethodRow> rows;
+  rows.push_back(std::move(s));
+  rows.push_back(std::move(k));
+  if (paper) rows.push_back(std::move(b));
+  return rows;
 }
 
 // ---- The worker's result file: "status METHOD TEXT" lines, and "KEY COUNT v1 v2 ..." lines ----
@@ -156,7 +177,7 @@ KineticTotals kinetic_from_fields(const std::vector<double>& f) {
   return t;
 }
 
-std::array<MethodRow, 2> read_worker_result(const fs::path& path, int threads) {
+std::vector<MethodRow> read_worker_result(const fs::path& path, int threads) {
   std::ifstream in(path);
   std::map<std::string, std::string> status;
   std::map<std::string, std::vector<double>> values;
@@ -180,9 +201,10 @@ std::array<MethodRow, 2> read_worker_result(const fs::path& path, int threads) {
     }
     values[key] = std::move(v);
   }
-  std::array<MethodRow, 2> rows;
+  std::vector<MethodRow> rows(status.count("paper") ? 3 : 2);
   rows[0].method = "static";
   rows[1].method = "kinetic";
+  if (rows.size() == 3) rows[2].method = "paper";
   for (MethodRow& row : rows) {
     const std::string& m = row.method;
     row.threads = threads;
@@ -236,7 +258,8 @@ int run_cone_worker(const Options& options) {
   const std::vector<Frame> frames = make_frames(seq, options.upsample.at(0), options.frames);
   const SlicingPlan plan = make_diffuse_plan(seq.topology, frames[0], DiffusePlanParams{});
   heartbeat.beat("frames");
-  const auto rows = run_both(seq.topology, plan, frames, options.worker_threads, options.worker_keep_sky, heartbeat);
+  const auto rows = run_engines(seq.topology, plan, frames, options.worker_threads, options.worker_keep_sky,
+                                options.worker_keep_sky, heartbeat);
   const fs::path tmp = options.worker_result.string() + ".tmp";
   {
     std::ofstream out(tmp);
@@ -258,7 +281,7 @@ int run_cone_worker(const Options& options) {
   return 0;
 }
 
-std::variant<std::array<MethodRow, 2>, std::string> run_cone_engines_in_child(const std::string& sequence, Index size,
+std::variant<std::vector<MethodRow>, std::string> run_cone_engines_in_child(const std::string& sequence, Index size,
                                                                              Index vertices, double u, int frame_count,
                                                                              int threads, bool keep_sky,
                                                                              const Options& options) {

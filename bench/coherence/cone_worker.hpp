@@ -31,8 +31,9 @@ MethodRow run_static(const MeshTopology& topology, const SlicingPlan& plan, cons
 /// Entry of the child process (Options::worker_result set). Returns the exit status.
 int run_cone_worker(const Options& options);
 
-/// Runs the child for one measurement: the rows {static, kinetic}, or why the child failed.
-std::variant<std::array<MethodRow, 2>, std::string> run_cone_engines_in_child(const std::string& sequence, Index size,
+/// Runs the child for one measurement: the rows {static, kinetic} (with `keep_sky` also "paper": the static
+/// engine on make_paper_plan, the baseline of the accuracy and cost comparison), or why the child failed.
+std::variant<std::vector<MethodRow>, std::string> run_cone_engines_in_child(const std::string& sequence, Index size,
                                                                              Index vertices, double u, int frames,
                                                                              int threads, bool keep_sky,
                                                                              const Options& options);

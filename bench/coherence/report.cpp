@@ -178,14 +178,16 @@ std::string headline_tables(const Options& options, const SourceState& source, c
          "directions; K* = Embree's rays per vertex and side whose error equals the cone engine's, log-log "
          "interpolated over "
       << options.rays.size() << " ray counts " << options.rays.front() << "–" << options.rays.back()
-      << "; < 1: pleat is faster):\n\n";
-  out << "| sequence | vertices | cone err mean / p95 | cone flicker | K* (mean) | Embree(K*) CPU ms, 1 thread | "
+      << "; < 1: pleat is faster; \"paper's plan\": the static engine on the paper's 6 axis orientations with "
+         "nearer-endpoint storage, the baseline of pleat's defaults):\n\n";
+  out << "| sequence | vertices | cone err mean / p95 | cone flicker | paper's plan: err mean / p95, flicker | "
+         "static ÷ paper's plan, CPU | K* (mean) | Embree(K*) CPU ms, 1 thread | "
          "static ÷ Embree(K*), 1 thread (CPU) |";
   if (two) out << " static ÷ Embree(K*), 2 threads (wall) |";
   out << " kinetic ÷ Embree(K*), 1 thread (CPU) |";
   if (two) out << " kinetic ÷ Embree(K*), 2 threads (wall) |";
   out << " K* (p95) | static ÷ Embree(K* p95), 1 thread (CPU) | Embree flicker at K* | Embree " << options.random_rays
-      << " rays, new directions each frame: flicker |\n|---|---|---|---|---|---|---|";
+      << " rays, new directions each frame: flicker |\n|---|---|---|---|---|---|---|---|---|";
   if (two) out << "---|";
   out << "---|";
   if (two) out << "---|";
@@ -199,8 +201,13 @@ std::string headline_tables(const Options& options, const SourceState& source, c
     const bool have2 = two && matched_embree(*m, 2, false, k2);
     const bool have_p = matched_embree(*m, 1, true, kp, true);
     const MethodRow* random = m->row("embree-random", 1, options.random_rays);
+    const MethodRow* paper = m->row("paper");
     out << "| " << seq << " | " << vertices << " | " << format("%.3f / %.3f", s->err.mean, s->err.p95) << " | "
-        << cell(s->flicker, "%.4f") << " | " << rays_cell(k1) << " | " << cell(k1.ms, "%.1f") << " | "
+        << cell(s->flicker, "%.4f") << " | "
+        << (paper && paper->measured_accuracy()
+                ? format("%.3f / %.3f, %.4f", paper->err.mean, paper->err.p95, paper->flicker)
+                : std::string("–"))
+        << " | " << cell(cpu_of(s) / cpu_of(paper), "%.2f") << " | " << rays_cell(k1) << " | " << cell(k1.ms, "%.1f") << " | "
         << ratio_cell(cpu_of(s), k1) << " |";
     if (two) out << ' ' << (have2 ? ratio_cell(ms_of(m->row("static", 2)), k2) : "–") << " |";
     out << ' ' << ratio_cell(cpu_of(m->row("kinetic")), k1) << " |";
