@@ -41,7 +41,7 @@ void create_parent_directory(const std::filesystem::path& output) {
 
 void PlanOptions::add_to(CLI::App& command) {
   command.add_option("--orientations", orientations,
-                     "plane orientations (6: the paper's; other counts are spread over the sphere)")
+                     "plane orientations (6: the paper's axis-aligned ones; other counts are spread over the sphere)")
       ->check(CLI::Range(1, 1000));
   command.add_option("--spacing", spacing, "distance between parallel planes (default: the average edge length)")
       ->check(CLI::NonNegativeNumber);

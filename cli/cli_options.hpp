@@ -22,7 +22,7 @@ void create_parent_directory(const std::filesystem::path& output);
 /// How the slicing planes are placed (DESIGN.md §2.1); the plan is made once from the first frame used
 /// and kept for the whole sequence.
 struct PlanOptions {
-  int orientations = 6;
+  int orientations = DiffusePlanParams{}.orientations;
   double spacing = 0.0;
   int planes_per_orientation = 0;
   bool adaptive = false;

@@ -24,10 +24,23 @@ TEST(SlicingPlan, PlaneFramesAreRightHandedAndOrthonormal) {
   }
 }
 
+TEST(SlicingPlan, DefaultDiffusePlanHasEightSpreadFamilies) {
+  const ClothGenerator cloth(ClothKind::Curtain, {30, 2, 24.0, 0});
+  const SlicingPlan plan = make_diffuse_plan(cloth.topology(), cloth.frame(0), {});
+  ASSERT_EQ(plan.orientations.size(), 8u);
+  EXPECT_EQ(plan.storage, ConeStorage::NearestOnFan);
+  for (std::size_t a = 0; a < 8; ++a)
+    for (std::size_t b = a + 1; b < 8; ++b)  // distinct families: no two normals parallel
+      EXPECT_LT(std::abs(glm::dot(plan.orientations[a], plan.orientations[b])), 0.95) << a << " " << b;
+  const SlicingPlan paper = make_paper_plan(cloth.topology(), cloth.frame(0));
+  EXPECT_EQ(paper.orientations.size(), 6u);
+  EXPECT_EQ(paper.storage, ConeStorage::NearerEndpoint);
+}
+
 TEST(SlicingPlan, DiffusePlanHasThePapersSixFamiliesOneEdgeApart) {
   const ClothGenerator cloth(ClothKind::Curtain, {30, 2, 24.0, 0});
   const Frame frame = cloth.frame(0);
-  const SlicingPlan plan = make_diffuse_plan(cloth.topology(), frame, {});
+  const SlicingPlan plan = make_diffuse_plan(cloth.topology(), frame, {6, 0.0, 0});
   ASSERT_EQ(plan.orientations.size(), 6u);
   EXPECT_NEAR(plan.orientations[3].x, std::sqrt(0.5), 1e-15);  // (1,1,0) normalized
   const double spacing = average_edge_length(cloth.topology(), frame);

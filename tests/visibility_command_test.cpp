@@ -33,7 +33,7 @@ TEST(VisibilityCommand, WritesOneRowPerFrameAndInputVertexIntoNewDirectories) {
   const auto json = nlohmann::json::parse(stats);
   ASSERT_EQ(json["frames"].size(), 2u);
   EXPECT_GT(json["frames"][0]["slice_vertices"].get<int>(), 0);
-  EXPECT_EQ(json["frames"][0]["filled_fraction"].size(), 6u);
+  EXPECT_EQ(json["frames"][0]["filled_fraction"].size(), 8u);  // the default plan's orientations
 }
 
 TEST(VisibilityCommand, MissingInputFailsCleanlyAndWritesNothing) {
