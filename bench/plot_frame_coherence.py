@@ -31,6 +31,7 @@ from matplotlib import ticker  # noqa: E402
 METHOD_STYLE = {
     "static": dict(color="#1f77b4", marker="s", label="static engine"),
     "kinetic": dict(color="#d62728", marker="o", label="kinetic engine"),
+    "paper": dict(color="#ff7f0e", marker="D", label="static engine, the paper's plan"),
     "embree": dict(color="#555555", marker="v", label="Embree (ray ladder)"),
     "embree-random": dict(color="#2ca02c", marker="x", label="Embree, new directions each frame"),
 }
@@ -200,7 +201,7 @@ def plot_accuracy_vs_time(rows, out, metric, label, filename, title):
                     if rays in (8, 16, 32, 64, 256, 1024):
                         ax.annotate(f"{rays}", (ms, value), textcoords="offset points", xytext=(4, 3), fontsize=7,
                                     color="#555555")
-            for method in ("static", "kinetic", "embree-random"):
+            for method in ("static", "kinetic", "paper", "embree-random"):
                 for r in sel:
                     if r["vertices"] == n and r["method"] == method:
                         st = METHOD_STYLE[method]

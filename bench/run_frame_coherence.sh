@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
-# The frame-coherence benchmark (issue 6), in one command: builds bench/frame_coherence_bench in Release,
-# runs it with its defaults (all five sequences; 3,025 and 29,929 vertices; u = 0.5, 1, 2, 4, 8; see the flags
-# at the top of bench/frame_coherence_bench.cpp) and draws the plots. Everything goes to bench/results/:
-# frame_coherence.md, frame_coherence.csv, frame_coherence_*.png, and (a full run) the README's headline table.
-# About 15 minutes on 2 shared cores.
+# The frame-coherence benchmark (issues 6 and 11), in one command: builds bench/frame_coherence_bench in Release,
+# runs it with its defaults (every real sequence in data/ and the generated kinds at 3,025 and 29,929 vertices;
+# u = 0.5, 1, 2, 4, 8; static, kinetic, the paper's plan and Embree over an 11-step ray ladder at 1 and 2 threads;
+# see the flags at the top of bench/frame_coherence_bench.cpp) and draws the plots. Everything goes to
+# bench/results/: frame_coherence.md, frame_coherence.csv, frame_coherence_*.png, and (a full run) the README's
+# headline tables. About 25-30 minutes on 2 shared cores.
 #
 # Usage: bench/run_frame_coherence.sh [flags for frame_coherence_bench, e.g. --sequences drape --frames 12]
 #   BUILD_DIR   build directory (default: build)
-# Exit status: the benchmark's (1 when an engine failed or static and kinetic disagreed; the outputs say where).
+# Exit status: the benchmark's (1 when a method failed or static and kinetic disagreed; the outputs say where).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir="${BUILD_DIR:-build}"
