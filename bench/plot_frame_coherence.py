@@ -36,7 +36,7 @@ METHOD_STYLE = {
     "embree-random": dict(color="#2ca02c", marker="x", label="Embree, new directions each frame"),
 }
 SCALING_RAYS = 32  # Embree's ray count in the scaling plot
-SEQUENCE_ORDER = ["drape", "pile", "tube", "curtain", "roll", "flag", "sleeve"]
+SEQUENCE_ORDER = ["drape", "pile", "rucked", "curtain", "roll", "flag", "sleeve"]
 
 
 def number(text):

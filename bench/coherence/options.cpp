@@ -98,7 +98,7 @@ Options parse_options(int argc, char** argv) {
       o.worker_keep_sky = true;
     } else if (arg == "--help" || arg == "-h") {
       std::printf(
-          "frame_coherence_bench [--quick] [--out DIR] [--sequences drape,pile,tube,curtain,roll,flag,sleeve]\n"
+          "frame_coherence_bench [--quick] [--out DIR] [--sequences drape,pile,rucked,curtain,roll,flag,sleeve]\n"
           "  [--sizes 3025,29929] [--upsample 0.5,1,2,4,8] [--frames 8] [--large-frames 4] [--large-upsample LIST]\n"
           "  [--rays 8,12,16,24,32,48,64,96,128,256,1024] [--threads 1,2] [--sweep-rays 32] [--random-rays 16]\n"
           "  [--reference-rays 4096] [--reference-sample 4000] [--data DIR] [--kinetic-timeout S]\n");

@@ -1,6 +1,6 @@
 // The cloth sequences of the frame-coherence benchmark and their frames at a temporal resolution.
 //
-// Real sequences: every data/NAME/ holding NAME.obj + NAME.pc2 (Blender simulations: drape, pile, tube, ...),
+// Real sequences: every data/NAME/ holding NAME.obj + NAME.pc2 (Blender simulations: drape, pile, rucked, ...),
 // their size fixed, taken from a start sample where the cloth has landed (the drape from sample 20; the others
 // from 24 samples before their end, so that the most folded frames are measured). Generated sequences:
 // ClothGenerator's kinds (curtain, roll, flag, sleeve) at resolution sqrt(size) (3025 -> 55, 29929 -> 173,
