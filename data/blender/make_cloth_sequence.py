@@ -1,32 +1,46 @@
-"""Build and simulate the bundled cloth sequence `data/drape/` with Blender's cloth solver.
+"""Build and simulate the bundled cloth sequences `data/drape/`, `data/pile/` and `data/rucked/`
+with Blender's cloth solver.
 
 Run headless from the repository root (Blender 3.4):
 
     blender -b --factory-startup --python-exit-code 1 \
-        --python data/blender/make_cloth_sequence.py -- [--out data/drape] [--preview] [--no-check]
+        --python data/blender/make_cloth_sequence.py -- [--scene drape|pile|rucked] \
+        [--out data/<scene>] [--preview] [--no-check]
 
-Scene: a 2.0 m x 2.4 m cloth (50 x 60 quads, 3111 vertices, 6000 triangles) is dropped
-from 1.1 m onto a round table (closed cylinder, radius 0.5 m, height 0.75 m) standing on a
-ground plane. It drapes into deep hanging folds, its corners pile up on the ground, and from
-frame 30 the table turns 75 degrees about its axis (a lazy susan, eased) so that the folds
-keep moving and twisting until frame 120. Cloth-object collision and cloth self-collision
-are both on. Only the cloth is written; the table and the ground are not.
+Scenes (every parameter is in the scene's dict below; cloth-object collision and cloth
+self-collision are on in all of them; only the cloth is written, never the obstacles):
+
+  drape   (default) a 2.0 m x 2.4 m cloth (50 x 60 quads, 3111 vertices, 6000 triangles) is
+          dropped from 1.1 m onto a round table (closed cylinder, radius 0.5 m, height 0.75 m)
+          standing on a ground plane. It drapes into deep hanging folds, its corners pile up on
+          the ground, and from frame 30 the table turns 75 degrees about its axis (a lazy
+          susan, eased) so that the folds keep moving and twisting until frame 120.
+  pile    a 1.5 m x 1.5 m sheet (60 x 60 quads, 3721 vertices, 7200 triangles) hangs from its
+          top edge, which is pinned and lowered to the ground while it swings back and forth
+          and turns (a hook on an animated empty), so the sheet is laid down on a ground plane
+          in layers that buckle into a pile of folds.
+  rucked  an open tube (a cylinder without caps, 48 around x 60 along, 2928 vertices, 5760
+          triangles) around a horizontal arm (a collision cylinder): one end ring is pinned,
+          the other (the cuff) is pinned to an animated empty that pushes it toward the first
+          and twists it, so the tube is compressed along its axis into folds, like a
+          pushed-up sleeve.
 
 Output (axis convention: Y-up, right-handed; Blender (x, y, z) -> file (x, z, -y), the
 same rotation Blender's own OBJ/glTF exporters apply by default; metres):
-  drape.obj  rest (pre-simulation) positions and triangles (1-based `f`), vertex order =
-             the cache's vertex order. The triangles are Blender's own tessellation of the
-             quads (mesh.loop_triangles), i.e. exactly the triangles the solver collided.
-  drape.pc2  PC2 point cache: evaluated (post-modifier), world-space positions, one sample
-             per kept frame (startFrame = first kept Blender frame, sampleRate = 1.0).
+  <name>.obj  rest (pre-simulation) positions and triangles (1-based `f`), vertex order =
+              the cache's vertex order. The triangles are Blender's own tessellation of the
+              quads (mesh.loop_triangles), i.e. exactly the triangles the solver collided.
+  <name>.pc2  PC2 point cache: evaluated (post-modifier), world-space positions, one sample
+              per kept frame (startFrame = first kept Blender frame, sampleRate = 1.0).
   preview_*.png (with --preview) small Workbench renders of the stored positions of the
-             --preview-frames (table and ground included).
+              --preview-frames (obstacles included).
 
 With the check on (default), every kept frame is tested for self-intersection using
 mathutils.bvhtree: triangle pairs that overlap and share no vertex are counted; the
 per-frame counts are printed and written to self_intersections.txt next to the outputs,
-together with the smallest distance between two vertices more than two edges apart, the
-deepest penetration of a cloth vertex into the table and the lowest point below the ground.
+together with the smallest distance between two vertices more than two edges apart and the
+scene's obstacle checks (deepest penetration of a cloth vertex into the table or the arm,
+lowest point below the ground).
 """
 
 import argparse
@@ -37,124 +51,346 @@ import sys
 import time
 
 import bpy
-from mathutils import Matrix, Vector
+from mathutils import Euler, Matrix, Vector
 from mathutils.bvhtree import BVHTree
 
 # ---------------------------------------------------------------------------------------
-# Parameters (all of the sequence is defined here)
+# Parameters (all of each sequence is defined here)
 # ---------------------------------------------------------------------------------------
-CLOTH_NX, CLOTH_NY = 50, 60          # quads along x and y -> (51 x 61) = 3111 vertices
-CLOTH_SX, CLOTH_SY = 2.0, 2.4        # metres
-CLOTH_Z = 1.10                       # initial height of the flat cloth
-CLOTH_OFFSET = (0.12, -0.08)         # cloth centre relative to the table axis (asymmetric folds)
-CLOTH_TILT_DEG = 4.0                 # small tilt about x so the drop is not perfectly symmetric
-CLOTH_SPIN_DEG = 17.0                # rotation about z
-TABLE_R, TABLE_H = 0.5, 0.75        # round table: a closed cylinder standing on the ground
-TABLE_SPIN = ((30, 0.0), (120, 75.0))  # (frame, degrees about z), Bezier ease: a lazy susan
-FPS = 24
-SIM_START, SIM_END = 1, 120          # simulated Blender frames
-KEEP_START, KEEP_END = 21, 120       # frames written to the cache (100 frames)
+# Keys of a scene dict:
+#   mesh        ("grid", nx, ny, sx, sy): nx x ny quads in the xy plane, centred, row-major
+#               (x fastest); ("tube", n_around, n_along, radius, length): rings about the
+#               x axis, centred, ring-major (around fastest), no caps, normals outward.
+#   z, offset, spin_deg, tilt_deg
+#               placement baked into the vertices: translate (offset, z) @ rotate z @ rotate x.
+#   pins        optional: vertices pinned in place ("fixed") or pinned to an animated empty
+#               ("hooked", by a Hook modifier before the cloth), chosen by predicates of the
+#               vertex's mesh indices (i, j); the empty's keys are (frame, location, rotation
+#               in degrees), Bezier-interpolated; from frame "release" on (if given) no vertex
+#               is pinned any more.
+#   table       optional: closed cylinder standing on the ground, turning about z (keys).
+#   arm         optional: closed cylinder along x (radius, length, centre).
+#   ground      optional: size of the ground plane at z = 0.
+#   fps, sim, keep  frame rate, simulated and kept Blender frames (inclusive).
+#   cloth, collision  Blender cloth / cloth-collision settings, set in this order.
+#   camera      preview camera location and target; preview_frames the default frames.
+DRAPE = dict(
+    mesh=("grid", 50, 60, 2.0, 2.4),   # quads along x and y -> (51 x 61) = 3111 vertices; metres
+    z=1.10,                            # initial height of the flat cloth
+    offset=(0.12, -0.08),              # cloth centre relative to the table axis (asymmetric folds)
+    tilt_deg=4.0,                      # small tilt about x so the drop is not perfectly symmetric
+    spin_deg=17.0,                     # rotation about z
+    table=dict(r=0.5, h=0.75,          # round table: a closed cylinder standing on the ground
+               spin=((30, 0.0), (120, 75.0))),   # (frame, degrees about z), Bezier ease: a lazy susan
+    ground=8.0,
+    fps=24,
+    sim=(1, 120),                      # simulated Blender frames
+    keep=(21, 120),                    # frames written to the cache (100 frames)
+    cloth=dict(
+        quality=12,                    # solver steps per frame
+        mass=0.3,                      # kg per vertex (Blender "Vertex Mass")
+        air_damping=1.0,
+        tension_stiffness=15.0, compression_stiffness=15.0,
+        shear_stiffness=5.0, bending_stiffness=2.0,
+        tension_damping=5.0, compression_damping=5.0,
+        shear_damping=5.0, bending_damping=0.5,
+    ),
+    collision=dict(
+        collision_quality=6,
+        use_collision=True,
+        distance_min=0.008,            # cloth <-> objects
+        use_self_collision=True,
+        self_distance_min=0.006,       # cloth <-> cloth (grid spacing is 0.04 m)
+        self_friction=5.0,
+        self_impulse_clamp=0.0,
+        impulse_clamp=0.0,
+    ),
+    obstacle_thickness=0.01,           # collision modifier outer thickness
+    obstacle_friction=5.0,
+    camera=((2.2, -2.4, 2.1), (0.05, 0.0, 0.35)),
+    preview_frames="40,120",
+)
 
-CLOTH = dict(
-    quality=12,                      # solver steps per frame
-    mass=0.3,                        # kg per vertex (Blender "Vertex Mass")
-    air_damping=1.0,
-    tension_stiffness=15.0, compression_stiffness=15.0,
-    shear_stiffness=5.0, bending_stiffness=2.0,
-    tension_damping=5.0, compression_damping=5.0,
-    shear_damping=5.0, bending_damping=0.5,
+PILE = dict(
+    mesh=("grid", 60, 60, 1.5, 1.5),   # 61 x 61 = 3721 vertices, edge 0.025 m
+    z=1.25,                            # flat sheet, held at its centre 1.25 m above the ground
+    offset=(0.0, 0.0),
+    tilt_deg=3.0,
+    spin_deg=20.0,
+    pins=dict(fixed=lambda i, j: False,
+              hooked=lambda i, j: abs(i - 30) <= 1 and abs(j - 30) <= 1,   # 3 x 3 at the centre
+              keys=((1, (0.0, 0.0, 1.25), (0.0, 0.0, 0.0)),      # hangs from its centre,
+                    (12, (0.0, 0.0, 1.25), (0.0, 0.0, 0.0)),     # is lowered and twisted,
+                    (65, (0.04, -0.03, 0.30), (0.0, 0.0, 150.0))),
+              release=65),                                       # then let go
+    ground=8.0,
+    fps=24,
+    sim=(1, 100),
+    keep=(21, 100),                    # 80 frames
+    cloth=dict(
+        quality=10,
+        mass=0.3,
+        air_damping=1.0,
+        tension_stiffness=15.0, compression_stiffness=15.0,
+        shear_stiffness=15.0, bending_stiffness=4.0,
+        tension_damping=5.0, compression_damping=5.0,
+        shear_damping=5.0, bending_damping=0.5,
+        vertex_group_mass="pin",
+    ),
+    collision=dict(
+        collision_quality=5,
+        use_collision=True,
+        distance_min=0.006,
+        use_self_collision=True,
+        self_distance_min=0.005,       # grid spacing is 0.025 m
+        self_friction=5.0,
+        self_impulse_clamp=0.0,
+        impulse_clamp=0.0,
+    ),
+    obstacle_thickness=0.01,
+    obstacle_friction=5.0,
+    camera=((1.25, -1.4, 1.15), (0.05, 0.0, 0.12)),
+    preview_frames="40,100",
 )
-COLLISION = dict(
-    collision_quality=6,
-    use_collision=True,
-    distance_min=0.008,              # cloth <-> objects
-    use_self_collision=True,
-    self_distance_min=0.006,         # cloth <-> cloth (grid spacing is 0.04 m)
-    self_friction=5.0,
-    self_impulse_clamp=0.0,
-    impulse_clamp=0.0,
+
+SLEEVE = dict(
+    mesh=("tube", 48, 60, 0.11, 1.0),  # 48 x 61 = 2928 vertices; edges 0.0144 m around, 0.0167 m along
+    z=0.90,                            # tube axis height (along x, from x = -0.5 to 0.5)
+    offset=(0.0, 0.0),
+    tilt_deg=0.0,
+    spin_deg=0.0,
+    pins=dict(fixed=lambda i, j: j == 0,   # shoulder ring fixed; cuff ring pushed toward it, twisted
+              hooked=lambda i, j: j == 60,
+              keys=((1, (0.5, 0.0, 0.90), (0.0, 0.0, 0.0)),
+                    (10, (0.5, 0.0, 0.90), (0.0, 0.0, 0.0)),
+                    (110, (-0.05, 0.0, 0.90), (40.0, 0.0, 0.0)))),   # past the end: still moving at 100
+    arm=dict(r=0.06, length=1.5, centre=(0.0, 0.0, 0.90)),
+    fps=24,
+    sim=(1, 100),
+    keep=(21, 100),                    # 80 frames
+    cloth=dict(
+        quality=12,
+        mass=0.3,
+        air_damping=1.0,
+        tension_stiffness=15.0, compression_stiffness=15.0,
+        shear_stiffness=5.0, bending_stiffness=5.0,
+        tension_damping=5.0, compression_damping=5.0,
+        shear_damping=5.0, bending_damping=0.5,
+        vertex_group_mass="pin",
+    ),
+    collision=dict(
+        collision_quality=8,
+        use_collision=True,
+        distance_min=0.006,
+        use_self_collision=True,
+        self_distance_min=0.006,       # edges are 0.014-0.017 m
+        self_friction=5.0,
+        self_impulse_clamp=0.0,
+        impulse_clamp=0.0,
+    ),
+    obstacle_thickness=0.005,
+    obstacle_friction=5.0,
+    camera=((0.3, -1.15, 1.3), (-0.05, 0.0, 0.88)),
+    preview_frames="40,100",
 )
-OBSTACLE_THICKNESS = 0.01            # collision modifier outer thickness
-OBSTACLE_FRICTION = 5.0
+
+SCENES = dict(drape=DRAPE, pile=PILE, rucked=SLEEVE)  # rucked: "sleeve" and "tube" name a generated kind
 
 
 def parse_args():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser(prog="make_cloth_sequence.py")
     here = os.path.dirname(os.path.abspath(__file__))
-    ap.add_argument("--out", default=os.path.join(os.path.dirname(here), "drape"),
-                    help="output folder (default: data/drape next to this script)")
-    ap.add_argument("--name", default="drape", help="base name of the .obj/.pc2 files")
-    ap.add_argument("--preview", action="store_true", help="render two small PNG previews")
-    ap.add_argument("--preview-frames", default="40,120")
+    ap.add_argument("--scene", choices=sorted(SCENES), default="drape",
+                    help="which sequence to build (default: drape)")
+    ap.add_argument("--out", default=None,
+                    help="output folder (default: data/<scene> next to this script's folder)")
+    ap.add_argument("--name", default=None, help="base name of the .obj/.pc2 files (default: the scene)")
+    ap.add_argument("--preview", action="store_true", help="render small PNG previews")
+    ap.add_argument("--preview-frames", default=None,
+                    help="comma-separated Blender frames to render (default: the scene's)")
     ap.add_argument("--no-check", action="store_true", help="skip the self-intersection check")
-    return ap.parse_args(argv)
+    args = ap.parse_args(argv)
+    if args.out is None:
+        args.out = os.path.join(os.path.dirname(here), args.scene)
+    if args.name is None:
+        args.name = args.scene
+    if args.preview_frames is None:
+        args.preview_frames = SCENES[args.scene]["preview_frames"]
+    return args
 
 
 # ---------------------------------------------------------------------------------------
 # Scene
 # ---------------------------------------------------------------------------------------
-def reset_scene():
+def reset_scene(P):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
-    scene.render.fps = FPS
+    scene.render.fps = P["fps"]
     scene.render.fps_base = 1.0
-    scene.frame_start = SIM_START
-    scene.frame_end = SIM_END
+    scene.frame_start = P["sim"][0]
+    scene.frame_end = P["sim"][1]
     scene.gravity = (0.0, 0.0, -9.81)
     scene.use_gravity = True
     return scene
 
 
-def make_cloth(scene):
+def grid_mesh(nx, ny, sx, sy):
+    """nx x ny quads in the xy plane, centred; rows of nx + 1 vertices, x fastest.
+    Returns vertices, quads and each vertex's (column i, row j)."""
     verts, faces = [], []
-    for j in range(CLOTH_NY + 1):                       # row-major, x fastest
-        for i in range(CLOTH_NX + 1):
-            verts.append((CLOTH_SX * (i / CLOTH_NX - 0.5), CLOTH_SY * (j / CLOTH_NY - 0.5), 0.0))
-    for j in range(CLOTH_NY):
-        for i in range(CLOTH_NX):
-            a = j * (CLOTH_NX + 1) + i
-            faces.append((a, a + 1, a + CLOTH_NX + 2, a + CLOTH_NX + 1))   # CCW seen from +z
+    for j in range(ny + 1):                             # row-major, x fastest
+        for i in range(nx + 1):
+            verts.append((sx * (i / nx - 0.5), sy * (j / ny - 0.5), 0.0))
+    for j in range(ny):
+        for i in range(nx):
+            a = j * (nx + 1) + i
+            faces.append((a, a + 1, a + nx + 2, a + nx + 1))   # CCW seen from +z
+    ij = [(i, j) for j in range(ny + 1) for i in range(nx + 1)]
+    return verts, faces, ij
+
+
+def tube_mesh(n_around, n_along, radius, length):
+    """Open tube about the x axis, centred: n_along + 1 rings of n_around vertices.
+    Returns vertices, quads and each vertex's (index around i, ring j)."""
+    verts, faces = [], []
+    for j in range(n_along + 1):                        # ring-major, around fastest
+        x = length * (j / n_along - 0.5)
+        for i in range(n_around):
+            t = 2.0 * math.pi * i / n_around
+            verts.append((x, radius * math.cos(t), radius * math.sin(t)))
+    for j in range(n_along):
+        for i in range(n_around):
+            a, b = j * n_around + i, j * n_around + (i + 1) % n_around
+            faces.append((a, b, b + n_around, a + n_around))    # normals point outward
+    ij = [(i, j) for j in range(n_along + 1) for i in range(n_around)]
+    return verts, faces, ij
+
+
+def animated_empty(scene, name, keys):
+    """An empty with Bezier location/rotation keys (frame, location, rotation in degrees);
+    it is left at its first key's pose."""
+    empty = bpy.data.objects.new(name, None)
+    scene.collection.objects.link(empty)
+    for fr, loc, rot in keys:
+        empty.location = loc
+        empty.rotation_euler = [math.radians(d) for d in rot]
+        empty.keyframe_insert("location", frame=fr)
+        empty.keyframe_insert("rotation_euler", frame=fr)
+    fr, loc, rot = keys[0]
+    empty.location = loc
+    empty.rotation_euler = [math.radians(d) for d in rot]
+    return empty
+
+
+def add_pins(scene, obj, ij, pins):
+    """Vertex group "pin" (the cloth's pin group) over the fixed and hooked vertices; the
+    hooked ones follow an animated empty through a Hook modifier (added before the cloth)."""
+    fixed = [v for v, (i, j) in enumerate(ij) if pins["fixed"](i, j)]
+    hooked = [v for v, (i, j) in enumerate(ij) if pins["hooked"](i, j)]
+    vg = obj.vertex_groups.new(name="pin")
+    vg.add(fixed + hooked, 1.0, "REPLACE")
+    if hooked:
+        empty = animated_empty(scene, "hook", pins["keys"])
+        _, loc, rot = pins["keys"][0]
+        bind = Matrix.Translation(loc) @ Euler([math.radians(d) for d in rot]).to_matrix().to_4x4()
+        hook = obj.modifiers.new("Hook", "HOOK")
+        hook.object = empty
+        hook.vertex_indices_set(hooked)
+        hook.center = loc
+        hook.matrix_inverse = bind.inverted()           # no displacement at the first key
+    if pins.get("release"):
+        # The cloth re-reads its pin group every step: from the release frame on, this sets
+        # every pin weight to 0 (group B absent = weight 0, mixed in at full influence).
+        mix = obj.modifiers.new("Release", "VERTEX_WEIGHT_MIX")
+        mix.vertex_group_a = "pin"
+        mix.default_weight_b = 0.0
+        mix.mix_mode = "SET"
+        mix.mix_set = "A"
+        for fr, influence in ((pins["release"] - 1, 0.0), (pins["release"], 1.0)):
+            mix.mask_constant = influence
+            mix.keyframe_insert("mask_constant", frame=fr)
+        for kp in obj.animation_data.action.fcurves[0].keyframe_points:
+            kp.interpolation = "CONSTANT"
+
+
+def make_cloth(scene, P):
+    kind = P["mesh"][0]
+    verts, faces, ij = {"grid": grid_mesh, "tube": tube_mesh}[kind](*P["mesh"][1:])
     mesh = bpy.data.meshes.new("cloth")
     mesh.from_pydata(verts, [], faces)
     mesh.update()
     # Bake the placement into the vertices so object transform is identity (world == local).
-    m = (Matrix.Translation((CLOTH_OFFSET[0], CLOTH_OFFSET[1], CLOTH_Z))
-         @ Matrix.Rotation(math.radians(CLOTH_SPIN_DEG), 4, "Z")
-         @ Matrix.Rotation(math.radians(CLOTH_TILT_DEG), 4, "X"))
+    m = (Matrix.Translation((P["offset"][0], P["offset"][1], P["z"]))
+         @ Matrix.Rotation(math.radians(P["spin_deg"]), 4, "Z")
+         @ Matrix.Rotation(math.radians(P["tilt_deg"]), 4, "X"))
     mesh.transform(m)
     obj = bpy.data.objects.new("cloth", mesh)
     scene.collection.objects.link(obj)
+    if "pins" in P:
+        add_pins(scene, obj, ij, P["pins"])
 
     mod = obj.modifiers.new("Cloth", "CLOTH")
     s = mod.settings
-    for k, v in CLOTH.items():
+    for k, v in P["cloth"].items():
         setattr(s, k, v)
     c = mod.collision_settings
-    for k, v in COLLISION.items():
+    for k, v in P["collision"].items():
         setattr(c, k, v)
-    mod.point_cache.frame_start = SIM_START
-    mod.point_cache.frame_end = SIM_END
+    mod.point_cache.frame_start = P["sim"][0]
+    mod.point_cache.frame_end = P["sim"][1]
     return obj, mod
 
 
-def make_obstacles(scene):
-    bpy.ops.mesh.primitive_cylinder_add(vertices=96, radius=TABLE_R, depth=TABLE_H,
-                                        end_fill_type="NGON", location=(0.0, 0.0, TABLE_H / 2))
-    table = bpy.context.active_object
-    table.name = "table"
-    for fr, deg in TABLE_SPIN:
-        table.rotation_euler = (0.0, 0.0, math.radians(deg))
-        table.keyframe_insert("rotation_euler", index=2, frame=fr)
-    bpy.ops.mesh.primitive_plane_add(size=8.0, location=(0.0, 0.0, 0.0))
-    ground = bpy.context.active_object
-    ground.name = "ground"
-    for ob in (table, ground):
+def make_obstacles(scene, P):
+    obstacles = []
+    if "table" in P:
+        T = P["table"]
+        bpy.ops.mesh.primitive_cylinder_add(vertices=96, radius=T["r"], depth=T["h"],
+                                            end_fill_type="NGON", location=(0.0, 0.0, T["h"] / 2))
+        table = bpy.context.active_object
+        table.name = "table"
+        for fr, deg in T["spin"]:
+            table.rotation_euler = (0.0, 0.0, math.radians(deg))
+            table.keyframe_insert("rotation_euler", index=2, frame=fr)
+        obstacles.append(table)
+    if "arm" in P:
+        A = P["arm"]
+        bpy.ops.mesh.primitive_cylinder_add(vertices=96, radius=A["r"], depth=A["length"],
+                                            end_fill_type="NGON", location=A["centre"],
+                                            rotation=(0.0, math.pi / 2, 0.0))
+        arm = bpy.context.active_object
+        arm.name = "arm"
+        obstacles.append(arm)
+    if "ground" in P:
+        bpy.ops.mesh.primitive_plane_add(size=P["ground"], location=(0.0, 0.0, 0.0))
+        ground = bpy.context.active_object
+        ground.name = "ground"
+        obstacles.append(ground)
+    for ob in obstacles:
         ob.modifiers.new("Collision", "COLLISION")
-        ob.collision.thickness_outer = OBSTACLE_THICKNESS
-        ob.collision.cloth_friction = OBSTACLE_FRICTION
+        ob.collision.thickness_outer = P["obstacle_thickness"]
+        ob.collision.cloth_friction = P["obstacle_friction"]
         ob.collision.use_culling = False
-    return table, ground
+    return obstacles
+
+
+def obstacle_checks(P):
+    """(column name, function of the world positions) for each obstacle of the scene: the
+    deepest penetration of a cloth vertex into it (0 if none)."""
+    checks = []
+    if "table" in P:
+        r, h = P["table"]["r"], P["table"]["h"]
+        checks.append(("table_penetration",
+                       lambda pos: max(0.0, max(min(r - p.xy.length, h - p.z) for p in pos))))
+    if "arm" in P:
+        r, half, c = P["arm"]["r"], P["arm"]["length"] / 2, Vector(P["arm"]["centre"])
+        checks.append(("arm_penetration",
+                       lambda pos: max(0.0, max(min(r - (p - c).yz.length, half - abs(p.x - c.x))
+                                                for p in pos))))
+    if "ground" in P:
+        checks.append(("below_ground", lambda pos: max(0.0, -min(p.z for p in pos))))
+    return checks
 
 
 # ---------------------------------------------------------------------------------------
@@ -174,7 +410,7 @@ def evaluated_positions(obj, depsgraph):
     return pos
 
 
-def write_obj(path, rest_positions, tris, nframes_note):
+def write_obj(path, rest_positions, tris, nframes_note, object_name):
     tmp = path + ".tmp"
     with open(tmp, "w", newline="\n") as f:
         f.write("# pleat bundled cloth sequence, generated by data/blender/make_cloth_sequence.py\n")
@@ -182,7 +418,7 @@ def write_obj(path, rest_positions, tris, nframes_note):
                 % bpy.app.version_string)
         f.write("# Y-up, metres. Vertex order = %s. %d vertices, %d triangles.\n"
                 % (nframes_note, len(rest_positions), len(tris)))
-        f.write("o drape\n")
+        f.write("o %s\n" % object_name)
         for p in rest_positions:
             x, y, z = to_file_axes(p)
             f.write("v %.6f %.6f %.6f\n" % (x, y, z))
@@ -243,7 +479,7 @@ def min_nonadjacent_vertex_distance(positions, ring2):
 
 
 # ---------------------------------------------------------------------------------------
-def render_previews(scene, cloth, quads, frames_pos, outdir):
+def render_previews(scene, cloth, quads, frames_pos, outdir, camera):
     """Render the stored positions (not a re-evaluated cache) as a plain mesh."""
     cloth.hide_render = True
     scene.render.engine = "BLENDER_WORKBENCH"
@@ -266,8 +502,8 @@ def render_previews(scene, cloth, quads, frames_pos, outdir):
     cam_data.lens = 40
     cam = bpy.data.objects.new("cam", cam_data)
     scene.collection.objects.link(cam)
-    cam.location = (2.2, -2.4, 2.1)
-    direction = Vector((0.05, 0.0, 0.35)) - cam.location
+    cam.location = camera[0]
+    direction = Vector(camera[1]) - cam.location
     cam.rotation_euler = direction.to_track_quat("-Z", "Y").to_euler()
     scene.camera = cam
     for fr, pos in sorted(frames_pos.items()):
@@ -285,10 +521,14 @@ def render_previews(scene, cloth, quads, frames_pos, outdir):
 
 def main():
     args = parse_args()
+    P = SCENES[args.scene]
+    sim_start, sim_end = P["sim"]
+    keep_start, keep_end = P["keep"]
     os.makedirs(args.out, exist_ok=True)
-    scene = reset_scene()
-    cloth, mod = make_cloth(scene)
-    make_obstacles(scene)
+    scene = reset_scene(P)
+    cloth, mod = make_cloth(scene, P)
+    make_obstacles(scene, P)
+    checks = obstacle_checks(P)
 
     me = cloth.data
     me.calc_loop_triangles()
@@ -307,7 +547,8 @@ def main():
         for j in adj[i]:
             r |= adj[j]
         ring2.append(r)
-    print("cloth: %d vertices, %d quads, %d triangles" % (nverts, len(me.polygons), len(tris)))
+    print("scene %s: %d vertices, %d quads, %d triangles"
+          % (args.scene, nverts, len(me.polygons), len(tris)))
 
     quads = [tuple(p.vertices) for p in me.polygons]
     preview_frames = [int(x) for x in args.preview_frames.split(",")] if args.preview else []
@@ -315,7 +556,7 @@ def main():
     frames = []
     report = []
     t0 = time.time()
-    for fr in range(SIM_START, SIM_END + 1):        # step sequentially so the solver advances
+    for fr in range(sim_start, sim_end + 1):        # step sequentially so the solver advances
         scene.frame_set(fr)
         dg = bpy.context.evaluated_depsgraph_get()
         pos = evaluated_positions(cloth, dg)
@@ -324,7 +565,7 @@ def main():
                                % (fr, len(pos), nverts))
         if fr in preview_frames:
             preview_pos[fr] = pos
-        if fr < KEEP_START or fr > KEEP_END:
+        if fr < keep_start or fr > keep_end:
             print("frame %3d simulated (%.1fs)" % (fr, time.time() - t0), flush=True)
             continue
         frames.append(pos)
@@ -332,32 +573,34 @@ def main():
         if not args.no_check:
             nint = self_intersections(pos, tris, tri_sets)
             dmin = min_nonadjacent_vertex_distance(pos, ring2)
-            pen = max(0.0, max(min(TABLE_R - p.xy.length, TABLE_H - p.z) for p in pos))
-            below = max(0.0, -min(p.z for p in pos))
+            obst = tuple(f(pos) for _, f in checks)
             line += ("  self-intersecting triangle pairs %d  min non-adjacent vertex dist %.4f m"
-                     "  table penetration %.4f m  below ground %.4f m" % (nint, dmin, pen, below))
-            report.append((fr, nint, dmin, pen, below))
+                     % (nint, dmin))
+            line += "".join("  %s %.4f m" % (name.replace("_", " "), v)
+                            for (name, _), v in zip(checks, obst))
+            report.append((fr, nint, dmin) + obst)
         print(line + "  (%.1fs)" % (time.time() - t0), flush=True)
 
     base = os.path.join(args.out, args.name)
-    write_obj(base + ".obj", rest, tris, "the vertex order of %s.pc2" % args.name)
-    write_pc2(base + ".pc2", frames, KEEP_START)
+    write_obj(base + ".obj", rest, tris, "the vertex order of %s.pc2" % args.name, args.scene)
+    write_pc2(base + ".pc2", frames, keep_start)
     print("wrote %s.obj and %s.pc2: %d vertices, %d triangles, %d frames (Blender frames %d-%d)"
-          % (base, base, nverts, len(tris), len(frames), KEEP_START, KEEP_END))
+          % (base, base, nverts, len(tris), len(frames), keep_start, keep_end))
 
     if report:
         bad = [r for r in report if r[1] > 0]
         with open(os.path.join(args.out, "self_intersections.txt"), "w") as f:
-            f.write("frame intersecting_pairs min_nonadjacent_vertex_dist table_penetration below_ground\n")
+            f.write(" ".join(["frame intersecting_pairs min_nonadjacent_vertex_dist"]
+                             + [name for name, _ in checks]) + "\n")
             for r in report:
-                f.write("%d %d %.5f %.5f %.5f\n" % r)
+                f.write(("%d %d %.5f" + " %.5f" * len(checks) + "\n") % r)
         print("self-intersection check: %d of %d frames have intersecting triangle pairs, "
               "total %d pairs, max %d; min non-adjacent vertex distance %.4f m"
               % (len(bad), len(report), sum(r[1] for r in report), max(r[1] for r in report),
                  min(r[2] for r in report)))
 
     if args.preview:
-        render_previews(scene, cloth, quads, preview_pos, args.out)
+        render_previews(scene, cloth, quads, preview_pos, args.out, P["camera"])
 
 
 if __name__ == "__main__":
