@@ -128,6 +128,7 @@ Options parse_options(int argc, char** argv) {
   for (int t : o.threads)
     if (t < 1) usage_error("--threads values must be positive");
   if (o.reference_rays < 1 || o.sweep_rays < 1 || o.random_rays < 0) usage_error("ray counts must be positive");
+  if (o.reference_sample < 1) usage_error("--reference-sample must be positive");
   for (const auto& s : o.sequences)
     if (!is_sequence_name(s, o.data)) usage_error("unknown sequence '" + s + "'");
   return o;
