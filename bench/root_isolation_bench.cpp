@@ -1,139 +1,213 @@
-// Cost of the kinetic layer's certificate filter and root isolation (kinetic/root_isolation.hpp).
-// Inputs imitate cloth between two frames: slice vertices ~1 cm apart moving ~1 mm, so that most
-// certificates hold (the common case); the event cases are separate benchmarks. Deterministic inputs.
+// Cost of root isolation (kinetic/root_isolation.hpp) on the certificates the kinetic engine builds:
+// orientations of three slice points moving linearly between two frames (kinetic/moving_orientation.hpp,
+// planar_orientation_certificate: degree 2), as KineticSlice certifies every triangle at the start of an
+// interval.
+//
+// Input: the bundled drape (data/drape/drape.obj + drape.pc2, 3,111 vertices), samples 40 -> 41, the CLI's
+// default plan on sample 40 (make_diffuse_plan: 6 orientations, spacing = average edge length). Every finite
+// triangle of every plane's constrained triangulation at 40 whose three slice vertices survive to 41 (matched
+// by mesh edge) gives one certificate; most hold over the interval (the common case), the rest are left
+// "undecided" by the interval filter. Everything the timed loops read is prepared once, outside them.
+//
+// Benchmarks (one thread; the counter s_per_certificate is seconds per certificate):
+//   BM_FilterOnly              stage (a) alone, certainly_no_root, on built certificates the filter decides.
+//   BM_CertificateFromPoints   the same certificates from their six points: the interval enclosure
+//                              (planar_orientation_certificate), then first_root_after from t = 0.
+//   BM_FirstFailure            the engine's whole decision (first_failure from t = 0, as a triangle) on every
+//                              certificate. Counters: certificates, undecided_fraction.
+//   BM_RootIsolationUndecided  first_root_after from t = 0 on the certificates the filter leaves undecided:
+//                              interval subdivision, exact arithmetic where it cannot decide. Counters: how
+//                              many each stage decided (by_filter, by_subdivision, by_exact), with_root.
+//   BM_ExactOrientationPolynomial  the exact polynomial of an undecided certificate (Gmpzf, then Gmpq).
+//   BM_EventSimpleRoot         one certificate with a simple root (a point crossing the line through two
+//                              others): subdivision, then a lazily narrowed RootTime.
+//   BM_EventSimpleRootExact    the same event in exact arithmetic alone (exact polynomial, then stage (c)).
+//   BM_CompareDistinct         ordering two event times with disjoint enclosures.
+//   BM_CompareTie              an exact tie: the same algebraic time from two polynomials (gcd).
+//
+// Flags of ours (before Google Benchmark's own):
+//   --pleat_data=DIR   the repository's data/ (default: found from this source file's path)
 #include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
 
-#include <glm/geometric.hpp>
-#include <random>
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <vector>
 
-#include "kinetic/certificate_polynomial.hpp"
+#include "bench/bench_args.hpp"
+#include "kinetic/moving_orientation.hpp"
 #include "kinetic/root_isolation.hpp"
+#include "sim_io/mesh_sequence.hpp"
+#include "static_core/mesh_slicer.hpp"
+#include "static_core/slice_triangulation.hpp"
+#include "static_core/slicing_plan.hpp"
 
 namespace pleat::kinetic {
 namespace {
 
-SlicingPlane bench_plane() {
-  SlicingPlane p;
-  p.normal = glm::normalize(glm::dvec3(1, 1, 0));
-  p.u = glm::normalize(glm::cross(glm::dvec3(0, 0, 1), p.normal));
-  p.w = glm::cross(p.normal, p.u);
-  p.offset = 0.25;
-  return p;
-}
+namespace fs = std::filesystem;
 
-/// A slice vertex near `at` (in the plane) on an edge ~1 cm long, both endpoints moving up to `move`.
-SliceVertexMotion edge_near(const SlicingPlane& plane, const glm::dvec3& at, double move, std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0), h(0.002, 0.008);
-  const glm::dvec3 c = at - (glm::dot(plane.normal, at) - plane.offset) * plane.normal;
-  const glm::dvec3 up = c + h(rng) * plane.normal, down = c - h(rng) * plane.normal;
-  const auto jitter = [&] { return glm::dvec3(u(rng), u(rng), u(rng)) * move; };
-  return {up, up + jitter(), down, down + jitter()};
-}
+fs::path g_data = fs::path(__FILE__).parent_path().parent_path() / "data";
+constexpr std::size_t kDrapeFrame = 40;  // samples 40 and 41 of the bundled drape
 
-/// Triangles of slice vertices (~1 cm) whose orientation keeps its sign over the interval.
+using Triple = std::array<MovingPoint, 3>;
+
 struct Workload {
-  SlicingPlane plane = bench_plane();
-  std::vector<std::array<SliceVertexMotion, 3>> triangles;
-  std::vector<std::array<SliceVertexTrack, 3>> tracks;
-  std::vector<CertificatePolynomial> certificates;
+  std::vector<Triple> triples;                   // every certificate of the interval
+  std::vector<CertificatePolynomial> decided;    // built, and certainly without a zero on [0, 1] (the filter)
+  std::vector<Triple> decided_points;            // their points
+  std::vector<CertificatePolynomial> undecided;  // built, left undecided by the filter
 };
 
-const Workload& no_event_workload() {
+const Workload& drape_workload() {
   static const Workload w = [] {
     Workload w;
-    std::mt19937 rng(20261121);
-    std::uniform_real_distribution<double> pos(-1.0, 1.0);
-    while (w.triangles.size() < 4096) {
-      const glm::dvec3 base(pos(rng), pos(rng), pos(rng));
-      const std::array<SliceVertexMotion, 3> t{edge_near(w.plane, base, 0.001, rng),
-                                               edge_near(w.plane, base + 0.01 * w.plane.u, 0.001, rng),
-                                               edge_near(w.plane, base + 0.01 * w.plane.w, 0.001, rng)};
-      const CertificatePolynomial c = orientation_certificate(w.plane, t[0], t[1], t[2]);
-      if (!certainly_no_root(c)) continue;
-      w.triangles.push_back(t);
-      w.tracks.push_back({track_slice_vertex(w.plane, t[0]), track_slice_vertex(w.plane, t[1]),
-                          track_slice_vertex(w.plane, t[2])});
-      w.certificates.push_back(c);
+    const MeshSequence seq = load_sequence(g_data / "drape" / "drape.obj", g_data / "drape" / "drape.pc2");
+    const MeshTopology& topology = seq.topology();
+    const Frame frame0 = seq.frame(kDrapeFrame), frame1 = seq.frame(kDrapeFrame + 1);
+    const SlicingPlan plan = make_diffuse_plan(topology, frame0, DiffusePlanParams{});  // the CLI's defaults
+    const MeshEdges edges(topology);
+    const auto faces0 = candidate_faces_per_plane(topology, frame0, plan);
+    const auto faces1 = candidate_faces_per_plane(topology, frame1, plan);
+    SlicerScratch scratch;
+    Slice slice, next;
+    SliceTriangulation tri;
+    std::vector<std::int32_t> next_of_edge(edges.endpoints.size(), -1);
+    for (std::size_t p = 0; p < plan.planes.size(); ++p) {
+      slice_mesh(topology, edges, frame0, plan.planes[p], faces0[p], scratch, slice);
+      slice_mesh(topology, edges, frame1, plan.planes[p], faces1[p], scratch, next);
+      tri.build(slice);
+      if (tri.dimension() != 2) continue;
+      for (Index y = 0; y < next.vertices.size(); ++y) next_of_edge[next.vertices[y].edge] = std::int32_t(y);
+      const cgal::Cdt& cdt = tri.cdt();
+      for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+        Triple t;
+        bool kept = true;
+        for (int i = 0; i < 3 && kept; ++i) {
+          const int x = f->vertex(i)->info().slice_vertex;  // -1: a crossing point of two chains
+          const std::int32_t y = x < 0 ? -1 : next_of_edge[slice.vertices[x].edge];
+          kept = y >= 0;
+          if (kept) t[i] = {cgal::to_glm(f->vertex(i)->point()), next.vertices[y].point};
+        }
+        if (kept) w.triples.push_back(t);
+      }
+      for (const SliceVertex& v : next.vertices) next_of_edge[v.edge] = -1;
+    }
+    for (const Triple& t : w.triples) {
+      CertificatePolynomial c = orientation_certificate(t[0], t[1], t[2]);
+      if (certainly_no_root(c)) {
+        w.decided.push_back(std::move(c));
+        w.decided_points.push_back(t);
+      } else {
+        w.undecided.push_back(std::move(c));
+      }
+    }
+    if (w.decided.empty() || w.undecided.empty()) {
+      std::fprintf(stderr, "root_isolation_bench: no certificates from %s\n", (g_data / "drape").c_str());
+      std::exit(2);
     }
     return w;
   }();
   return w;
 }
 
+benchmark::Counter per_certificate(double n) {
+  return benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 /// Stage (a) alone on a built certificate.
 void BM_FilterOnly(benchmark::State& state) {
-  const Workload& w = no_event_workload();
-  std::size_t i = 0;
+  const Workload& w = drape_workload();
+  std::size_t none = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(certainly_no_root(w.certificates[i]));
-    i = (i + 1) % w.certificates.size();
+    none = 0;
+    for (const CertificatePolynomial& c : w.decided) none += certainly_no_root(c);
+    benchmark::DoNotOptimize(none);
   }
+  state.counters["certificates"] = double(w.decided.size());
+  state.counters["s_per_certificate"] = per_certificate(double(w.decided.size()));
 }
 BENCHMARK(BM_FilterOnly);
 
-/// The per-certificate cost when slice-vertex tracks are shared: build the degree-5 enclosure, run
-/// first_root_after (no event).
-void BM_CertificateFromTracks(benchmark::State& state) {
-  const Workload& w = no_event_workload();
+/// The enclosure from the points, then first_root_after (no event: the filter decides).
+void BM_CertificateFromPoints(benchmark::State& state) {
+  const Workload& w = drape_workload();
   const RootTime t0;
-  std::size_t i = 0;
+  std::size_t roots = 0;
   for (auto _ : state) {
-    const auto& t = w.tracks[i];
-    benchmark::DoNotOptimize(first_root_after(orientation_certificate(w.plane, t[0], t[1], t[2]), t0));
-    i = (i + 1) % w.tracks.size();
+    roots = 0;
+    for (const Triple& t : w.decided_points)
+      roots += first_root_after(orientation_certificate(t[0], t[1], t[2]), t0).has_value();
+    benchmark::DoNotOptimize(roots);
   }
+  state.counters["certificates"] = double(w.decided_points.size());
+  state.counters["s_per_certificate"] = per_certificate(double(w.decided_points.size()));
 }
-BENCHMARK(BM_CertificateFromTracks);
+BENCHMARK(BM_CertificateFromPoints);
 
-/// One slice-vertex track (shared by the ~6 certificates of a slice vertex).
-void BM_SliceVertexTrack(benchmark::State& state) {
-  const Workload& w = no_event_workload();
-  std::size_t i = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(track_slice_vertex(w.plane, w.triangles[i][0]));
-    i = (i + 1) % w.triangles.size();
-  }
-}
-BENCHMARK(BM_SliceVertexTrack);
-
-/// Everything from raw positions: three tracks, the enclosure, the filter.
-void BM_CertificateFromPositions(benchmark::State& state) {
-  const Workload& w = no_event_workload();
+/// KineticSlice's decision at the start of the interval, on every certificate.
+void BM_FirstFailure(benchmark::State& state) {
+  const Workload& w = drape_workload();
   const RootTime t0;
-  std::size_t i = 0;
+  std::size_t filtered = 0;
   for (auto _ : state) {
-    const auto& t = w.triangles[i];
-    benchmark::DoNotOptimize(first_root_after(orientation_certificate(w.plane, t[0], t[1], t[2]), t0));
-    i = (i + 1) % w.triangles.size();
+    filtered = 0;
+    for (const Triple& t : w.triples) {
+      const CertificateFailure f = first_failure(t, t0, true);
+      filtered += f.decided_by == CertificateFailure::DecidedBy::filter;
+      benchmark::DoNotOptimize(f.time);
+    }
   }
+  state.counters["certificates"] = double(w.triples.size());
+  state.counters["undecided_fraction"] = double(w.triples.size() - filtered) / double(w.triples.size());
+  state.counters["s_per_certificate"] = per_certificate(double(w.triples.size()));
 }
-BENCHMARK(BM_CertificateFromPositions);
+BENCHMARK(BM_FirstFailure);
 
-void BM_PlaneSide(benchmark::State& state) {
-  const Workload& w = no_event_workload();
+/// Stages (b) and (c) on the certificates the filter cannot decide.
+void BM_RootIsolationUndecided(benchmark::State& state) {
+  const Workload& w = drape_workload();
   const RootTime t0;
+  std::array<std::size_t, 3> by{};
+  std::size_t roots = 0;
+  for (auto _ : state) {
+    by = {};
+    roots = 0;
+    for (const CertificatePolynomial& c : w.undecided) {
+      IsolationStage stage = IsolationStage::filter;
+      roots += first_root_after(c, t0, &stage).has_value();
+      ++by[static_cast<std::size_t>(stage)];
+    }
+    benchmark::DoNotOptimize(roots);
+  }
+  state.counters["certificates"] = double(w.undecided.size());
+  state.counters["by_filter"] = double(by[0]);
+  state.counters["by_subdivision"] = double(by[1]);
+  state.counters["by_exact"] = double(by[2]);
+  state.counters["with_root"] = double(roots);
+  state.counters["s_per_certificate"] = per_certificate(double(w.undecided.size()));
+}
+BENCHMARK(BM_RootIsolationUndecided);
+
+/// The exact polynomial of a certificate (built only where intervals cannot decide).
+void BM_ExactOrientationPolynomial(benchmark::State& state) {
+  const Workload& w = drape_workload();
   std::size_t i = 0;
   for (auto _ : state) {
-    const auto& m = w.triangles[i][0];
-    benchmark::DoNotOptimize(first_root_after(plane_side_certificate(w.plane, m.above0, m.above1), t0));
-    i = (i + 1) % w.triangles.size();
+    benchmark::DoNotOptimize(w.undecided[i].exact());
+    i = (i + 1) % w.undecided.size();
   }
 }
-BENCHMARK(BM_PlaneSide);
+BENCHMARK(BM_ExactOrientationPolynomial);
 
-/// A certificate with an event (a simple root found by the subdivision; exact polynomial, narrowed RootTime).
+/// A certificate with an event: c crosses the line through a and b (a simple root found by the subdivision,
+/// then a lazily narrowed RootTime).
 void BM_EventSimpleRoot(benchmark::State& state) {
-  const SlicingPlane plane = bench_plane();
-  std::mt19937 rng(7);
-  const glm::dvec3 base(0.1, 0.2, 0.3);
-  // The third vertex crosses the line through the first two.
-  SliceVertexMotion a = edge_near(plane, base, 0.0, rng),
-                    b = edge_near(plane, base + 0.01 * plane.u, 0.0, rng);
-  SliceVertexMotion c = edge_near(plane, base + 0.005 * plane.u + 0.003 * plane.w, 0.0, rng);
-  c.above1 -= 0.009 * plane.w;
-  c.below1 -= 0.009 * plane.w;
-  const CertificatePolynomial cert = orientation_certificate(plane, a, b, c);
+  const MovingPoint a{{0.1, 0.2}, {0.1003, 0.2001}}, b{{0.11, 0.2}, {0.1101, 0.2002}};
+  const MovingPoint c{{0.105, 0.203}, {0.1052, 0.194}};
+  const CertificatePolynomial cert = orientation_certificate(a, b, c);
   IsolationStage stage;
   if (!first_root_after(cert, RootTime(), &stage)) state.SkipWithError("no event");
   state.SetLabel(stage == IsolationStage::subdivision ? "subdivision" : "exact");
@@ -141,16 +215,15 @@ void BM_EventSimpleRoot(benchmark::State& state) {
 }
 BENCHMARK(BM_EventSimpleRoot);
 
-/// The exact polynomial of an orientation certificate (built only when the filter fails).
-void BM_ExactOrientationPolynomial(benchmark::State& state) {
-  const Workload& w = no_event_workload();
-  std::size_t i = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(w.certificates[i].exact());
-    i = (i + 1) % w.certificates.size();
-  }
+/// The same event found in exact arithmetic alone (the exact polynomial, then stage (c)): what the lazy path
+/// saves.
+void BM_EventSimpleRootExact(benchmark::State& state) {
+  const MovingPoint a{{0.1, 0.2}, {0.1003, 0.2001}}, b{{0.11, 0.2}, {0.1101, 0.2002}};
+  const MovingPoint c{{0.105, 0.203}, {0.1052, 0.194}};
+  const CertificatePolynomial cert = orientation_certificate(a, b, c);
+  for (auto _ : state) benchmark::DoNotOptimize(first_root_after(cert.exact(), RootTime()));
 }
-BENCHMARK(BM_ExactOrientationPolynomial);
+BENCHMARK(BM_EventSimpleRootExact);
 
 /// Ordering two event times whose double enclosures are disjoint (the usual event-queue comparison).
 void BM_CompareDistinct(benchmark::State& state) {
@@ -173,4 +246,20 @@ BENCHMARK(BM_CompareTie);
 }  // namespace
 }  // namespace pleat::kinetic
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  int kept = 1;
+  for (int i = 1; i < argc; ++i) {
+    if (const char* v = pleat::bench::flag_value(argv[i], "--pleat_data"))
+      pleat::kinetic::g_data = v;
+    else
+      argv[kept++] = argv[i];
+  }
+  argc = kept;
+  // One thread: nothing here is parallel, and no TBB worker may run beside the timed loops.
+  tbb::global_control control(tbb::global_control::max_allowed_parallelism, 1);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -20,71 +20,9 @@ long binomial(int n, int k) {
   return kBinomial[n][k];
 }
 
-// ---- Homogeneous Bernstein arithmetic, generic in the number type (Interval or Rational) ----------------
-// An array of N coefficients h is the polynomial sum_k h[k] t^k (1 - t)^(N - 1 - k). Products are
-// convolutions; sums need equal degree. The interval and exact paths run the very same expression.
-
-template <class T, std::size_t A, std::size_t B>
-std::array<T, A + B - 1> mul(const std::array<T, A>& a, const std::array<T, B>& b) {
-  std::array<T, A + B - 1> r;
-  for (auto& x : r) x = T(0);
-  for (std::size_t i = 0; i < A; ++i)
-    for (std::size_t j = 0; j < B; ++j) r[i + j] += a[i] * b[j];
-  return r;
-}
-
-template <class T, std::size_t N>
-std::array<T, N> sub(const std::array<T, N>& a, const std::array<T, N>& b) {
-  std::array<T, N> r;
-  for (std::size_t i = 0; i < N; ++i) r[i] = a[i] - b[i];
-  return r;
-}
-
-template <class T, std::size_t N>
-std::array<T, N> add(const std::array<T, N>& a, const std::array<T, N>& b) {
-  std::array<T, N> r;
-  for (std::size_t i = 0; i < N; ++i) r[i] = a[i] + b[i];
-  return r;
-}
-
-template <class T>
-T dot(const glm::dvec3& a, const glm::dvec3& p) {
-  return T(a.x) * T(p.x) + T(a.y) * T(p.y) + T(a.z) * T(p.z);
-}
-
-template <class T>
-struct Homogeneous {
-  std::array<T, 3> x, y;
-  std::array<T, 2> w;
-};
-
-/// X = s_a U_b - s_b U_a, Y = s_a V_b - s_b V_a, W = s_a - s_b (each linear factor as its values at 0, 1).
-template <class T>
-Homogeneous<T> slice_vertex(const SlicingPlane& plane, const SliceVertexMotion& m) {
-  const T d(plane.offset);
-  const std::array<T, 2> sa{dot<T>(plane.normal, m.above0) - d, dot<T>(plane.normal, m.above1) - d};
-  const std::array<T, 2> sb{dot<T>(plane.normal, m.below0) - d, dot<T>(plane.normal, m.below1) - d};
-  const std::array<T, 2> ua{dot<T>(plane.u, m.above0), dot<T>(plane.u, m.above1)};
-  const std::array<T, 2> ub{dot<T>(plane.u, m.below0), dot<T>(plane.u, m.below1)};
-  const std::array<T, 2> va{dot<T>(plane.w, m.above0), dot<T>(plane.w, m.above1)};
-  const std::array<T, 2> vb{dot<T>(plane.w, m.below0), dot<T>(plane.w, m.below1)};
-  return {sub(mul(sa, ub), mul(sb, ua)), sub(mul(sa, vb), mul(sb, va)), sub(sa, sb)};
-}
-
-/// det[[X1, Y1, W1], [X2, Y2, W2], [X3, Y3, W3]], expanded along the first row; degree 5 homogeneous.
-template <class T>
-std::array<T, 6> orientation_det(const Homogeneous<T>& p, const Homogeneous<T>& q, const Homogeneous<T>& r) {
-  const std::array<T, 4> m_x = sub(mul(q.y, r.w), mul(r.y, q.w));  // Y2 W3 - Y3 W2
-  const std::array<T, 4> m_y = sub(mul(q.x, r.w), mul(r.x, q.w));  // X2 W3 - X3 W2
-  const std::array<T, 5> m_w = sub(mul(q.x, r.y), mul(r.x, q.y));  // X2 Y3 - X3 Y2
-  return add(sub(mul(p.x, m_x), mul(p.y, m_y)), mul(m_w, p.w));
-}
-
-Homogeneous<Interval> as_homogeneous(const SliceVertexTrack& t) { return {t.x, t.y, t.w}; }
-
 /// The exact coefficients are built in CGAL::Gmpzf (GMP mantissa times a power of two): the expression only
-/// adds, subtracts and multiplies doubles, so it is exact there and needs no gcd per operation (about 20x
-/// cheaper than Gmpq); converted to Gmpq once at the end.
+/// adds, subtracts and multiplies doubles, so it is exact there and needs no gcd per operation; converted to
+/// Gmpq once at the end.
 using Dyadic = CGAL::Gmpzf;
 
 Rational to_rational(const Dyadic& x) {
@@ -270,46 +208,6 @@ ExactPolynomial ExactPolynomial::deflate(const Rational& root) const {
 
 // ---- Certificates ---------------------------------------------------------------------------------------
 
-SliceVertexTrack track_slice_vertex(const SlicingPlane& plane, const SliceVertexMotion& motion) {
-  CGAL::Protect_FPU_rounding<true> upward;
-  const Homogeneous<Interval> h = slice_vertex<Interval>(plane, motion);
-  return {motion, h.x, h.y, h.w};
-}
-
-CertificatePolynomial orientation_certificate(const SlicingPlane& plane, const SliceVertexTrack& a,
-                                              const SliceVertexTrack& b, const SliceVertexTrack& c) {
-  CertificatePolynomial out;
-  {
-    CGAL::Protect_FPU_rounding<true> upward;
-    const std::array<Interval, 6> h =
-        orientation_det(as_homogeneous(a), as_homogeneous(b), as_homogeneous(c));
-    for (int k = 0; k < 6; ++k) out.m_h[k] = h[k];
-  }
-  out.m_degree = 5;
-  out.m_source = CertificatePolynomial::Orientation{plane, {a.motion, b.motion, c.motion}};
-  return out;
-}
-
-CertificatePolynomial orientation_certificate(const SlicingPlane& plane, const SliceVertexMotion& a,
-                                              const SliceVertexMotion& b, const SliceVertexMotion& c) {
-  return orientation_certificate(plane, track_slice_vertex(plane, a), track_slice_vertex(plane, b),
-                                 track_slice_vertex(plane, c));
-}
-
-CertificatePolynomial plane_side_certificate(const SlicingPlane& plane, const glm::dvec3& p0,
-                                             const glm::dvec3& p1) {
-  CertificatePolynomial out;
-  {
-    CGAL::Protect_FPU_rounding<true> upward;
-    const Interval d(plane.offset);
-    out.m_h[0] = dot<Interval>(plane.normal, p0) - d;
-    out.m_h[1] = dot<Interval>(plane.normal, p1) - d;
-  }
-  out.m_degree = 1;
-  out.m_source = CertificatePolynomial::PlaneSide{plane, p0, p1};
-  return out;
-}
-
 CertificatePolynomial planar_orientation_certificate(const std::array<glm::dvec2, 6>& points) {
   CertificatePolynomial out;
   {
@@ -320,13 +218,6 @@ CertificatePolynomial planar_orientation_certificate(const std::array<glm::dvec2
   out.m_degree = 2;
   out.m_source = CertificatePolynomial::PlanarOrientation{points};
   return out;
-}
-
-std::array<Rational, 6> exact_orientation_coefficients(const SlicingPlane& plane, const SliceVertexMotion& a,
-                                                       const SliceVertexMotion& b,
-                                                       const SliceVertexMotion& c) {
-  return orientation_det(slice_vertex<Rational>(plane, a), slice_vertex<Rational>(plane, b),
-                         slice_vertex<Rational>(plane, c));
 }
 
 CertificatePolynomial CertificatePolynomial::from_exact(const ExactPolynomial& p) {
@@ -341,16 +232,6 @@ CertificatePolynomial CertificatePolynomial::from_exact(const ExactPolynomial& p
 }
 
 ExactPolynomial CertificatePolynomial::exact() const {
-  if (const auto* o = std::get_if<Orientation>(&m_source)) {
-    return ExactPolynomial(monomial_from_homogeneous(orientation_det(
-        slice_vertex<Dyadic>(o->plane, o->vertices[0]), slice_vertex<Dyadic>(o->plane, o->vertices[1]),
-        slice_vertex<Dyadic>(o->plane, o->vertices[2]))));
-  }
-  if (const auto* s = std::get_if<PlaneSide>(&m_source)) {
-    const Dyadic d(s->plane.offset);
-    return ExactPolynomial(monomial_from_homogeneous(std::array<Dyadic, 2>{
-        dot<Dyadic>(s->plane.normal, s->p0) - d, dot<Dyadic>(s->plane.normal, s->p1) - d}));
-  }
   if (const auto* o = std::get_if<PlanarOrientation>(&m_source))
     return ExactPolynomial(monomial_from_homogeneous(planar_orientation_coefficients<Dyadic>(o->points)));
   if (const auto* p = std::get_if<ExactPolynomial>(&m_source)) return *p;

@@ -1,28 +1,32 @@
-// Certificate polynomials of the kinetic layer (DESIGN.md §3; Stewart 1999 §6 "future work").
+// Certificate polynomials of the kinetic layer (DESIGN.md §3): a certificate's truth value over one frame
+// interval t in [0, 1] is the sign of a polynomial P(t), held as an interval enclosure for the filters and
+// built as an exact rational polynomial only where intervals cannot decide.
 //
-// Between two frames every mesh vertex moves linearly, p(t) = p0 (1 - t) + p1 t for t in [0, 1], and the
-// slicing planes stay fixed. A slice vertex on the mesh edge (a = above, b = below) has homogeneous 2D
-// coordinates X = s_a U_b - s_b U_a, Y = s_a V_b - s_b V_a, W = s_a - s_b with s = n.p - d, U = u.p,
-// V = w.p, all linear in t. The orientation of three slice vertices is det[[X_i, Y_i, W_i]] / (W1 W2 W3), a
-// polynomial of degree <= 5 over a positive denominator (W > 0 while a is on or above and b below the
-// plane). Every orientation certificate of the kinetic layer (triangle orientation, hull convexity, SPT
-// tautness of grandparent/parent/node) is this polynomial; a mesh vertex's side of a plane is the linear
-// s(t).
+// The engine's certificates (kinetic_slice.hpp: triangle orientation, hull convexity) are orientations of
+// three slice points that each move on the straight segment from their double point at frame k to their
+// double point at frame k+1 (the motion model, and why it is this one: moving_orientation.hpp). Such an
+// orientation is a quadratic in t: planar_orientation_certificate.
 //
-// Representation: the "homogeneous Bernstein" coefficients H_k of P(t) = sum_k H_k t^k (1 - t)^(n - k),
-// i.e. H_k = C(n, k) b_k with b_k the Bernstein coefficients on [0, 1]. Products of such forms are plain
-// convolutions and every product in det[...] has total degree 5, so H is computed from the inputs with no
-// conversion and no constant other than small integers. Two versions of the same expression:
-//   * an enclosure in interval arithmetic (CGAL::Interval_nt, outward rounding) for the fast filter:
-//     no allocation; measured (bench/root_isolation_bench.cpp, one core): a SliceVertexTrack ~140 ns, an
-//     orientation certificate from three tracks ~135 ns, from raw positions ~500 ns, a plane side ~37 ns;
-//   * the exact rational polynomial, built on demand in CGAL::Gmpzf (ring operations on doubles are exact
-//     there, no gcd per operation) and handed out as CGAL::Gmpq: ~38 us; only when the filter fails.
-// Exactness: doubles are rationals; n.p - d, u.p, w.p and the products are evaluated in Gmpq, so the
-// coefficients are those of the true motion of the double inputs (no rounding of the slice points).
+// Representation: the "homogeneous Bernstein" coefficients H_k of P(t) = sum_k H_k t^k (1 - t)^(n - k), i.e.
+// H_k = C(n, k) b_k with b_k the Bernstein coefficients on [0, 1]. For the orientation they are
+// (B0, 2 B1, B2), cross products of the points' differences at t = 0 and 1
+// (planar_orientation_coefficients), so H is computed from the inputs with no conversion. Two versions of the
+// same expression:
+//   * an enclosure in interval arithmetic (CGAL::Interval_nt, outward rounding) for the filter and the
+//     interval stages of root_isolation; no allocation;
+//   * the exact polynomial, built on demand in CGAL::Gmpzf (ring operations on doubles are exact there, no
+//     gcd per operation) and handed out as CGAL::Gmpq.
+// Measured (bench/root_isolation_bench.cpp, one core of a shared machine, the drape's certificates): a
+// certificate built from its six points and passed through root_isolation's filter ~50 ns, the filter alone
+// on a built one ~6 ns, the exact polynomial ~7 us. The engine builds a certificate only where
+// moving_orientation's certainly_positive (the same enclosure, not kept) cannot decide: 0.8% of them on the
+// drape (samples 40 -> 41).
+// Exactness: doubles are rationals, and the coefficients are those of the exact motion of the double inputs.
 //
-// Note: static_core rounds slice points to doubles before its exact predicates; near-degenerate
-// configurations may therefore be decided differently there than by these (truly exact) certificates.
+// ExactPolynomial is the exact arithmetic root_isolation needs (division, gcd, squarefree part, Bernstein
+// coefficients on any interval). CertificatePolynomial::from_exact makes a certificate of any polynomial of
+// degree <= kMaxCertificateDegree: root isolation is not limited to the engine's quadratics, and its tests
+// use degrees up to 5.
 //
 // Internal to pleat::kinetic (CGAL number types appear here; they do not leave the kinetic module).
 #pragma once
@@ -32,11 +36,8 @@
 
 #include <array>
 #include <glm/vec2.hpp>
-#include <glm/vec3.hpp>
 #include <variant>
 #include <vector>
-
-#include "static_core/slicing_plan.hpp"
 
 namespace pleat::kinetic {
 
@@ -45,6 +46,8 @@ using Rational = CGAL::Gmpq;
 /// under CGAL::Protect_FPU_rounding<true> (the functions of this module set it themselves).
 using Interval = CGAL::Interval_nt<false>;
 
+/// The highest degree a CertificatePolynomial holds (root_isolation's interval stages are generic up to
+/// it); the engine's orientation certificates have degree 2.
 inline constexpr int kMaxCertificateDegree = 5;
 
 /// A polynomial in t with exact rational coefficients, monomial basis (coefficient i multiplies t^i).
@@ -94,76 +97,34 @@ class ExactPolynomial {
   std::vector<Rational> m_c;
 };
 
-/// A slice vertex's mesh edge at the two frames: `above` is the endpoint on or above the plane, `below` the
-/// one strictly below (mesh_slicer's SliceVertex::above/below), so that W(t) = s_a - s_b > 0 while it exists.
-struct SliceVertexMotion {
-  glm::dvec3 above0{0.0}, above1{0.0};  ///< the upper endpoint at t = 0 and t = 1
-  glm::dvec3 below0{0.0}, below1{0.0};  ///< the lower endpoint at t = 0 and t = 1
-};
-
-/// A slice vertex's homogeneous coordinates as interval homogeneous-Bernstein polynomials (X, Y degree 2,
-/// W degree 1), computed once per slice vertex and frame interval and shared by every certificate using it.
-struct SliceVertexTrack {
-  SliceVertexMotion motion;
-  std::array<Interval, 3> x, y;
-  std::array<Interval, 2> w;
-};
-
 /// A certificate's polynomial: interval enclosure of its homogeneous Bernstein coefficients (always), and
-/// what is needed to build the exact polynomial on demand. A plain value; building one does not allocate
-/// (except from_exact).
+/// what is needed to build the exact polynomial on demand: the six points of an orientation, or the
+/// polynomial itself (from_exact). A plain value; building one does not allocate (except from_exact).
 class CertificatePolynomial {
  public:
   CertificatePolynomial() = default;
-  /// Degree of the Bernstein form (5 for orientations, 1 for plane sides; the exact degree may be lower).
+  /// Degree of the Bernstein form (2 for the orientation certificates; the exact degree may be lower).
   int degree() const { return m_degree; }
   /// Enclosures of H_0..H_degree (H_k = C(n, k) b_k); sign(H_k) = sign(b_k).
   const std::array<Interval, kMaxCertificateDegree + 1>& enclosure() const { return m_h; }
-  /// The exact polynomial (monomial basis). Allocates; costs a few microseconds for an orientation.
+  /// The exact polynomial (monomial basis). Allocates.
   ExactPolynomial exact() const;
 
   /// A certificate given by an exact polynomial (tests, and certificates of other shapes). Degree <= 5.
   static CertificatePolynomial from_exact(const ExactPolynomial& p);
 
  private:
-  struct Orientation {
-    SlicingPlane plane;
-    std::array<SliceVertexMotion, 3> vertices;
-  };
-  struct PlaneSide {
-    SlicingPlane plane;
-    glm::dvec3 p0, p1;
-  };
   struct PlanarOrientation {
     std::array<glm::dvec2, 6> points;
   };
-  friend CertificatePolynomial orientation_certificate(const SlicingPlane&, const SliceVertexTrack&,
-                                                       const SliceVertexTrack&, const SliceVertexTrack&);
-  friend CertificatePolynomial plane_side_certificate(const SlicingPlane&, const glm::dvec3&,
-                                                      const glm::dvec3&);
   friend CertificatePolynomial planar_orientation_certificate(const std::array<glm::dvec2, 6>&);
 
-  int m_degree = -1;
+  // m_degree last: Interval is 16-byte aligned, so an int before m_h would add 12 bytes of padding to
+  // every queued event.
   std::array<Interval, kMaxCertificateDegree + 1> m_h{};
-  std::variant<std::monostate, Orientation, PlaneSide, PlanarOrientation, ExactPolynomial> m_source;
+  std::variant<std::monostate, PlanarOrientation, ExactPolynomial> m_source;
+  int m_degree = -1;
 };
-
-/// Interval homogeneous coordinates of one slice vertex (about 90 interval operations, no allocation).
-SliceVertexTrack track_slice_vertex(const SlicingPlane& plane, const SliceVertexMotion& motion);
-
-/// The orientation certificate of slice vertices (a, b, c) in the plane's (u, w) frame: its polynomial is
-/// det[[X_a, Y_a, W_a], [X_b, Y_b, W_b], [X_c, Y_c, W_c]], of degree <= 5, whose sign is the sign of the
-/// orientation (counterclockwise positive) while the three slice vertices exist (W > 0). Used for triangle
-/// orientation, hull convexity (prev, v, next) and SPT tautness (grandparent, parent, node).
-CertificatePolynomial orientation_certificate(const SlicingPlane& plane, const SliceVertexTrack& a,
-                                              const SliceVertexTrack& b, const SliceVertexTrack& c);
-CertificatePolynomial orientation_certificate(const SlicingPlane& plane, const SliceVertexMotion& a,
-                                              const SliceVertexMotion& b, const SliceVertexMotion& c);
-
-/// The side certificate of a mesh vertex moving from p0 to p1: s(t) = n.p(t) - d (degree 1). Its root is the
-/// rational -s(0) / (s(1) - s(0)). Under the slicer's symbolic perturbation s = 0 counts as above.
-CertificatePolynomial plane_side_certificate(const SlicingPlane& plane, const glm::dvec3& p0,
-                                             const glm::dvec3& p1);
 
 /// The homogeneous-Bernstein coefficients (B0, 2 B1, B2) of orient(a(t), b(t), c(t)) for points moving linearly
 /// in a plane, p(t) = (1 - t) p0 + t p1, given as {a0, a1, b0, b1, c0, c1}: B0 = u0 x v0, B2 = u1 x v1,
@@ -183,10 +144,5 @@ std::array<N, 3> planar_orientation_coefficients(const std::array<glm::dvec2, 6>
 /// The orientation certificate of three points moving linearly in a plane (degree 2; the points as in
 /// planar_orientation_coefficients): an interval enclosure now, the exact polynomial on demand (CGAL::Gmpzf).
 CertificatePolynomial planar_orientation_certificate(const std::array<glm::dvec2, 6>& points);
-
-/// Exact homogeneous-Bernstein coefficients H_0..H_5 of the orientation polynomial (test and debug aid).
-std::array<Rational, 6> exact_orientation_coefficients(const SlicingPlane& plane, const SliceVertexMotion& a,
-                                                       const SliceVertexMotion& b,
-                                                       const SliceVertexMotion& c);
 
 }  // namespace pleat::kinetic

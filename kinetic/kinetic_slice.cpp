@@ -286,7 +286,7 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::opt
   queue.clear();
   std::uint64_t sequence = 0;
   auto schedule = [&](const RootTime& time, FaceHandle f, CertificatePolynomial certificate, bool fails) {
-    queue.push_back({time, f, f->info().version, sequence++, std::move(certificate), fails});
+    queue.push_back({time, f, f->info().version, fails, sequence++, std::move(certificate)});
     std::push_heap(queue.begin(), queue.end(), LaterEvent());
   };
   // (Re)certifies face f from time t0: a finite face stays positively oriented; an infinite face (oo, a, b)

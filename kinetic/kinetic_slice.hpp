@@ -78,9 +78,9 @@ struct KineticEvent {
   RootTime time;
   cgal::FaceHandle face;
   std::uint32_t version = 0;
+  bool fails = false;  ///< known to fail at `time` (CertificateFailure::fails): no exact sign test there
   std::uint64_t sequence = 0;  ///< creation order: the deterministic tie-break
   CertificatePolynomial certificate;
-  bool fails = false;  ///< known to fail at `time` (CertificateFailure::fails): no exact sign test there
 };
 
 /// Per-thread memory of KineticSlice (no allocation per frame once warmed up, outside exact fallbacks).

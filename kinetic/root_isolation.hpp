@@ -24,8 +24,9 @@
 // bracket around it verified by interval evaluation, exact evaluation when that cannot decide), so most
 // comparisons are decided by two double comparisons. A root found in stage (b) keeps only the certificate
 // and builds its exact polynomial on first need (a tie, a sign the intervals cannot decide, or a narrowing
-// that intervals cannot take below 1e-11): an event then costs ~6 us instead of ~45 us. Comparing two times with disjoint enclosures: ~2 ns; an exact tie
-// (gcd of the two polynomials): ~4 us.
+// that intervals cannot take below 1e-11): an event then costs ~6 us instead of ~50 us (an orientation
+// certificate, bench/root_isolation_bench.cpp). Comparing two times with disjoint enclosures: ~2 ns; an exact
+// tie (gcd of the two polynomials): ~4 us.
 //
 // Exactness: every decision rests on interval arithmetic with outward rounding or on Gmpq arithmetic, never
 // on an epsilon. Equal event times from different certificates compare equal (gcd of their polynomials).

@@ -252,7 +252,8 @@ RC_GTEST_PROP(RootIsolation, EqualTimesFromDifferentPolynomialsCompareEqual, ())
       base = Poly::from_roots({r});
     }
     const Poly p1 = base * gen_outside_factor(), p2 = base * gen_outside_factor() * gen_outside_factor();
-    const auto isolate = [](const Poly& p) {  // certificates have degree <= 5; beyond, the exact stage alone
+    // A CertificatePolynomial holds degree <= 5; beyond, the exact stage alone.
+    const auto isolate = [](const Poly& p) {
       return p.degree() <= 5 ? first_root_after(CertificatePolynomial::from_exact(p), RootTime::zero())
                              : first_root_after(p, RootTime::zero());
     };
