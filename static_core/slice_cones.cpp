@@ -1,11 +1,9 @@
 #include "static_core/slice_cones.hpp"
 
-#include <CGAL/convex_hull_2.h>
 #include <CGAL/number_utils.h>
 
 #include <algorithm>
 #include <glm/geometric.hpp>
-#include <unordered_map>
 
 #include "static_core/assert.hpp"
 
@@ -143,28 +141,6 @@ class RangeWalker {
   const SliceConeScratch& m_scratch;
 };
 
-/// The sector of a corner: counter-clockwise from its first edge to its last edge around its vertex.
-Wedge corner_sector(const Cdt& cdt, FaceHandle f, int corner) {
-  const VertexHandle x = f->vertex(f->info().corner[0] == corner ? 0 : f->info().corner[1] == corner ? 1 : 2);
-  // Turn clockwise to the corner's first face.
-  FaceHandle first = f;
-  while (true) {
-    const int i = first->index(x);
-    if (is_separator(cdt, first, cdt.cw(i))) break;
-    first = first->neighbor(cdt.cw(i));
-    if (first == f) return {0.0, kTwoPi};
-  }
-  FaceHandle last = first;
-  while (true) {
-    const int i = last->index(x);
-    if (is_separator(cdt, last, cdt.ccw(i))) break;
-    last = last->neighbor(cdt.ccw(i));
-  }
-  const Point2& px = x->point();
-  return exact_wedge(px, first->vertex(cdt.ccw(first->index(x)))->point(),
-                     last->vertex(cdt.cw(last->index(x)))->point());
-}
-
 /// Funnel-tree cones of every corner of a region without holes: for each window, the wedge between the
 /// first segments of the shortest paths to its two endpoints, when they turn the right way.
 void cones_of_simple_region(const SliceTriangulation& st, const SliceRegion& region, int region_index,
@@ -199,228 +175,49 @@ void prepare_scratch(std::size_t corners, SliceConeScratch& s) {
   s.corner_stamp.assign(corners, -1);
 }
 
-/// Appends the spans blocked, seen from x, by the given segments (those not incident to x).
-void append_blocked_spans(VertexHandle xv, const std::vector<std::pair<VertexHandle, VertexHandle>>& segments,
-                          std::vector<Wedge>& blocked) {
-  const Point2& x = xv->point();
-  for (const auto& [p, q] : segments) {
-    if (p == xv || q == xv) continue;
-    switch (CGAL::orientation(x, p->point(), q->point())) {
-      case CGAL::LEFT_TURN:
-        blocked.push_back(thin_wedge_between(direction(x, p->point()), direction(x, q->point())));
-        break;
-      case CGAL::RIGHT_TURN:
-        blocked.push_back(thin_wedge_between(direction(x, q->point()), direction(x, p->point())));
-        break;
-      default:
-        break;  // seen edge-on: blocks a single direction
-    }
-  }
-}
-
-/// A hole of a region: its chain edges and the convex hull of its vertices (counter-clockwise).
-struct Hole {
-  std::vector<std::pair<VertexHandle, VertexHandle>> segments;
-  std::vector<Point2> hull;
-};
-
-/// Appends the span a hole blocks seen from x when x lies strictly outside the hole's convex hull: a
-/// connected set seen from outside its hull spans exactly the wedge between its two extreme hull vertices
-/// (found by exact orientation tests, no angles), so the hole's segments need not be swept. Returns false,
-/// appending nothing, when x is not strictly outside (the caller sweeps the segments then).
-bool append_hull_span(const Point2& x, const std::vector<Point2>& hull, std::vector<Wedge>& blocked) {
-  const std::size_t m = hull.size();
-  if (m < 3) return false;
-  bool outside = false;
-  for (std::size_t i = 0; i < m && !outside; ++i)
-    outside = CGAL::orientation(hull[i], hull[(i + 1) % m], x) == CGAL::RIGHT_TURN;
-  if (!outside) return false;
-  // Seen from outside, the hull lies within less than a half-turn: "clockwise of" is a total order on it.
-  const Point2* cw = &hull[0];
-  const Point2* ccw = &hull[0];
-  for (const Point2& p : hull) {
-    if (CGAL::orientation(x, *cw, p) == CGAL::RIGHT_TURN) cw = &p;
-    if (CGAL::orientation(x, *ccw, p) == CGAL::LEFT_TURN) ccw = &p;
-  }
-  if (CGAL::orientation(x, *cw, *ccw) == CGAL::LEFT_TURN)
-    blocked.push_back(thin_wedge_between(direction(x, *cw), direction(x, *ccw)));
-  return true;
-}
-
-/// Calls fn(face, index, corner) once per corner of the region, with one of the corner's faces.
-template <class Fn>
-void for_each_corner(const SliceTriangulation& st, const SliceRegion& region, Fn&& fn) {
-  std::vector<char> done(st.num_corners(), 0);
+/// Triangular expansion (Bungiu, Hemmer, Hershberger, Huang and Kroeller 2014), for regions with holes:
+/// the cone of a corner at x is the set of directions whose ray from x leaves the hull through a window
+/// before it meets a chain edge. From each of the corner's triangles the range of directions through the edge
+/// opposite x is carried across unconstrained edges, split where a triangle's third vertex lies inside it,
+/// dropped at chain edges and emitted at windows. Ranges are bounded by rays from x through triangulation
+/// vertices and every split is an exact orientation test, so the visible set is exact; only the wedges'
+/// angles are rounded. Cost: the triangles seen from x (each once per range piece that reaches it), not the
+/// region's size — no angular sweep over all its chain edges.
+void cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion& region, SliceConeScratch& s) {
+  const Cdt& cdt = st.cdt();
   for (const FaceHandle f : region.faces)
     for (int k = 0; k < 3; ++k) {
-      const int c = f->info().corner[k];
-      if (done[c]) continue;
-      done[c] = 1;
-      fn(f, k, c);
-    }
-}
-
-/// Exact angular sweep of the region's corners (all, or those not on component `skip_component`): the
-/// corner's sector minus what the region's chain edges block. O(n) per corner.
-void swept_cones(const Cdt& cdt, const SliceTriangulation& st, const SliceRegion& region,
-                 const std::vector<std::pair<VertexHandle, VertexHandle>>& segments,
-                 const std::unordered_map<const void*, int>* component_of, int skip_component,
-                 SliceConeScratch& s) {
-  std::vector<Wedge> blocked;
-  for_each_corner(st, region, [&](FaceHandle f, int k, int c) {
-    const VertexHandle xv = f->vertex(k);
-    if (component_of && component_of->at(&*xv) == skip_component) return;
-    blocked.clear();
-    append_blocked_spans(xv, segments, blocked);
-    const AngularSet visible =
-        AngularSet::from_wedges({corner_sector(cdt, f, c)}).subtract(AngularSet::from_wedges(blocked));
-    s.corner_wedges[c].assign(visible.wedges().begin(), visible.wedges().end());
-  });
-}
-
-/// A region with holes (Stewart 1999 §2.3.2): the funnel trees run in the outer polygon with the holes
-/// ignored — a triangulation of the outer boundary alone — and each hole's angular span, seen from an
-/// outer corner, is subtracted from that corner's cone; corners on the holes get cones by the exact sweep.
-/// Falls back to the sweep for every corner when the outer boundary is not one simple component (and
-/// returns false then).
-bool cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion& region,
-                                SliceConeScratch& s) {
-  const Cdt& cdt = st.cdt();
-  // Boundary components of the region: chain edges and windows, joined at shared vertices.
-  std::vector<std::pair<VertexHandle, VertexHandle>> segments;  // chain edges bounding the region
-  std::unordered_map<const void*, int> index;
-  std::vector<VertexHandle> vertices;
-  std::vector<int> parent;
-  auto id = [&](VertexHandle v) {
-    auto [it, fresh] = index.emplace(&*v, static_cast<int>(vertices.size()));
-    if (fresh) {
-      vertices.push_back(v);
-      parent.push_back(it->second);
-    }
-    return it->second;
-  };
-  auto root = [&](int i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  auto join = [&](VertexHandle a, VertexHandle b) { parent[root(id(a))] = root(id(b)); };
-  for (const FaceHandle f : region.faces)
-    for (int i = 0; i < 3; ++i)
-      if (f->is_constrained(i)) {
-        segments.emplace_back(f->vertex(cdt.ccw(i)), f->vertex(cdt.cw(i)));
-        join(segments.back().first, segments.back().second);
-      } else {
-        for (int k = 0; k < 3; ++k) id(f->vertex(k));  // isolated vertices are components too
-      }
-  for (const SliceWindow& w : region.windows)
-    join(w.face->vertex(cdt.ccw(w.index)), w.face->vertex(cdt.cw(w.index)));
-  const int outer = root(id(region.windows.front().face->vertex(cdt.ccw(region.windows.front().index))));
-  std::unordered_map<const void*, int> component_of;
-  for (std::size_t i = 0; i < vertices.size(); ++i) component_of[&*vertices[i]] = root(static_cast<int>(i));
-
-  // The outer polygon alone, as a slice of its own.
-  Slice outer_slice;
-  std::vector<VertexHandle> original;  // outer_slice vertex -> original CDT vertex
-  std::unordered_map<const void*, Index> outer_index;
-  auto outer_id = [&](VertexHandle v) {
-    auto [it, fresh] = outer_index.emplace(&*v, static_cast<Index>(original.size()));
-    if (fresh) {
-      original.push_back(v);
-      SliceVertex sv;
-      sv.point = cgal::to_glm(v->point());
-      outer_slice.vertices.push_back(sv);
-    }
-    return it->second;
-  };
-  std::vector<Hole> holes;
-  std::unordered_map<int, std::size_t> hole_of_component;
-  for (const auto& [p, q] : segments) {
-    const int component = component_of.at(&*p);
-    if (component == outer) {
-      outer_slice.edges.push_back({outer_id(p), outer_id(q), 0});
-      continue;
-    }
-    const auto [it, fresh] = hole_of_component.emplace(component, holes.size());
-    if (fresh) holes.emplace_back();
-    holes[it->second].segments.emplace_back(p, q);
-  }
-  std::vector<Point2> hole_points;
-  for (Hole& hole : holes) {
-    hole_points.clear();
-    for (const auto& [p, q] : hole.segments) {
-      hole_points.push_back(p->point());
-      hole_points.push_back(q->point());
-    }
-    CGAL::convex_hull_2(hole_points.begin(), hole_points.end(), std::back_inserter(hole.hull));
-  }
-  for (const SliceWindow& w : region.windows) {
-    outer_id(w.face->vertex(cdt.ccw(w.index)));
-    outer_id(w.face->vertex(cdt.cw(w.index)));
-  }
-  outer_slice.out_edge.assign(outer_slice.vertices.size(), -1);
-  outer_slice.in_edge.assign(outer_slice.vertices.size(), -1);
-  SliceTriangulation outer_st;
-  outer_st.build(outer_slice);
-  // The outer polygon is the sub-region on the inner side of the first window.
-  int polygon = -1;
-  if (outer_st.dimension() == 2) {
-    const SliceWindow& w = region.windows.front();
-    cgal::FaceHandle fr;
-    int i = 0;
-    const VertexHandle a = outer_st.vertex_of(outer_index.at(&*w.face->vertex(cdt.ccw(w.index))));
-    const VertexHandle b = outer_st.vertex_of(outer_index.at(&*w.face->vertex(cdt.cw(w.index))));
-    if (outer_st.cdt().is_edge(a, b, fr, i)) {
-      // fr is on the right of a->b; the region is on the left of its windows (a, b).
-      const FaceHandle inside = fr->neighbor(i);
-      if (!outer_st.cdt().is_infinite(inside)) polygon = inside->info().region;
-    }
-  }
-  if (polygon < 0 || outer_st.regions()[polygon].has_holes ||
-      outer_st.regions()[polygon].windows.size() != region.windows.size()) {
-    swept_cones(cdt, st, region, segments, nullptr, -1, s);
-    return false;
-  }
-  SliceConeScratch sub;
-  prepare_scratch(outer_st.num_corners(), sub);
-  cones_of_simple_region(outer_st, outer_st.regions()[polygon], polygon, sub);
-
-  // Each outer corner: the cone of the outer polygon's corner holding it, minus the holes' spans.
-  std::vector<Wedge> blocked;
-  for_each_corner(st, region, [&](FaceHandle f, int k, int c) {
-    const VertexHandle xv = f->vertex(k);
-    if (component_of.at(&*xv) != outer) return;
-    // The same corner in the outer polygon's triangulation, found exactly: both begin, turning
-    // counter-clockwise about x, at the chain or hull edge (x, w) that bounds the corner clockwise.
-    cgal::FaceHandle first = f;
-    for (int turns = 0; !is_separator(cdt, first, cdt.cw(first->index(xv))); ++turns) {
-      PLEAT_ASSERT(turns < 1000000, "a corner of an outer vertex has no bounding edge");
-      first = first->neighbor(cdt.cw(first->index(xv)));
-    }
-    const VertexHandle w = first->vertex(cdt.ccw(first->index(xv)));
-    int sub_corner = -1;
-    const auto w_index = outer_index.find(&*w);
-    if (w_index != outer_index.end()) {
-      cgal::FaceHandle fr;
-      int i = 0;
-      const VertexHandle x2 = outer_st.vertex_of(outer_index.at(&*xv)),
-                         w2 = outer_st.vertex_of(w_index->second);
-      if (outer_st.cdt().is_edge(x2, w2, fr, i)) {
-        const cgal::FaceHandle g = fr->neighbor(i);  // left of x2 -> w2: the face that begins at (x, w)
-        if (!outer_st.cdt().is_infinite(g) && g->info().region == polygon)
-          sub_corner = g->info().corner[g->index(x2)];
+      const VertexHandle x = f->vertex(k);
+      const Point2& px = x->point();
+      std::vector<Wedge>& out = s.corner_wedges[f->info().corner[k]];
+      // The edge opposite x, from its right end a to its left end b seen from x: the range (a, b).
+      s.expansion.push_back({f, k, f->vertex(cdt.ccw(k)), f->vertex(cdt.cw(k))});
+      while (!s.expansion.empty()) {
+        const ExpansionTask task = s.expansion.back();
+        s.expansion.pop_back();
+        // The range from ray x->right to ray x->left crosses edge (task.face, task.index).
+        if (task.face->is_constrained(task.index)) continue;
+        const FaceHandle g = task.face->neighbor(task.index);
+        if (cdt.is_infinite(g)) {
+          out.push_back(thin_wedge_between(direction(px, task.right->point()), direction(px, task.left->point())));
+          continue;
+        }
+        // Seen from x, g's vertices are a (right end of the crossed edge), b (left end) and c beyond.
+        const int j = g->index(task.face);
+        const VertexHandle c = g->vertex(j);
+        const int ac = cdt.ccw(j), cb = cdt.cw(j);  // edge (a, c) is opposite b = vertex(ccw(j)); (c, b) opposite a
+        const bool c_left_of_right = CGAL::orientation(px, task.right->point(), c->point()) == CGAL::LEFT_TURN;
+        const bool c_right_of_left = CGAL::orientation(px, c->point(), task.left->point()) == CGAL::LEFT_TURN;
+        if (c_left_of_right && c_right_of_left) {
+          s.expansion.push_back({g, ac, task.right, c});
+          s.expansion.push_back({g, cb, c, task.left});
+        } else if (c_left_of_right) {
+          s.expansion.push_back({g, ac, task.right, task.left});  // c on or beyond the left ray
+        } else {
+          s.expansion.push_back({g, cb, task.right, task.left});  // c on or beyond the right ray
+        }
       }
     }
-    PLEAT_ASSERT(sub_corner >= 0, "an outer corner is not inside the outer polygon");
-    blocked.clear();
-    for (const Hole& hole : holes)
-      if (!append_hull_span(xv->point(), hole.hull, blocked)) append_blocked_spans(xv, hole.segments, blocked);
-    const AngularSet visible =
-        AngularSet::from_wedges(sub.corner_wedges[sub_corner]).subtract(AngularSet::from_wedges(blocked));
-    s.corner_wedges[c].assign(visible.wedges().begin(), visible.wedges().end());
-  });
-  // Corners on the holes: the exact sweep against every chain edge of the region.
-  swept_cones(cdt, st, region, segments, &component_of, outer, s);
-  return true;
 }
 
 /// Collinear or tiny slices (dimension < 2): nothing lies off the line, so a side sees its whole range:
@@ -463,7 +260,7 @@ void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, Slice
                          SliceCones& out) {
   out.wedges.clear();
   out.offsets.assign(1, 0);
-  out.windows = out.regions = out.regions_with_holes = out.holes_swept = 0;
+  out.windows = out.regions = out.regions_with_holes = 0;
   if (st.dimension() < 2) {
     collinear_slice_cones(slice, st, out);
     return;
@@ -477,7 +274,7 @@ void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, Slice
     out.windows += region.windows.size();
     if (region.has_holes) {
       ++out.regions_with_holes;
-      if (!cones_of_region_with_holes(st, region, s)) ++out.holes_swept;
+      cones_of_region_with_holes(st, region, s);
     } else {
       cones_of_simple_region(st, region, static_cast<int>(r), s);
     }

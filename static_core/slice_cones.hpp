@@ -7,10 +7,13 @@
 //   - in a region without holes: for each window (a, b), the wedge from the first segment of the shortest
 //     path to a to the first segment of the path to b (funnel trees from a and b), when it turns the right
 //     way; empty when the two coincide;
-//   - in a region with holes: the corner's sector minus the angular spans of the region's chain edges seen
-//     from X, by an exact-predicate angular sweep.
+//   - in a region with holes: the directions whose ray from X leaves the hull through a window before it
+//     meets a chain edge, by triangular expansion from the corner's triangles (exact orientation tests).
+//     (The paper's §2.3.2 runs funnel trees in the outer polygon and subtracts the holes' spans, which
+//     leaves the corners on the holes to a quadratic sweep; the expansion gives every corner the same set.)
 // Collinear slices (dimension 1, a flat sheet) give each side its open half-plane.
-// Cost: O(w n + f) per region without holes (w windows, n corners, f funnel walks), O(n^2 log n) with holes.
+// Cost: O(w n + f) per region without holes (w windows, n corners, f funnel walks); with holes, per corner
+// the triangles seen from it (output-sensitive; O(n) each at worst).
 #pragma once
 
 #include "static_core/angular_set.hpp"
@@ -31,12 +34,19 @@ struct SliceCones {
   std::size_t windows = 0;
   std::size_t regions = 0;
   std::size_t regions_with_holes = 0;
-  std::size_t holes_swept = 0;  ///< regions with holes whose outer boundary was not simple: swept entirely
 
   std::span<const Wedge> cone(Index slice_vertex, Side side) const {
     const std::size_t k = 2 * slice_vertex + static_cast<std::size_t>(side);
     return {wedges.data() + offsets[k], wedges.data() + offsets[k + 1]};
   }
+};
+
+/// A range of directions from a corner's vertex x, from ray x->right counter-clockwise to ray x->left, that
+/// crosses the edge of `face` opposite `index` (triangular expansion in regions with holes).
+struct ExpansionTask {
+  cgal::FaceHandle face;
+  int index = 0;
+  cgal::VertexHandle right, left;
 };
 
 /// Reusable per-thread memory.
@@ -48,6 +58,7 @@ struct SliceConeScratch {
   std::vector<int> region_corners;
   std::vector<Wedge> range_wedges;
   std::vector<std::pair<double, double>> intervals;
+  std::vector<ExpansionTask> expansion;
 };
 
 void compute_slice_cones(const Slice& slice, const SliceTriangulation& triangulation, SliceConeScratch& scratch,

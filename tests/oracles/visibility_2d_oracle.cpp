@@ -32,50 +32,71 @@ std::vector<std::array<AngularSet, 2>> brute_force_slice_cones(const Slice& slic
   std::vector<std::array<AngularSet, 2>> result(slice.vertices.size());
   for (Index x = 0; x < slice.vertices.size(); ++x) {
     const P X = point(slice, x);
-    std::vector<double> incident;  // angles of chain edges leaving X
+    std::vector<P> incident;  // the far ends of chain edges leaving X
     std::vector<Wedge> blocked;
     for (const SliceEdge& e : slice.edges) {
       const P a = point(slice, e.from), b = point(slice, e.to);
       if (a == b) continue;
       if (a == X || b == X) {
-        incident.push_back(direction_angle(dir(X, a == X ? b : a)));
+        incident.push_back(a == X ? b : a);
         continue;
       }
       const CGAL::Orientation o = CGAL::orientation(X, a, b);
       if (o == CGAL::COLLINEAR) {
         if (CGAL::collinear_are_strictly_ordered_along_line(a, X, b)) {  // the edge passes through X
-          incident.push_back(direction_angle(dir(X, a)));
-          incident.push_back(direction_angle(dir(X, b)));
+          incident.push_back(a);
+          incident.push_back(b);
         }
         continue;  // otherwise seen edge-on: a single direction
       }
       blocked.push_back(o == CGAL::LEFT_TURN ? thin_wedge_between(dir(X, a), dir(X, b)) : thin_wedge_between(dir(X, b), dir(X, a)));
     }
     const AngularSet visible = AngularSet::from_wedges(blocked).complement();
-    // The range counter-clockwise of angle `from`, up to the next incident chain edge.
-    auto range_ccw_of = [&](double from) {
-      double best = kTwoPi;
-      for (double a : incident) {
-        double d = wrap_angle(a - from);
-        if (d > kAngleTolerance && d < best) best = d;
-      }
-      return AngularSet::from_wedges({{from, best}});
+    // Ranges between chain edges, decided exactly (two arms 1e-16 apart are distinct edges): the first
+    // incident direction counter-clockwise (or clockwise) of the one through F, other than F's own.
+    auto same_direction = [&](const P& p, const P& q) {
+      return CGAL::orientation(X, p, q) == CGAL::COLLINEAR && CGAL::angle(p, X, q) == CGAL::ACUTE;
     };
-    auto range_cw_of = [&](double to) {
-      double best = kTwoPi;
-      for (double a : incident) {
-        double d = wrap_angle(to - a);
-        if (d > kAngleTolerance && d < best) best = d;
+    // Strict order of directions counter-clockwise from F: F's half-turn [F, -F) first, then the rest.
+    auto ccw_before = [&](const P& F, const P& p, const P& q) {
+      auto half = [&](const P& d) {
+        const CGAL::Orientation o = CGAL::orientation(X, F, d);
+        return o == CGAL::LEFT_TURN || (o == CGAL::COLLINEAR && same_direction(F, d)) ? 0 : 1;
+      };
+      const int hp = half(p), hq = half(q);
+      if (hp != hq) return hp < hq;
+      return CGAL::orientation(X, p, q) == CGAL::LEFT_TURN;
+    };
+    // The wedge counter-clockwise from the direction of p to that of q (q = p's direction: the full turn).
+    auto wedge_from_to = [&](const P& p, const P& q) -> Wedge {
+      switch (CGAL::orientation(X, p, q)) {
+        case CGAL::LEFT_TURN:
+          return thin_wedge_between(dir(X, p), dir(X, q));
+        case CGAL::RIGHT_TURN:
+          return wedge_between(dir(X, p), dir(X, q));
+        default:
+          return {direction_angle(dir(X, p)), same_direction(p, q) ? kTwoPi : kTwoPi / 2};
       }
-      return AngularSet::from_wedges({{wrap_angle(to - best), best}});
+    };
+    auto range_ccw_of = [&](const P& F) {
+      const P* best = nullptr;
+      for (const P& q : incident)
+        if (!same_direction(F, q) && (!best || ccw_before(F, q, *best))) best = &q;
+      return AngularSet::from_wedges({best ? wedge_from_to(F, *best) : Wedge{0.0, kTwoPi}});
+    };
+    auto range_cw_of = [&](const P& T) {
+      const P* best = nullptr;
+      for (const P& q : incident)
+        if (!same_direction(T, q) && (!best || ccw_before(T, *best, q))) best = &q;  // the last ccw = first cw
+      return AngularSet::from_wedges({best ? wedge_from_to(*best, T) : Wedge{0.0, kTwoPi}});
     };
     const int next = next_distinct(slice, x, true), prev = next_distinct(slice, x, false);
     for (Side side : kBothSides) {
       const int ccw_of = side == Side::Front ? next : prev;
       const int cw_of = side == Side::Front ? prev : next;
       AngularSet range = AngularSet::full();
-      if (ccw_of >= 0) range = range_ccw_of(direction_angle(dir(X, point(slice, ccw_of))));
-      else if (cw_of >= 0) range = range_cw_of(direction_angle(dir(X, point(slice, cw_of))));
+      if (ccw_of >= 0) range = range_ccw_of(point(slice, ccw_of));
+      else if (cw_of >= 0) range = range_cw_of(point(slice, cw_of));
       result[x][static_cast<int>(side)] = range.intersect(visible);
     }
   }
