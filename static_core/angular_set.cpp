@@ -104,6 +104,30 @@ void intersect_wedges(std::span<const Wedge> a, std::span<const Wedge> b, WedgeS
   merge_into_wedges(s.z, out);
 }
 
+bool is_united(std::span<const Wedge> wedges) {
+  for (std::size_t i = 0; i < wedges.size(); ++i) {
+    if (!(wedges[i].width > 0) || wedges[i].start < 0 || wedges[i].start >= kTwoPi) return false;
+    if (i + 1 < wedges.size() && !(wedges[i].end() + kAngleTolerance < wedges[i + 1].start)) return false;
+  }
+  return wedges.size() < 2 || wedges.back().end() + kAngleTolerance < wedges.front().start + kTwoPi;
+}
+
+void clip_to_half_turn(std::span<const Wedge> wedges, double h, std::vector<Wedge>& out) {
+  constexpr double kHalfTurn = kTwoPi / 2;
+  for (const Wedge& w : wedges) {
+    if (w.width >= kTwoPi - kAngleTolerance) {
+      out.push_back({h, kHalfTurn});
+      continue;
+    }
+    const double d = wrap_angle(w.start - h);  // the wedge is [d, d + width] relative to h
+    auto piece = [&](double lo, double hi) {
+      if (hi - lo > kAngleTolerance) out.push_back({wrap_angle(h + lo), hi - lo});
+    };
+    if (d < kHalfTurn) piece(d, std::min(d + w.width, kHalfTurn));
+    if (d + w.width > kTwoPi) piece(0.0, std::min(d + w.width - kTwoPi, kHalfTurn));
+  }
+}
+
 std::vector<std::pair<double, double>> AngularSet::to_intervals(std::span<const Wedge> wedges) {
   std::vector<std::pair<double, double>> out;
   split_into_intervals(wedges, out);

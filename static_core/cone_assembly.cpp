@@ -24,36 +24,58 @@ constexpr double kLinkTolerance = 0.25;
 /// other generated kinds unchanged; none worse.
 constexpr double kLoneWedgeHalfWidth = kTwoPi / 16;
 
+/// cos and sin of kLinkTolerance and tan of kLoneWedgeHalfWidth: the distance tests compare cosines and
+/// sines, so no inverse trigonometric function runs per test.
+const double kCosLink = std::cos(kLinkTolerance);
+const double kTanLoneWedge = std::tan(kLoneWedgeHalfWidth);
+
+/// A clipped 2D wedge lifted into space: its ends as unit directions in the plane's (u, w) frame and in 3D,
+/// and five sample directions along its arc. No trigonometry but the one sincos of each end.
 struct SpatialWedge {
-  SpatialWedge(const SlicingPlane* plane, double start, double end) : plane(plane), start(start), end(end) {
-    for (int i = 0; i < 5; ++i) sample[i] = direction(start + (0.25 * i) * (end - start));
-    end_direction = direction(end);
+  SpatialWedge(const SlicingPlane* plane, const Wedge& w) : plane(plane), reflex(w.width > 2 * kHalfPi) {
+    start2 = {std::cos(w.start), std::sin(w.start)};
+    end2 = {std::cos(w.end()), std::sin(w.end())};
+    if (reflex) {  // only unclipped wedges (the side's normal along the plane's): sample by angle
+      for (int i = 0; i < 5; ++i) {
+        const double a = w.start + 0.25 * i * w.width;
+        sample[i] = lift({std::cos(a), std::sin(a)});
+      }
+      return;
+    }
+    sample[0] = lift(start2);
+    sample[4] = lift(end2);
+    // Up to a half-turn: the middle is along the integral of the direction over the arc, n x (start - end)
+    // (length 2 sin(width / 2) > 0); the quarters bisect the half-arcs.
+    sample[2] = glm::normalize(glm::cross(plane->normal, sample[0] - sample[4]));
+    sample[1] = glm::normalize(sample[0] + sample[2]);
+    sample[3] = glm::normalize(sample[2] + sample[4]);
   }
   const SlicingPlane* plane;
-  double start, end;  // angles in the plane's frame, end > start
-  /// Directions at start + t (end - start), t = 0, 1/4, 1/2, 3/4, 1 (computed once: same_region is O(k^2)).
-  std::array<glm::dvec3, 5> sample;
-  glm::dvec3 end_direction;  // at `end` itself
+  bool reflex;                ///< wider than a half-turn (only unclipped wedges are)
+  glm::dvec2 start2, end2;    ///< the ends in the plane's (u, w) frame
+  std::array<glm::dvec3, 5> sample;  ///< start, quarter, middle, three quarters, end
   const glm::dvec3& start_direction() const { return sample[0]; }
-  glm::dvec3 direction(double angle) const { return std::cos(angle) * plane->u + std::sin(angle) * plane->w; }
-  bool contains(const glm::dvec3& d, double tolerance = kContainTolerance) const {
-    double a = std::atan2(glm::dot(d, plane->w), glm::dot(d, plane->u)) - start;
-    a = a - kTwoPi * std::floor(a / kTwoPi);
-    return a <= end - start + tolerance || kTwoPi - a <= tolerance;
+  const glm::dvec3& end_direction() const { return sample[4]; }
+  const glm::dvec3& middle() const { return sample[2]; }
+  glm::dvec3 lift(const glm::dvec2& d) const { return d.x * plane->u + d.y * plane->w; }
+  /// Whether direction d (any length) projects into the arc, ends included within kContainTolerance (as a
+  /// sine). A direction along the plane's normal projects onto the apex: not contained.
+  bool contains(const glm::dvec3& d) const {
+    const glm::dvec2 p(glm::dot(d, plane->u), glm::dot(d, plane->w));
+    const double len = std::sqrt(p.x * p.x + p.y * p.y);
+    if (!(len > 1e-12 * glm::length(d))) return false;
+    const double tolerance = kContainTolerance * len;
+    const double from_start = start2.x * p.y - start2.y * p.x;  // > 0: p counter-clockwise of the start
+    const double to_end = p.x * end2.y - p.y * end2.x;          // > 0: p clockwise of the end
+    if (!reflex) return from_start >= -tolerance && to_end >= -tolerance;
+    return !(from_start < -tolerance && to_end < -tolerance);  // outside only strictly within the gap
   }
 };
 
-/// Angular distance from a unit direction to a wedge's arc, taken as 0 when the direction's projection onto
-/// the wedge's plane lies within the arc (see same_region).
-double distance_to_arc(const glm::dvec3& d, const SpatialWedge& w) {
-  if (w.contains(d)) return 0.0;
-  const glm::dvec3& m = w.plane->normal;
-  const glm::dvec3 in_plane = d - glm::dot(d, m) * m;
-  double best = std::min(std::acos(std::clamp(glm::dot(d, w.start_direction()), -1.0, 1.0)),
-                         std::acos(std::clamp(glm::dot(d, w.end_direction), -1.0, 1.0)));
-  if (glm::length(in_plane) > 1e-12 && w.contains(glm::normalize(in_plane)))
-    best = std::min(best, std::asin(std::min(1.0, std::abs(glm::dot(d, m)))));
-  return best;
+/// Whether a unit direction lies within kLinkTolerance of a wedge's arc, counting as 0 any direction whose
+/// projection onto the wedge's plane lies within the arc (see same_region).
+bool near_arc(const glm::dvec3& d, const SpatialWedge& w) {
+  return w.contains(d) || glm::dot(d, w.start_direction()) > kCosLink || glm::dot(d, w.end_direction()) > kCosLink;
 }
 
 /// True when two wedges belong to one visible region: their arcs cross (the paper's test: the cones share
@@ -65,15 +87,20 @@ double distance_to_arc(const glm::dvec3& d, const SpatialWedge& w) {
 bool same_region(const SpatialWedge& a, const SpatialWedge& b) {
   const glm::dvec3 line = glm::cross(a.plane->normal, b.plane->normal);
   if (glm::length(line) > 1e-12) {
-    const glm::dvec3 l = glm::normalize(line);
-    if ((a.contains(l) && b.contains(l)) || (a.contains(-l) && b.contains(-l))) return true;
+    if ((a.contains(line) && b.contains(line)) || (a.contains(-line) && b.contains(-line))) return true;
   }
-  for (const SpatialWedge* p : {&a, &b}) {
-    const SpatialWedge* q = p == &a ? &b : &a;
-    for (const glm::dvec3& d : p->sample)
-      if (distance_to_arc(d, *q) < kLinkTolerance) return true;
-  }
+  for (const glm::dvec3& d : a.sample)
+    if (near_arc(d, b)) return true;
+  for (const glm::dvec3& d : b.sample)
+    if (near_arc(d, a)) return true;
   return false;
+}
+
+/// A monotone stand-in for atan2(y, x) in (-2, 2] (the "diamond angle"): same order, no trigonometry.
+double pseudo_angle(double x, double y) {
+  const double r = y / (std::abs(x) + std::abs(y));  // in [-1, 1]
+  if (x >= 0) return r;                               // (-pi/2, pi/2) -> (-1, 1)
+  return y >= 0 ? 2 - r : -2 - r;                     // the left half-plane -> (1, 2] and (-2, -1)
 }
 
 int find_root(std::vector<int>& parent, int i) {
@@ -91,16 +118,16 @@ int find_root(std::vector<int>& parent, int i) {
 void build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3& side_normal,
                  std::vector<std::pair<double, glm::dvec3>>& order, SphericalPolygon& bridged) {
   bridged.clear();
-  glm::dvec3 centre(0.0);
+  glm::dvec3 centre(0.0);  // the integral of the direction over the arcs: n x (start - end) per arc
   for (const SpatialWedge* w : group)
-    centre += 2 * std::sin(0.5 * (w->end - w->start)) * w->direction(0.5 * (w->start + w->end));
+    centre += glm::cross(w->plane->normal, w->start_direction() - w->end_direction());
   centre = glm::length(centre) > 1e-12 ? glm::normalize(centre) : side_normal;
   const glm::dvec3 a1 = glm::normalize(std::abs(centre.x) < 0.9 ? glm::cross(centre, glm::dvec3(1, 0, 0))
                                                                 : glm::cross(centre, glm::dvec3(0, 1, 0)));
   const glm::dvec3 a2 = glm::cross(centre, a1);
   order.clear();
   for (const SpatialWedge* w : group)
-    for (const glm::dvec3* end : {&w->start_direction(), &w->end_direction}) {
+    for (const glm::dvec3* end : {&w->start_direction(), &w->end_direction()}) {
       glm::dvec3 d = glm::normalize(*end);
       const double up = glm::dot(d, side_normal);
       if (up < 1e-15) {
@@ -110,7 +137,7 @@ void build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3
       }
       const double x = glm::dot(d, a1), y = glm::dot(d, a2);
       if (x * x + y * y < 1e-24) continue;  // at the centre: no azimuth, and inside anyway
-      order.emplace_back(std::atan2(y, x), d);
+      order.emplace_back(pseudo_angle(x, y), d);
     }
   std::sort(order.begin(), order.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
   // Keep distinct directions (in place in `order`), then bridge antipodal neighbours.
@@ -125,9 +152,8 @@ void build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3
     // One wedge alone: a sample of a visible region along one great circle, of unknown extent across it.
     // Give it a thin band, kLoneWedgeHalfWidth to each side of its plane, instead of no area at all.
     const SpatialWedge& w = *group.front();
-    const glm::dvec3 middle = w.direction(0.5 * (w.start + w.end));
     for (const double side : {1.0, -1.0}) {
-      glm::dvec3 d = glm::normalize(middle + side * std::tan(kLoneWedgeHalfWidth) * w.plane->normal);
+      glm::dvec3 d = glm::normalize(w.middle() + side * kTanLoneWedge * w.plane->normal);
       const double up = glm::dot(d, side_normal);
       if (up < 1e-15) d = glm::normalize(glm::normalize(d - up * side_normal) + 1e-15 * side_normal);
       bridged.push_back(side > 0 ? order[0].second : order[1].second);
@@ -144,13 +170,13 @@ void build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3
   if (projected_solid_angle(bridged, side_normal) < 0) std::reverse(bridged.begin(), bridged.end());
 }
 
-/// True when one piece holds a vertex of the other strictly inside.
-bool pieces_overlap(const SphericalPolygon& a, const SphericalPolygon& b) {
+/// True when one piece holds a vertex of the other strictly inside (the pieces' solid angles given).
+bool pieces_overlap(const SphericalPolygon& a, double a_solid_angle, const SphericalPolygon& b, double b_solid_angle) {
   if (a.size() < 3 || b.size() < 3) return false;
   for (const auto& p : a)
-    if (contains_direction(b, p)) return true;
+    if (contains_direction(b, p, b_solid_angle)) return true;
   for (const auto& p : b)
-    if (contains_direction(a, p)) return true;
+    if (contains_direction(a, p, a_solid_angle)) return true;
   return false;
 }
 
@@ -158,12 +184,13 @@ bool pieces_overlap(const SphericalPolygon& a, const SphericalPolygon& b) {
 
 struct ConeAssemblyScratch::Buffers {
   std::vector<SpatialWedge> wedges;
-  std::vector<Wedge> clipped;
-  WedgeScratch wedge_scratch;
+  std::vector<Wedge> united, clipped;
+  std::vector<std::pair<double, double>> intervals;
   std::vector<int> parent, group_of, roots;
   std::vector<const SpatialWedge*> members;
   std::vector<std::pair<double, glm::dvec3>> order;
   std::vector<SphericalPolygon> pieces;  // capacity kept across calls
+  std::vector<double> piece_solid_angle;
 };
 
 ConeAssemblyScratch::ConeAssemblyScratch() : m_buffers(std::make_unique<Buffers>()) {}
@@ -177,15 +204,19 @@ void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_nor
   for (const PlanarCone& cone : cones) {
     const SlicingPlane& plane = *cone.plane;
     const glm::dvec2 m(glm::dot(plane.u, side_normal), glm::dot(plane.w, side_normal));
-    b.clipped.clear();
-    if (glm::length(m) > 1e-9) {
-      const Wedge half[1] = {{wrap_angle(direction_angle(m) - kHalfPi), 2 * kHalfPi}};
-      intersect_wedges(cone.wedges, half, b.wedge_scratch, b.clipped);
-    } else {
-      unite_wedges(cone.wedges, b.wedge_scratch.intervals, b.clipped);
+    std::span<const Wedge> wedges = cone.wedges;
+    if (!is_united(wedges)) {
+      b.united.clear();
+      unite_wedges(wedges, b.intervals, b.united);
+      wedges = b.united;
     }
+    b.clipped.clear();
+    if (glm::length(m) > 1e-9)
+      clip_to_half_turn(wedges, wrap_angle(direction_angle(m) - kHalfPi), b.clipped);
+    else
+      b.clipped.assign(wedges.begin(), wedges.end());
     for (const Wedge& w : b.clipped)
-      if (w.width > kContainTolerance) b.wedges.emplace_back(&plane, w.start, w.end());
+      if (w.width > kContainTolerance) b.wedges.emplace_back(&plane, w);
   }
   // 2. Group by intersection (union-find).
   const int k = static_cast<int>(b.wedges.size());
@@ -211,17 +242,25 @@ void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_nor
     build_piece(b.members, side_normal, b.order, piece);
   };
   if (b.pieces.size() < b.roots.size()) b.pieces.resize(b.roots.size());
-  for (std::size_t r = 0; r < b.roots.size(); ++r) build(b.roots[r], b.pieces[r]);
+  b.piece_solid_angle.resize(b.roots.size());
+  for (std::size_t r = 0; r < b.roots.size(); ++r) {
+    build(b.roots[r], b.pieces[r]);
+    b.piece_solid_angle[r] = solid_angle(b.pieces[r]);
+  }
   std::size_t count = b.roots.size();
-  for (bool merged = true; merged;) {
+  for (bool merged = count > 1; merged;) {
     merged = false;
     for (std::size_t i = 0; i < count && !merged; ++i)
       for (std::size_t j = i + 1; j < count && !merged; ++j)
-        if (pieces_overlap(b.pieces[i], b.pieces[j])) {
+        if (pieces_overlap(b.pieces[i], b.piece_solid_angle[i], b.pieces[j], b.piece_solid_angle[j])) {
           for (int& g : b.group_of)
             if (g == b.roots[j]) g = b.roots[i];
           build(b.roots[i], b.pieces[i]);
-          for (std::size_t t = j; t + 1 < count; ++t) std::swap(b.pieces[t], b.pieces[t + 1]);  // drop j, keep order
+          b.piece_solid_angle[i] = solid_angle(b.pieces[i]);
+          for (std::size_t t = j; t + 1 < count; ++t) {  // drop j, keep order
+            std::swap(b.pieces[t], b.pieces[t + 1]);
+            std::swap(b.piece_solid_angle[t], b.piece_solid_angle[t + 1]);
+          }
           b.roots.erase(b.roots.begin() + static_cast<long>(j));
           --count;
           merged = true;
@@ -252,8 +291,9 @@ ConeMeasures measure_cone(const VisibilityCone& cone, const glm::dvec3& side_nor
   glm::dvec3 moment(0.0);
   double projected = 0.0;
   for (const auto& piece : cone.pieces) {
-    const double piece_solid_angle = solid_angle(piece);
-    projected += projected_solid_angle(piece, side_normal);
+    const glm::dvec3 irradiance = vector_irradiance(piece);
+    const double piece_solid_angle = solid_angle(piece, irradiance);
+    projected += glm::dot(side_normal, irradiance);
     moment += cosine_weighted_moment(piece, side_normal, piece_solid_angle);
     m.solid_angle += piece_solid_angle;
   }

@@ -333,23 +333,44 @@ glm::dvec3 cosine_weighted_moment(const SphericalPolygon& poly, const glm::dvec3
   return (poly_solid_angle / 3.0) * n + edges / 3.0;
 }
 
-double solid_angle(const SphericalPolygon& poly) {
+double solid_angle(const SphericalPolygon& poly) { return solid_angle(poly, vector_irradiance(poly)); }
+
+double solid_angle(const SphericalPolygon& poly, const glm::dvec3& irradiance) {
   if (poly.size() < 3) return 0.0;
-  // Apex: the mean direction of the polygon (vector irradiance), which lies inside most polygons met here,
-  // so the fan triangles are all positive and small; the result is exact modulo 4 pi for any apex.
-  glm::dvec3 apex = vector_irradiance(poly);
-  const double len = glm::length(apex);
-  apex = len > 0.0 ? apex / len : poly[0];
-  const double sum = fan_solid_angle(poly, apex);
-  double omega = sum - kFourPi * std::floor(sum / kFourPi);
+  // Apex: the mean direction of the polygon (its vector irradiance), which lies inside most polygons met
+  // here, so the fan triangles are all positive and small; the result is exact modulo 4 pi for any apex.
+  const double len = glm::length(irradiance);
+  const glm::dvec3 apex = len > 0.0 ? irradiance / len : poly[0];
+  // Sum of the fan's 2 atan2(num_i, den_i), modulo 4 pi, with one atan2: the argument of the product of the
+  // complex numbers den_i + i num_i is the sum of the atan2s modulo 2 pi (renormalised at each step).
+  double re = 1.0, im = 0.0;
+  const std::size_t n = poly.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::dvec3& b = poly[i];
+    const glm::dvec3& c = poly[(i + 1) % n];
+    const double num = glm::dot(apex, glm::cross(b, c));
+    const double den = 1.0 + glm::dot(apex, b) + glm::dot(b, c) + glm::dot(c, apex);
+    if (num == 0.0 && den <= 0.0) continue;  // degenerate (an antipodal pair): measure zero
+    const double r = re * den - im * num, m = re * num + im * den;
+    const double scale = std::hypot(r, m);
+    if (scale == 0.0) continue;
+    re = r / scale;
+    im = m / scale;
+  }
+  double omega = 2.0 * std::atan2(im, re);  // in (-2 pi, 2 pi]
+  if (omega < 0.0) omega += kFourPi;
   // A zero-area polygon (a sliver, or bridges only) can sum to -1e-17: report it as 0, not 4 pi.
   if (omega > kFourPi * (1.0 - 1e-13)) omega -= kFourPi;
   return std::max(0.0, omega);
 }
 
 bool contains_direction(const SphericalPolygon& poly, const glm::dvec3& w) {
+  return contains_direction(poly, w, solid_angle(poly));
+}
+
+bool contains_direction(const SphericalPolygon& poly, const glm::dvec3& w, double poly_solid_angle) {
   if (poly.size() < 3) return false;
-  const double winding = (solid_angle(poly) - fan_solid_angle(poly, -w)) / kFourPi;
+  const double winding = (poly_solid_angle - fan_solid_angle(poly, -w)) / kFourPi;
   return std::lround(winding) > 0;
 }
 

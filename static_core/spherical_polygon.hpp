@@ -74,6 +74,8 @@ class HemisphereClipper {
 /// Exact winding count: the fan of signed Van Oosterom–Strackee triangles from -w sums to
 /// area - 4 pi * winding(w), so any polygon, also larger than a hemisphere, is handled. O(#vertices).
 bool contains_direction(const SphericalPolygon& poly, const glm::dvec3& w);
+/// The same with the polygon's solid_angle already known.
+bool contains_direction(const SphericalPolygon& poly, const glm::dvec3& w, double poly_solid_angle);
 
 /// The horizon of n as a spherical polygon (four quarter arcs, counter-clockwise about n): the hemisphere.
 SphericalPolygon hemisphere_polygon(const glm::dvec3& n);
@@ -91,7 +93,10 @@ glm::dvec3 cosine_weighted_moment(const SphericalPolygon& poly, const glm::dvec3
 /// The same with the polygon's solid_angle already known (it is part of the moment).
 glm::dvec3 cosine_weighted_moment(const SphericalPolygon& poly, const glm::dvec3& n, double poly_solid_angle);
 
-/// Solid angle (area on the unit sphere) of a simple polygon, by the Van Oosterom–Strackee triangle fan.
+/// Solid angle (area on the unit sphere) of a simple polygon, by the Van Oosterom–Strackee triangle fan
+/// summed with a single atan2 (the argument of the product of the triangles' complex numbers).
 double solid_angle(const SphericalPolygon& poly);
+/// The same with the polygon's vector_irradiance already known (the fan's apex).
+double solid_angle(const SphericalPolygon& poly, const glm::dvec3& irradiance);
 
 }  // namespace pleat
