@@ -352,7 +352,7 @@ double solid_angle(const SphericalPolygon& poly, const glm::dvec3& irradiance) {
     const double den = 1.0 + glm::dot(apex, b) + glm::dot(b, c) + glm::dot(c, apex);
     if (num == 0.0 && den <= 0.0) continue;  // degenerate (an antipodal pair): measure zero
     const double r = re * den - im * num, m = re * num + im * den;
-    const double scale = std::hypot(r, m);
+    const double scale = std::sqrt(r * r + m * m);  // |r + i m| <= 4: no overflow; underflow only at 1e-154
     if (scale == 0.0) continue;
     re = r / scale;
     im = m / scale;
