@@ -177,7 +177,7 @@ struct Workload {
     Slice next;
     std::vector<std::int32_t> next_of_edge(edges->endpoints.size(), -1);
     for (std::size_t p = 0; p < planes; ++p) {
-      at_k[p].build(topology, *edges, frame0, plan.planes[p], faces0[p], scratch);
+      at_k[p].build(topology, *edges, frame0, plan.planes[p], plan.storage, faces0[p], scratch);
       const Slice& slice = at_k[p].cones().slice;
       slice_mesh(topology, *edges, frame1, plan.planes[p], faces1[p], slicer, next);
       slice_vertices0 += slice.vertices.size();
@@ -345,7 +345,7 @@ void rebuild_benchmark(benchmark::State& state, std::string name) {
   KineticScratch scratch;
   auto build_all = [&] {
     for (std::size_t p = 0; p < slices.size(); ++p)
-      slices[p].build(w.topology, *w.edges, w.frame1, w.plan.planes[p], w.faces1[p], scratch);
+      slices[p].build(w.topology, *w.edges, w.frame1, w.plan.planes[p], w.plan.storage, w.faces1[p], scratch);
   };
   build_all();  // warm the slices' and the scratch's memory, as the engine's are after its first frame
   for (auto _ : state) {
@@ -366,7 +366,7 @@ void advance_benchmark(benchmark::State& state, std::string name, KineticPolicy 
   std::array<std::size_t, static_cast<std::size_t>(kinetic::RebuildReason::count)> because{};
   auto build_all = [&] {
     for (std::size_t p = 0; p < slices.size(); ++p)
-      slices[p].build(w.topology, *w.edges, w.frame0, w.plan.planes[p], w.faces0[p], scratch);
+      slices[p].build(w.topology, *w.edges, w.frame0, w.plan.planes[p], w.plan.storage, w.faces0[p], scratch);
   };
   auto advance_all = [&] {
     total = {};

@@ -162,28 +162,31 @@ std::string event_invariants(const Cdt& cdt, std::span<const SliceVertex> next,
 }
 
 void KineticSlice::build(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
-                         const SlicingPlane& plane, std::span<const Index> faces, KineticScratch& scratch) {
+                         const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
+                         KineticScratch& scratch) {
+  m_storage = storage;
   slice_mesh(topology, edges, frame, plane, faces, scratch.slicer, m_out.slice);
-  finish_build(topology, scratch);
+  finish_build(topology, frame, scratch);
 }
 
-void KineticSlice::finish_build(const MeshTopology& topology, KineticScratch& scratch) {
+void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
   m_tri.build(m_out.slice);
   m_out.crossings = m_tri.crossings();
   m_editable = m_tri.dimension() == 2 && m_out.crossings == 0 &&
                m_tri.cdt().number_of_vertices() == m_out.slice.vertices.size();
-  grow_cones(topology, scratch);
+  grow_cones(topology, frame, scratch);
 }
 
-void KineticSlice::finish_frame(const MeshTopology& topology, bool structure_changed, KineticScratch& scratch) {
+void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame, bool structure_changed,
+                                KineticScratch& scratch) {
   std::swap(m_out.slice, m_next);
   m_tri.adopt_edits(m_out.slice, structure_changed);
   m_out.crossings = 0;
-  grow_cones(topology, scratch);
+  grow_cones(topology, frame, scratch);
 }
 
-void KineticSlice::grow_cones(const MeshTopology& topology, KineticScratch& scratch) {
-  compute_slice_cones(m_out.slice, m_tri, scratch.cones, m_out.cones);
+void KineticSlice::grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
+  compute_plane_cones(topology.num_vertices, m_storage, frame, m_tri, scratch.cones, m_out);
 }
 
 SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshEdges& edges, const Frame& next,
@@ -196,7 +199,7 @@ SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshE
     counts.rebuild = reason;
     counts.structure_changed = true;
     std::swap(m_out.slice, m_next);
-    finish_build(topology, scratch);
+    finish_build(topology, next, scratch);
     return counts;
   };
   if (!m_editable) return rebuild(RebuildReason::degenerate);
@@ -271,7 +274,7 @@ SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshE
   }
   counts.structure_changed =
       counts.removed + counts.inserted + counts.flips + counts.hull_enter + counts.hull_leave > 0;
-  finish_frame(topology, counts.structure_changed, scratch);
+  finish_frame(topology, next, counts.structure_changed, scratch);
   return counts;
 }
 

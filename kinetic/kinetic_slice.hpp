@@ -86,7 +86,7 @@ struct KineticEvent {
 /// Per-thread memory of KineticSlice (no allocation per frame once warmed up, outside exact fallbacks).
 struct KineticScratch {
   SlicerScratch slicer;
-  SliceConeScratch cones;
+  PlaneConeScratch cones;
   std::vector<std::int32_t> old_of_edge;  ///< per mesh edge: slice vertex of the previous frame, or -1
   std::vector<std::int32_t> new_of_old;
   std::vector<Index> born;
@@ -113,9 +113,9 @@ std::string event_invariants(const cgal::Cdt& cdt, std::span<const SliceVertex> 
 
 class KineticSlice {
  public:
-  /// The static build of `frame` (also the fallback).
+  /// The static build of `frame` (also the fallback). `storage` is the plan's rule (compute_plane_cones).
   void build(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame, const SlicingPlane& plane,
-             std::span<const Index> faces, KineticScratch& scratch);
+             ConeStorage storage, std::span<const Index> faces, KineticScratch& scratch);
   /// From the current frame to `next` (see the header comment). With `check_every_event`, the kinetic
   /// invariants are checked exactly after every event (the triangulation's combinatorics, the constraints, and
   /// every certificate scheduled at its first failure); a violation throws InvariantError (a bug).
@@ -132,15 +132,16 @@ class KineticSlice {
   bool check_invariants(std::string* why) const;
 
  private:
-  void finish_build(const MeshTopology& topology, KineticScratch& scratch);
-  void finish_frame(const MeshTopology& topology, bool structure_changed, KineticScratch& scratch);
-  void grow_cones(const MeshTopology& topology, KineticScratch& scratch);
+  void finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
+  void finish_frame(const MeshTopology& topology, const Frame& frame, bool structure_changed, KineticScratch& scratch);
+  void grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
   RebuildReason move_survivors(const KineticPolicy& policy, std::optional<std::size_t> check_constraints,
                                KineticScratch& scratch, SliceEventCounts& counts);
 
   PlaneCones m_out;
   Slice m_next;
   SliceTriangulation m_tri;
+  ConeStorage m_storage = ConeStorage::NearestOnFan;
   std::vector<Index> m_changed_edges;
   bool m_editable = false;  ///< 2D, no merged points, no crossings: the next interval can repair it
 };

@@ -31,7 +31,7 @@ struct KineticVisibility::Impl {
     index_vertex_faces();
     candidate_faces_per_plane(topology, first, plan, faces);
     for_each_plane([&](std::size_t p) {
-      slices[p].build(topology, edges, first, plan.planes[p], faces[p], scratch.local());
+      slices[p].build(topology, edges, first, plan.planes[p], plan.storage, faces[p], scratch.local());
       check(p);
     });
     gather_and_assemble(first);

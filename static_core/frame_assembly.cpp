@@ -39,6 +39,14 @@ void store_cones(Index num_vertices, ConeStorage storage, const Frame& frame, co
   for (const StoredCone& s : stored) best_of[2 * std::size_t(s.vertex) + s.side] = -1;
 }
 
+void compute_plane_cones(Index num_vertices, ConeStorage storage, const Frame& frame,
+                         const SliceTriangulation& triangulation, PlaneConeScratch& s, PlaneCones& out) {
+  store_cones(num_vertices, storage, frame, out.slice, out.stored, s.best);
+  s.needed.assign(out.slice.vertices.size(), 0);
+  for (const StoredCone& c : out.stored) s.needed[c.slice_vertex] = 1;
+  compute_slice_cones(out.slice, triangulation, s.cones, out.cones, s.needed);
+}
+
 struct FrameAssembler::Impl {
   struct Ref {
     std::uint32_t plane;
@@ -47,7 +55,6 @@ struct FrameAssembler::Impl {
   struct Workspace {
     ConeAssemblyScratch scratch;
     std::vector<PlanarCone> cones;
-    std::vector<std::int64_t> best;  // store_cones' scratch
   };
 
   Impl(const MeshTopology& topology, const MeshEdges& edges, const SlicingPlan& plan,
@@ -61,7 +68,6 @@ struct FrameAssembler::Impl {
   const SlicingPlan& plan;
   VisibilityParams params;
   tbb::enumerable_thread_specific<Workspace> workspaces;
-  std::vector<std::vector<StoredCone>> stored;  // per plane
   std::vector<std::uint32_t> first, cursor;
   std::vector<Ref> refs;
   std::vector<std::int32_t> source;
@@ -87,15 +93,8 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     stats.crossing_slices += r.crossings > 0;
   }
 
-  // 1. Storage: what each plane offers its mesh vertices (per plane, in parallel).
-  stored.resize(planes.size());
-  auto store = [&](std::size_t p) {
-    store_cones(topology.num_vertices, plan.storage, frame, planes[p]->slice, stored[p], workspaces.local().best);
-  };
-  if (params.parallel)
-    tbb::parallel_for(std::size_t(0), planes.size(), store);
-  else
-    for (std::size_t p = 0; p < planes.size(); ++p) store(p);
+  // 1. Storage: what each plane offers its mesh vertices is in planes[p]->stored (compute_plane_cones).
+  auto stored = [&](std::uint32_t p) -> const std::vector<StoredCone>& { return planes[p]->stored; };
 
   // 2. Per vertex, side and orientation, the stored cones: one CSR array over the key
   //    (side * orientations + o) * n + v, in plane order.
@@ -104,13 +103,13 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
   auto key_of = [&](int side, std::size_t o, Index v) { return (side * orientations + o) * n + v; };
   first.assign(keys + 1, 0);
   for (std::uint32_t p = 0; p < planes.size(); ++p)
-    for (const StoredCone& c : stored[p]) ++first[key_of(c.side, plan.planes[p].orientation, c.vertex) + 1];
+    for (const StoredCone& c : stored(p)) ++first[key_of(c.side, plan.planes[p].orientation, c.vertex) + 1];
   for (std::size_t k = 0; k < keys; ++k) first[k + 1] += first[k];
   refs.resize(first[keys]);
   cursor.assign(first.begin(), first.end() - 1);
   for (std::uint32_t p = 0; p < planes.size(); ++p)
-    for (std::uint32_t s = 0; s < stored[p].size(); ++s) {
-      const StoredCone& c = stored[p][s];
+    for (std::uint32_t s = 0; s < stored(p).size(); ++s) {
+      const StoredCone& c = stored(p)[s];
       refs[cursor[key_of(c.side, plan.planes[p].orientation, c.vertex)]++] = {p, s};
     }
   if (plan.storage == ConeStorage::NearestOnFan) {
@@ -122,7 +121,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
       if (begin == end) continue;
       std::uint32_t best = begin;
       for (std::uint32_t i = begin + 1; i < end; ++i)
-        if (stored[refs[i].plane][refs[i].stored].distance < stored[refs[best].plane][refs[best].stored].distance)
+        if (stored(refs[i].plane)[refs[i].stored].distance < stored(refs[best].plane)[refs[best].stored].distance)
           best = i;
       refs[out++] = refs[best];
     }
@@ -186,7 +185,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         if (from < 0) continue;
         const std::size_t k = key_of(side, o, static_cast<Index>(from));
         for (std::uint32_t i = first[k]; i < first[k + 1]; ++i) {
-          const StoredCone& s = stored[refs[i].plane][refs[i].stored];
+          const StoredCone& s = stored(refs[i].plane)[refs[i].stored];
           ws.cones.push_back(
               {&plan.planes[refs[i].plane], planes[refs[i].plane]->cones.cone(s.slice_vertex, static_cast<Side>(side))});
         }

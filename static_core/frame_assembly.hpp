@@ -12,6 +12,7 @@
 #include "sim_io/mesh.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/slice_cones.hpp"
+#include "static_core/slice_triangulation.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
 #include "static_core/visibility_cone.hpp"
@@ -37,7 +38,8 @@ struct StoredCone {
 /// Everything one plane contributes to a frame.
 struct PlaneCones {
   Slice slice;
-  SliceCones cones;
+  std::vector<StoredCone> stored;  ///< the cones the plane offers its mesh vertices (store_cones)
+  SliceCones cones;                ///< of the slice vertices in `stored`; the others' are empty
   std::size_t crossings = 0;
 };
 
@@ -46,6 +48,19 @@ struct PlaneCones {
 /// 2 * num_vertices entries, all -1 on entry and on return.
 void store_cones(Index num_vertices, ConeStorage storage, const Frame& frame, const Slice& slice,
                  std::vector<StoredCone>& stored, std::vector<std::int64_t>& best);
+
+/// Per-thread memory of compute_plane_cones.
+struct PlaneConeScratch {
+  SliceConeScratch cones;
+  std::vector<std::int64_t> best;
+  std::vector<char> needed;
+};
+
+/// A plane's part of a frame once its slice (out.slice) is triangulated: its offers to mesh vertices
+/// (store_cones) and the 2D cones of the slice vertices offered — no other cone is ever read, so no other is
+/// computed. Both engines call it for every plane they re-derive.
+void compute_plane_cones(Index num_vertices, ConeStorage storage, const Frame& frame,
+                         const SliceTriangulation& triangulation, PlaneConeScratch& scratch, PlaneCones& out);
 
 /// Steps after the planes: CSR of stored cones, Dijkstra fill, 3D assembly and measures. Keeps its memory
 /// between frames. `topology` and `plan` must outlive it.

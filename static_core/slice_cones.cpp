@@ -141,6 +141,12 @@ class RangeWalker {
   const SliceConeScratch& m_scratch;
 };
 
+/// Whether a CDT vertex's cones are wanted (SliceConeScratch::vertex_needed; crossing points never are).
+bool is_needed(VertexHandle v, const SliceConeScratch& s) {
+  const int x = v->info().slice_vertex;
+  return x >= 0 && s.vertex_needed[x];
+}
+
 /// Funnel-tree cones of every corner of a region without holes: for each window, the wedge between the
 /// first segments of the shortest paths to its two endpoints, when they turn the right way.
 void cones_of_simple_region(const SliceTriangulation& st, const SliceRegion& region, int region_index,
@@ -151,8 +157,9 @@ void cones_of_simple_region(const SliceTriangulation& st, const SliceRegion& reg
       const int c = f->info().corner[k];
       if (s.corner_stamp[c] == region_index) continue;
       s.corner_stamp[c] = region_index;
-      s.region_corners.push_back(c);
+      if (is_needed(f->vertex(k), s)) s.region_corners.push_back(c);
     }
+  if (s.region_corners.empty()) return;
   for (const SliceWindow& window : region.windows) {
     grow_shortest_path_tree(st, window, false, s.parent_a, s.stack);
     grow_shortest_path_tree(st, window, true, s.parent_b, s.stack);
@@ -188,6 +195,7 @@ void cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion&
   for (const FaceHandle f : region.faces)
     for (int k = 0; k < 3; ++k) {
       const VertexHandle x = f->vertex(k);
+      if (!is_needed(x, s)) continue;
       const Point2& px = x->point();
       std::vector<Wedge>& out = s.corner_wedges[f->info().corner[k]];
       // The edge opposite x, from its right end a to its left end b seen from x: the range (a, b).
@@ -222,7 +230,8 @@ void cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion&
 
 /// Collinear or tiny slices (dimension < 2): nothing lies off the line, so a side sees its whole range:
 /// the open half-plane where the chain continues on both sides of X, the whole circle at a chain's end.
-void collinear_slice_cones(const Slice& slice, const SliceTriangulation& st, SliceCones& out) {
+void collinear_slice_cones(const Slice& slice, const SliceTriangulation& st, std::span<const char> needed,
+                           SliceCones& out) {
   // Chain directions leaving each CDT vertex (several slice vertices may share one).
   std::vector<std::pair<cgal::VertexHandle, glm::dvec2>> leaving;
   for (Index x = 0; x < slice.vertices.size(); ++x)
@@ -244,10 +253,11 @@ void collinear_slice_cones(const Slice& slice, const SliceTriangulation& st, Sli
     for (; it != leaving.end() && it->first == st.vertex_of(x); ++it) {
       (glm::dot(it->second, d) > 0 ? forward : backward) = true;
     }
+    const bool wanted = needed.empty() || needed[x];  // an unwanted vertex gets empty cones
     for (Side side : kBothSides) {
-      if (d == glm::dvec2(0.0) || !(forward && backward))
+      if (wanted && (d == glm::dvec2(0.0) || !(forward && backward)))
         out.wedges.push_back({0.0, kTwoPi});
-      else
+      else if (wanted)
         out.wedges.push_back({direction_angle(side == Side::Front ? d : -d), kTwoPi / 2});
       out.offsets.push_back(static_cast<std::uint32_t>(out.wedges.size()));
     }
@@ -257,14 +267,19 @@ void collinear_slice_cones(const Slice& slice, const SliceTriangulation& st, Sli
 }  // namespace
 
 void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, SliceConeScratch& s,
-                         SliceCones& out) {
+                         SliceCones& out, std::span<const char> needed) {
   out.wedges.clear();
   out.offsets.assign(1, 0);
   out.windows = out.regions = out.regions_with_holes = 0;
   if (st.dimension() < 2) {
-    collinear_slice_cones(slice, st, out);
+    collinear_slice_cones(slice, st, needed, out);
     return;
   }
+  // Needed CDT vertices, by the slice vertex each one was inserted for (coincident slice vertices share one).
+  s.vertex_needed.assign(slice.vertices.size(), needed.empty() ? 1 : 0);
+  if (!needed.empty())
+    for (Index x = 0; x < slice.vertices.size(); ++x)
+      if (needed[x]) s.vertex_needed[st.vertex_of(x)->info().slice_vertex] = 1;
   const Cdt& cdt = st.cdt();
   prepare_scratch(st.num_corners(), s);
   out.regions = st.regions().size();
@@ -282,6 +297,11 @@ void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, Slice
 
   const RangeWalker walker(cdt, s);
   for (Index x = 0; x < slice.vertices.size(); ++x) {
+    if (!needed.empty() && !needed[x]) {
+      out.offsets.push_back(static_cast<std::uint32_t>(out.wedges.size()));
+      out.offsets.push_back(static_cast<std::uint32_t>(out.wedges.size()));
+      continue;
+    }
     const VertexHandle xv = st.vertex_of(x);
     const int next = next_distinct(slice, st, x, true), prev = next_distinct(slice, st, x, false);
     const VertexHandle w_out =

@@ -18,15 +18,16 @@ namespace {
 struct Workspace {
   SlicerScratch slicer;
   SliceTriangulation triangulation;
-  SliceConeScratch cones;
+  PlaneConeScratch cones;
 };
 
 void process_plane(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
-                   const SlicingPlane& plane, std::span<const Index> faces, Workspace& ws, PlaneCones& out) {
+                   const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces, Workspace& ws,
+                   PlaneCones& out) {
   slice_mesh(topology, edges, frame, plane, faces, ws.slicer, out.slice);
   ws.triangulation.build(out.slice);
   out.crossings = ws.triangulation.crossings();
-  compute_slice_cones(out.slice, ws.triangulation, ws.cones, out.cones);
+  compute_plane_cones(topology.num_vertices, storage, frame, ws.triangulation, ws.cones, out);
 }
 
 }  // namespace
@@ -80,7 +81,7 @@ void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result
   candidate_faces_per_plane(topology, frame, plan, faces);
   // Every plane on its own: slice, triangulate, shortest-path trees, 2D cones.
   auto run = [&](std::size_t p) {
-    process_plane(topology, edges, frame, plan.planes[p], faces[p], workspaces.local(), planes[p]);
+    process_plane(topology, edges, frame, plan.planes[p], plan.storage, faces[p], workspaces.local(), planes[p]);
   };
   if (params.parallel)
     tbb::parallel_for(std::size_t(0), planes.size(), run);

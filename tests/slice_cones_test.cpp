@@ -145,6 +145,31 @@ RC_GTEST_PROP(SliceCones, FunnelTreesMatchAngularSweepOnSlicedSurfaces, ()) {
   RC_ASSERT(check_sliced_surface(seed) == "");
 }
 
+RC_GTEST_PROP(SliceCones, OnlyTheNeededConesAreComputedAndTheyAreUnchanged, ()) {
+  // The engines ask only for the cones their mesh vertices store: the same wedges for those, none for the
+  // others, on random chains with holes and coincident points and a random half of the slice vertices.
+  std::mt19937_64 rng(*rc::gen::arbitrary<std::uint64_t>());
+  const Slice slice = test::random_chain_slice(rng);
+  SliceTriangulation st;
+  st.build(slice);
+  SliceConeScratch scratch;
+  SliceCones all, some;
+  compute_slice_cones(slice, st, scratch, all);
+  std::vector<char> needed(slice.vertices.size());
+  for (char& n : needed) n = static_cast<char>(rng() % 2);
+  compute_slice_cones(slice, st, scratch, some, needed);
+  for (Index x = 0; x < slice.vertices.size(); ++x)
+    for (Side side : kBothSides) {
+      const auto a = all.cone(x, side), b = some.cone(x, side);
+      if (!needed[x]) {
+        RC_ASSERT(b.empty());
+        continue;
+      }
+      RC_ASSERT(a.size() == b.size());
+      for (std::size_t k = 0; k < a.size(); ++k) RC_ASSERT(a[k].start == b[k].start && a[k].width == b[k].width);
+    }
+}
+
 TEST(SliceCones, RegressionSeeds) {
   // 882443: a sliver wedge thinner than the rounding of its angles wrapped around to a full turn.
   // 1286436799262: a wedge of almost a half-turn (a point just inside the hull) rounded to a negative width.
