@@ -114,9 +114,10 @@ int find_root(std::vector<int>& parent, int i) {
 /// slot-shaped cones of deep folds (a thin lune from +y to -y through the fold's opening), which are
 /// star-shaped about their own mean direction. Every direction is in the side's closed hemisphere (the
 /// wedges were clipped to it); rounding below the horizon is snapped just above it, a pair of antipodal
-/// neighbours is bridged through c, and the result is counter-clockwise about the side normal.
-void build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3& side_normal,
-                 std::vector<std::pair<double, glm::dvec3>>& order, SphericalPolygon& bridged) {
+/// neighbours is bridged through c, and the result is counter-clockwise about the side normal. Returns the
+/// piece's vector irradiance (zero when it has fewer than three vertices).
+glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3& side_normal,
+                       std::vector<std::pair<double, glm::dvec3>>& order, SphericalPolygon& bridged) {
   bridged.clear();
   glm::dvec3 centre(0.0);  // the integral of the direction over the arcs: n x (start - end) per arc
   for (const SpatialWedge* w : group)
@@ -147,8 +148,16 @@ void build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3
     order[kept++] = order[i];
   }
   while (kept > 1 && glm::dot(order[kept - 1].second, order[0].second) > 1 - 1e-15) --kept;
+  // Counter-clockwise about the side normal: Lambert's integral positive. Reversing a polygon negates its
+  // vector irradiance.
+  auto orient = [&] {
+    const glm::dvec3 irradiance = vector_irradiance(bridged);
+    if (glm::dot(side_normal, irradiance) >= 0) return irradiance;
+    std::reverse(bridged.begin(), bridged.end());
+    return -irradiance;
+  };
   if (kept < 3) {
-    if (group.size() != 1 || kept != 2) return;
+    if (group.size() != 1 || kept != 2) return glm::dvec3(0.0);
     // One wedge alone: a sample of a visible region along one great circle, of unknown extent across it.
     // Give it a thin band, kLoneWedgeHalfWidth to each side of its plane, instead of no area at all.
     const SpatialWedge& w = *group.front();
@@ -159,16 +168,35 @@ void build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3
       bridged.push_back(side > 0 ? order[0].second : order[1].second);
       bridged.push_back(d);
     }
-    if (projected_solid_angle(bridged, side_normal) < 0) std::reverse(bridged.begin(), bridged.end());
-    return;
+    return orient();
   }
   for (std::size_t i = 0; i < kept; ++i) {
     bridged.push_back(order[i].second);
     if (glm::dot(order[i].second, order[(i + 1) % kept].second) < -1 + 1e-9 && glm::dot(centre, side_normal) > 0)
       bridged.push_back(centre);
   }
-  if (projected_solid_angle(bridged, side_normal) < 0) std::reverse(bridged.begin(), bridged.end());
+  return orient();
 }
+
+/// Running sums of a cone's measures over its pieces (Lambert's formula, the cosine-weighted moment).
+struct MeasureSums {
+  glm::dvec3 moment{0.0};
+  double projected = 0.0, solid_angle = 0.0;
+  void add(const SphericalPolygon& piece, const glm::dvec3& irradiance, double piece_solid_angle,
+           const glm::dvec3& side_normal) {
+    projected += glm::dot(side_normal, irradiance);
+    moment += cosine_weighted_moment(piece, side_normal, piece_solid_angle);
+    solid_angle += piece_solid_angle;
+  }
+  ConeMeasures measures(const glm::dvec3& side_normal) const {
+    ConeMeasures m;
+    m.solid_angle = solid_angle;
+    m.sky_visibility = std::clamp(projected / (kTwoPi / 2), 0.0, 1.0);
+    const double len = glm::length(moment);
+    m.bent_normal = len > 1e-15 ? moment / len : side_normal;
+    return m;
+  }
+};
 
 /// True when one piece holds a vertex of the other strictly inside (the pieces' solid angles given).
 bool pieces_overlap(const SphericalPolygon& a, double a_solid_angle, const SphericalPolygon& b, double b_solid_angle) {
@@ -191,6 +219,7 @@ struct ConeAssemblyScratch::Buffers {
   std::vector<std::pair<double, glm::dvec3>> order;
   std::vector<SphericalPolygon> pieces;  // capacity kept across calls
   std::vector<double> piece_solid_angle;
+  std::vector<glm::dvec3> piece_irradiance;
 };
 
 ConeAssemblyScratch::ConeAssemblyScratch() : m_buffers(std::make_unique<Buffers>()) {}
@@ -198,6 +227,11 @@ ConeAssemblyScratch::~ConeAssemblyScratch() = default;
 
 void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal, ConeAssemblyScratch& scratch,
                    VisibilityCone& result) {
+  assemble_and_measure_cone(cones, side_normal, scratch, result, nullptr);
+}
+
+void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
+                               ConeAssemblyScratch& scratch, VisibilityCone& result, ConeMeasures* measures) {
   auto& b = *scratch.m_buffers;
   // 1. Clip every wedge to the side's half-space and lift it into space.
   b.wedges.clear();
@@ -235,18 +269,18 @@ void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_nor
     b.group_of[i] = find_root(parent, i);
     if (b.group_of[i] == i) b.roots.push_back(i);
   }
-  auto build = [&](int root, SphericalPolygon& piece) {
+  // Piece r with its vector irradiance and solid angle (each computed once per build).
+  auto build = [&](std::size_t r) {
     b.members.clear();
     for (int i = 0; i < k; ++i)
-      if (b.group_of[i] == root) b.members.push_back(&b.wedges[i]);
-    build_piece(b.members, side_normal, b.order, piece);
+      if (b.group_of[i] == b.roots[r]) b.members.push_back(&b.wedges[i]);
+    b.piece_irradiance[r] = build_piece(b.members, side_normal, b.order, b.pieces[r]);
+    b.piece_solid_angle[r] = solid_angle(b.pieces[r], b.piece_irradiance[r]);
   };
   if (b.pieces.size() < b.roots.size()) b.pieces.resize(b.roots.size());
   b.piece_solid_angle.resize(b.roots.size());
-  for (std::size_t r = 0; r < b.roots.size(); ++r) {
-    build(b.roots[r], b.pieces[r]);
-    b.piece_solid_angle[r] = solid_angle(b.pieces[r]);
-  }
+  b.piece_irradiance.resize(b.roots.size());
+  for (std::size_t r = 0; r < b.roots.size(); ++r) build(r);
   std::size_t count = b.roots.size();
   for (bool merged = count > 1; merged;) {
     merged = false;
@@ -255,11 +289,11 @@ void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_nor
         if (pieces_overlap(b.pieces[i], b.piece_solid_angle[i], b.pieces[j], b.piece_solid_angle[j])) {
           for (int& g : b.group_of)
             if (g == b.roots[j]) g = b.roots[i];
-          build(b.roots[i], b.pieces[i]);
-          b.piece_solid_angle[i] = solid_angle(b.pieces[i]);
+          build(i);
           for (std::size_t t = j; t + 1 < count; ++t) {  // drop j, keep order
             std::swap(b.pieces[t], b.pieces[t + 1]);
             std::swap(b.piece_solid_angle[t], b.piece_solid_angle[t + 1]);
+            std::swap(b.piece_irradiance[t], b.piece_irradiance[t + 1]);
           }
           b.roots.erase(b.roots.begin() + static_cast<long>(j));
           --count;
@@ -267,13 +301,16 @@ void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_nor
         }
   }
   std::size_t out = 0;
+  MeasureSums sums;
   for (std::size_t i = 0; i < count; ++i) {
     if (b.pieces[i].size() < 3) continue;
     if (result.pieces.size() <= out) result.pieces.emplace_back();
     result.pieces[out].assign(b.pieces[i].begin(), b.pieces[i].end());
+    if (measures) sums.add(b.pieces[i], b.piece_irradiance[i], b.piece_solid_angle[i], side_normal);
     ++out;
   }
   result.pieces.resize(out);
+  if (measures) *measures = sums.measures(side_normal);
 }
 
 VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal) {
@@ -287,20 +324,12 @@ ConeMeasures measure_cone(const VisibilityCone& cone, const glm::dvec3& side_nor
   // The pieces lie in the side's closed hemisphere and are counter-clockwise about it (assemble_cone), so
   // Lambert's formula applies to them directly; clip_to_hemisphere would only add rounding trouble for
   // vertices that lie on the horizon.
-  ConeMeasures m;
-  glm::dvec3 moment(0.0);
-  double projected = 0.0;
+  MeasureSums sums;
   for (const auto& piece : cone.pieces) {
     const glm::dvec3 irradiance = vector_irradiance(piece);
-    const double piece_solid_angle = solid_angle(piece, irradiance);
-    projected += glm::dot(side_normal, irradiance);
-    moment += cosine_weighted_moment(piece, side_normal, piece_solid_angle);
-    m.solid_angle += piece_solid_angle;
+    sums.add(piece, irradiance, solid_angle(piece, irradiance), side_normal);
   }
-  m.sky_visibility = std::clamp(projected / (kTwoPi / 2), 0.0, 1.0);
-  const double len = glm::length(moment);
-  m.bent_normal = len > 1e-15 ? moment / len : side_normal;
-  return m;
+  return sums.measures(side_normal);
 }
 
 }  // namespace pleat

@@ -41,6 +41,10 @@ class ConeAssemblyScratch {
 /// Writes into `result`, reusing its memory.
 void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal, ConeAssemblyScratch& scratch,
                    VisibilityCone& result);
+/// The same, and the cone's measures (as measure_cone gives them) from the integrals the assembly computes
+/// anyway (each piece's vector irradiance and solid angle): what the engines call.
+void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
+                               ConeAssemblyScratch& scratch, VisibilityCone& result, ConeMeasures* measures);
 /// The same, allocating (tests, one-off use).
 VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal);
 

@@ -191,8 +191,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         }
       }
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];
-      assemble_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v]);
-      result.measures[side][v] = measure_cone(result.cones[side][v], side_normal);
+      assemble_and_measure_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v], &result.measures[side][v]);
     }
   };
   if (params.parallel)
