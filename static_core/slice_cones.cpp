@@ -201,28 +201,30 @@ void cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion&
       // The edge opposite x, from its right end a to its left end b seen from x: the range (a, b).
       s.expansion.push_back({f, k, f->vertex(cdt.ccw(k)), f->vertex(cdt.cw(k))});
       while (!s.expansion.empty()) {
-        const ExpansionTask task = s.expansion.back();
+        ExpansionTask task = s.expansion.back();
         s.expansion.pop_back();
-        // The range from ray x->right to ray x->left crosses edge (task.face, task.index).
-        if (task.face->is_constrained(task.index)) continue;
-        const FaceHandle g = task.face->neighbor(task.index);
-        if (cdt.is_infinite(g)) {
-          out.push_back(thin_wedge_between(direction(px, task.right->point()), direction(px, task.left->point())));
-          continue;
-        }
-        // Seen from x, g's vertices are a (right end of the crossed edge), b (left end) and c beyond.
-        const int j = g->index(task.face);
-        const VertexHandle c = g->vertex(j);
-        const int ac = cdt.ccw(j), cb = cdt.cw(j);  // edge (a, c) is opposite b = vertex(ccw(j)); (c, b) opposite a
-        const bool c_left_of_right = CGAL::orientation(px, task.right->point(), c->point()) == CGAL::LEFT_TURN;
-        const bool c_right_of_left = CGAL::orientation(px, c->point(), task.left->point()) == CGAL::LEFT_TURN;
-        if (c_left_of_right && c_right_of_left) {
-          s.expansion.push_back({g, ac, task.right, c});
-          s.expansion.push_back({g, cb, c, task.left});
-        } else if (c_left_of_right) {
-          s.expansion.push_back({g, ac, task.right, task.left});  // c on or beyond the left ray
-        } else {
-          s.expansion.push_back({g, cb, task.right, task.left});  // c on or beyond the right ray
+        // Follow the range from ray x->right to ray x->left across edge (task.face, task.index); where it
+        // splits, one part waits on the stack and the loop goes on with the other.
+        while (!task.face->is_constrained(task.index)) {
+          const FaceHandle g = task.face->neighbor(task.index);
+          if (cdt.is_infinite(g)) {
+            out.push_back(thin_wedge_between(direction(px, task.right->point()), direction(px, task.left->point())));
+            break;
+          }
+          // Seen from x, g's vertices are a (right end of the crossed edge), b (left end) and c beyond it; edge
+          // (a, c) is opposite b = vertex(ccw(j)), edge (c, b) opposite a = vertex(cw(j)).
+          const int j = g->index(task.face);
+          const VertexHandle c = g->vertex(j);
+          const bool c_left_of_right = CGAL::orientation(px, task.right->point(), c->point()) == CGAL::LEFT_TURN;
+          const bool c_right_of_left = CGAL::orientation(px, c->point(), task.left->point()) == CGAL::LEFT_TURN;
+          if (c_left_of_right && c_right_of_left) {
+            s.expansion.push_back({g, cdt.cw(j), c, task.left});
+            task = {g, cdt.ccw(j), task.right, c};
+          } else if (c_left_of_right) {
+            task = {g, cdt.ccw(j), task.right, task.left};  // c on or beyond the left ray
+          } else {
+            task = {g, cdt.cw(j), task.right, task.left};  // c on or beyond the right ray
+          }
         }
       }
     }
