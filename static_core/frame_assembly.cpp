@@ -1,5 +1,6 @@
 #include "static_core/frame_assembly.hpp"
 
+#include "static_core/assert.hpp"
 #include "static_core/cone_assembly.hpp"
 
 #include <glm/geometric.hpp>
@@ -72,6 +73,7 @@ struct FrameAssembler::Impl {
   std::vector<Ref> refs;
   std::vector<std::int32_t> source;
   std::vector<double> dist;
+  std::vector<std::vector<double>> edge_length;  // per vertex, aligned with edges.neighbours
   std::vector<std::pair<double, Index>> heap;
 };
 
@@ -130,46 +132,57 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
   }
 
   // 3. Fill: a vertex with no cone in an orientation borrows those of its nearest vertex (along mesh
-  //    edges) that has one — multi-source Dijkstra per orientation and side. source[key] is the vertex
-  //    whose cones the key uses (itself when it has its own), or -1.
+  //    edges) that has one — multi-source Dijkstra per orientation. source[key] is the vertex whose cones the
+  //    key uses (itself when it has its own), or -1. Both storage rules offer a slice vertex's cone to both
+  //    sides at once, so the sides have the same sources: the fill runs once per orientation.
   stats.filled_fraction.assign(orientations, 0.0);
   source.assign(keys, -1);
   dist.resize(n);
-  for (int side = 0; side < 2; ++side)
-    for (std::size_t o = 0; o < orientations; ++o) {
-      std::int32_t* src = &source[key_of(side, o, 0)];
-      heap.clear();
-      for (Index v = 0; v < n; ++v) {
-        const std::size_t k = key_of(side, o, v);
-        if (first[k + 1] > first[k]) {
-          dist[v] = 0;
-          src[v] = static_cast<std::int32_t>(v);
-          heap.emplace_back(0.0, v);
-        } else {
-          dist[v] = INFINITY;
-        }
+  edge_length.resize(edges.neighbours.size());
+  for (Index v = 0; v < n; ++v) {
+    edge_length[v].resize(edges.neighbours[v].size());
+    for (std::size_t i = 0; i < edges.neighbours[v].size(); ++i)
+      edge_length[v][i] = glm::distance(frame.positions[edges.neighbours[v][i]], frame.positions[v]);
+  }
+  for (std::size_t o = 0; o < orientations; ++o) {
+    std::int32_t* src = &source[key_of(0, o, 0)];
+    heap.clear();
+    for (Index v = 0; v < n; ++v) {
+      const std::size_t k = key_of(0, o, v);
+      PLEAT_ASSERT((first[k + 1] > first[k]) == (first[key_of(1, o, v) + 1] > first[key_of(1, o, v)]),
+                   "a cone stored for one side only");
+      if (first[k + 1] > first[k]) {
+        dist[v] = 0;
+        src[v] = static_cast<std::int32_t>(v);
+        heap.emplace_back(0.0, v);
+      } else {
+        dist[v] = INFINITY;
       }
-      if (heap.empty()) continue;
-      std::make_heap(heap.begin(), heap.end(), std::greater<>());
-      while (!heap.empty()) {
-        std::pop_heap(heap.begin(), heap.end(), std::greater<>());
-        const auto [d, v] = heap.back();
-        heap.pop_back();
-        if (d > dist[v]) continue;
-        for (Index u : edges.neighbours[v]) {
-          const double du = d + glm::distance(frame.positions[u], frame.positions[v]);
-          if (du < dist[u] || (du == dist[u] && src[v] < src[u])) {
-            dist[u] = du;
-            src[u] = src[v];
-            heap.emplace_back(du, u);
-            std::push_heap(heap.begin(), heap.end(), std::greater<>());
-          }
-        }
-      }
-      std::size_t filled = 0;
-      for (Index v = 0; v < n; ++v) filled += src[v] >= 0 && src[v] != static_cast<std::int32_t>(v);
-      if (side == 0) stats.filled_fraction[o] = n ? double(filled) / double(n) : 0.0;
     }
+    if (heap.empty()) continue;
+    std::make_heap(heap.begin(), heap.end(), std::greater<>());
+    while (!heap.empty()) {
+      std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+      const auto [d, v] = heap.back();
+      heap.pop_back();
+      if (d > dist[v]) continue;
+      const std::vector<Index>& around = edges.neighbours[v];
+      for (std::size_t i = 0; i < around.size(); ++i) {
+        const Index u = around[i];
+        const double du = d + edge_length[v][i];
+        if (du < dist[u] || (du == dist[u] && src[v] < src[u])) {
+          dist[u] = du;
+          src[u] = src[v];
+          heap.emplace_back(du, u);
+          std::push_heap(heap.begin(), heap.end(), std::greater<>());
+        }
+      }
+    }
+    std::copy(src, src + n, &source[key_of(1, o, 0)]);
+    std::size_t filled = 0;
+    for (Index v = 0; v < n; ++v) filled += src[v] >= 0 && src[v] != static_cast<std::int32_t>(v);
+    stats.filled_fraction[o] = n ? double(filled) / double(n) : 0.0;
+  }
 
   // 4. 3D cones and their measures, per vertex and side (per-thread scratch; result memory reused).
   for (int side = 0; side < 2; ++side) {
