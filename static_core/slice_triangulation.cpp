@@ -64,36 +64,31 @@ void SliceTriangulation::adopt_edits(const Slice& slice, bool structure_changed)
 }
 
 void SliceTriangulation::assign_corners() {
-  std::vector<cgal::FaceHandle> ring;
-  for (auto v = m_cdt.finite_vertices_begin(); v != m_cdt.finite_vertices_end(); ++v) {
-    ring.clear();
-    auto fc = m_cdt.incident_faces(v), done = fc;
-    do ring.push_back(fc); while (++fc != done);
-    const std::size_t k = ring.size();
-    // The edge between ring[j] and ring[j+1] (counter-clockwise next) is (ring[j], ccw(index of v)).
-    auto separates = [&](std::size_t j) {
-      const cgal::FaceHandle f = ring[j];
-      return is_separator(m_cdt, f, m_cdt.ccw(f->index(v)));
-    };
-    std::size_t start = 0;
-    for (std::size_t j = 0; j < k; ++j)
-      if (separates((j + k - 1) % k)) {
-        start = j;
-        break;
+  // A corner is a maximal run of finite faces around a vertex between separators. From each (face, vertex)
+  // not yet in a corner: turn clockwise to the run's first face, then number the run counter-clockwise.
+  for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f) f->info().corner = {-1, -1, -1};
+  for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      if (f->info().corner[i] >= 0) continue;
+      const cgal::VertexHandle v = f->vertex(i);
+      cgal::FaceHandle first = f;
+      while (true) {  // the edge to the next face clockwise is (first, cw(index of v))
+        const int k = first->index(v);
+        if (is_separator(m_cdt, first, m_cdt.cw(k))) break;
+        const cgal::FaceHandle g = first->neighbor(m_cdt.cw(k));
+        if (g == cgal::FaceHandle(f)) break;  // no separator around v: one corner of every face
+        first = g;
       }
-    int corner = -1;
-    for (std::size_t s = 0; s < k; ++s) {
-      const std::size_t j = (start + s) % k;
-      const cgal::FaceHandle f = ring[j];
-      if (s == 0 || separates((j + k - 1) % k)) corner = -1;
-      if (m_cdt.is_infinite(f)) continue;
-      if (corner < 0) {
-        corner = static_cast<int>(m_corner_vertex.size());
-        m_corner_vertex.push_back(v);
+      const int corner = static_cast<int>(m_corner_vertex.size());
+      m_corner_vertex.push_back(v);
+      for (cgal::FaceHandle g = first;;) {
+        const int k = g->index(v);
+        g->info().corner[k] = corner;
+        if (is_separator(m_cdt, g, m_cdt.ccw(k))) break;
+        g = g->neighbor(m_cdt.ccw(k));
+        if (g == first) break;
       }
-      f->info().corner[f->index(v)] = corner;
     }
-  }
   m_corner_region.assign(m_corner_vertex.size(), -1);
 }
 
