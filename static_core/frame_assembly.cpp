@@ -145,7 +145,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
       edge_length[v][i] = glm::distance(frame.positions[edges.neighbours[v][i]], frame.positions[v]);
   }
   for (std::size_t o = 0; o < orientations; ++o) {
-    std::int32_t* src = &source[key_of(0, o, 0)];
+    std::int32_t* src = source.data() + key_of(0, o, 0);  // (source may be empty: no vertex)
     heap.clear();
     for (Index v = 0; v < n; ++v) {
       const std::size_t k = key_of(0, o, v);
@@ -178,7 +178,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         }
       }
     }
-    std::copy(src, src + n, &source[key_of(1, o, 0)]);
+    std::copy(src, src + n, source.data() + key_of(1, o, 0));
     std::size_t filled = 0;
     for (Index v = 0; v < n; ++v) filled += src[v] >= 0 && src[v] != static_cast<std::int32_t>(v);
     stats.filled_fraction[o] = n ? double(filled) / double(n) : 0.0;
