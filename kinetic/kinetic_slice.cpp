@@ -173,7 +173,7 @@ void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame
   m_tri.build(m_out.slice);
   m_out.crossings = m_tri.crossings();
   m_editable = m_tri.dimension() == 2 && m_out.crossings == 0 &&
-               m_tri.cdt().number_of_vertices() == m_out.slice.vertices.size();
+               m_tri.cdt().number_of_vertices() == m_out.slice.vertices.size() && chains_are_edges();
   grow_cones(topology, frame, scratch);
 }
 
@@ -427,6 +427,17 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::opt
   return RebuildReason::none;
 }
 
+bool KineticSlice::chains_are_edges() const {
+  const Cdt& cdt = m_tri.cdt();
+  for (const SliceEdge& e : m_out.slice.edges) {
+    const VertexHandle a = m_tri.vertex_of(e.from), b = m_tri.vertex_of(e.to);
+    FaceHandle f;
+    int i = 0;
+    if (a != b && (!cdt.is_edge(a, b, f, i) || !f->is_constrained(i))) return false;
+  }
+  return true;
+}
+
 bool KineticSlice::check_invariants(std::string* why) const {
   auto fail = [&](const std::string& message) {
     if (why) *why = message;
@@ -435,7 +446,9 @@ bool KineticSlice::check_invariants(std::string* why) const {
   // Orientations, hull convexity and the triangulation's combinatorics: CGAL's check, inside this one.
   if (!m_tri.check_invariants(why)) return false;
   const Cdt& cdt = m_tri.cdt();
-  if (m_tri.dimension() < 2) return true;
+  // A slice that is not editable (chains cross or touch, points merged, or not 2D) is rebuilt every interval:
+  // CGAL's own split constraints are its invariant, checked above.
+  if (m_tri.dimension() < 2 || !m_editable) return true;
   // The constraints are exactly the chain edges between distinct points (several chain edges may join the same
   // two points where slice points coincide: a mesh edge lying in the plane).
   std::size_t constrained = 0;

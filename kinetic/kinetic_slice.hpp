@@ -135,6 +135,8 @@ class KineticSlice {
   void finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
   void finish_frame(const MeshTopology& topology, const Frame& frame, bool structure_changed, KineticScratch& scratch);
   void grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
+  /// Every chain edge between distinct points is a single constrained edge of the triangulation.
+  bool chains_are_edges() const;
   RebuildReason move_survivors(const KineticPolicy& policy, std::optional<std::size_t> check_constraints,
                                KineticScratch& scratch, SliceEventCounts& counts);
 
@@ -143,7 +145,9 @@ class KineticSlice {
   SliceTriangulation m_tri;
   ConeStorage m_storage = ConeStorage::NearestOnFan;
   std::vector<Index> m_changed_edges;
-  bool m_editable = false;  ///< 2D, no merged points, no crossings: the next interval can repair it
+  /// 2D, no merged points, no crossings, and every chain edge one constrained edge (no chain touching another
+  /// at a vertex inside its edge): the next interval can repair it.
+  bool m_editable = false;
 };
 
 }  // namespace pleat::kinetic
