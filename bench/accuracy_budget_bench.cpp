@@ -1,27 +1,31 @@
 // Where the cones' error comes from (project issue 12, step 1): an error budget against ray-traced truth, by
 // replacing one stage of Stewart's pipeline at a time with an oracle or a denser setting.
 //
-// For each sequence (every real one in data/ at its last frame, the generated kinds at 3,025 vertices at frame 6
-// of 48) the error |A − A_ref| over every vertex and both sides, against Embree with --reference-rays rays, of:
+// For each sequence (every real one in data/ at its last frame, the generated kinds at 3,025 vertices at
+// frame 6 of 48) the error |A − A_ref| over every vertex and both sides, against Embree with --reference-rays
+// rays, of:
 //   paper       the paper's engine: 6 axis orientations, planes one average edge apart, each slice vertex's
-//               cone stored on the nearer endpoint of its edge (ConeStorage::NearerEndpoint), vertices without a
-//               cone in an orientation filled from the nearest vertex that has one; split into vertices that have
-//               their own cone in every orientation and those filled in at least one (the fill's share);
+//               cone stored on the nearer endpoint of its edge (ConeStorage::NearerEndpoint), vertices
+//               without a cone in an orientation filled from the nearest vertex that has one; split into
+//               vertices that have their own cone in every orientation and those filled in at least one (the
+//               fill's share);
 //   settings    the engine with other orientation sets (the paper's 6 axis-aligned ones, or n spread over the
-//               hemisphere), plane spacings and storage rules (ConeStorage::NearestOnFan: the nearest cut of the
-//               vertex's own edges per orientation), what each buys and at what cost (CPU ms, one thread);
+//               hemisphere), plane spacings and storage rules (ConeStorage::NearestOnFan: the nearest cut of
+//               the vertex's own edges per orientation), what each buys and at what cost (CPU ms, one
+//               thread);
 //   vertex      an oracle: for every vertex and orientation, a plane of that orientation through the vertex
-//               itself (offset by 1e-3 edge so that it cuts the vertex's own edges), and the 2D cone of the slice
-//               vertex on the vertex's edge nearest to it — no offset between slice point and vertex, no fill; the
-//               3D assembly is the engine's. With 6, 12 and 24 orientations: what remains at 24 is the 3D
-//               reconstruction's own error (the 2D information is then dense). On a sample of about
-//               --oracle-sample vertices (every k-th; default 1000), with the paper's engine on the same sample.
+//               itself (offset by 1e-3 edge so that it cuts the vertex's own edges), and the 2D cone of the
+//               slice vertex on the vertex's edge nearest to it — no offset between slice point and vertex,
+//               no fill; the 3D assembly is the engine's. With 6, 12 and 24 orientations: what remains at 24
+//               is the 3D reconstruction's own error (the 2D information is then dense). On a sample of about
+//               --oracle-sample vertices (every k-th; default 1000), with the paper's engine on the same
+//               sample.
 // Writes DIR/accuracy_budget.md and .csv; progress on stderr. Plain executable.
 //
-// Flags: --out DIR (default bench/results), --sequences a,b (default: real ones, then curtain,roll,flag,sleeve),
+// Flags: --out DIR (default bench/results), --sequences a,b (default: real ones, then
+// curtain,roll,flag,sleeve),
 // --reference-rays K (default 4096), --orientations 6,12,24 (of the vertex oracle), --oracle-sample N,
 // --quick (curtain only, 256 rays, oracle at 6 orientations on 100 vertices: the test suite's run).
-#include <glm/geometric.hpp>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -30,6 +34,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -124,7 +129,8 @@ std::array<std::vector<ConeMeasures>, 2> vertex_plane_cones(const MeshTopology& 
       std::int64_t best = -1;
       for (std::size_t x = 0; x < ws.slice.vertices.size(); ++x) {
         const SliceVertex& sv = ws.slice.vertices[x];
-        if (sv.nearer == v && (best < 0 || sv.distance < ws.slice.vertices[best].distance)) best = std::int64_t(x);
+        if (sv.nearer == v && (best < 0 || sv.distance < ws.slice.vertices[best].distance))
+          best = std::int64_t(x);
       }
       if (best < 0) continue;
       ws.triangulation.build(ws.slice);
@@ -158,7 +164,8 @@ std::array<std::vector<ConeMeasures>, 2> vertex_plane_cones(const MeshTopology& 
 
 /// Per vertex: whether it has a cone of its own (it is the nearer endpoint of a slice vertex) in every
 /// orientation of `plan`.
-std::vector<bool> own_in_every_orientation(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan) {
+std::vector<bool> own_in_every_orientation(const MeshTopology& topology, const Frame& frame,
+                                           const SlicingPlan& plan) {
   const MeshEdges edges(topology);
   std::vector<std::vector<char>> own(plan.orientations.size(), std::vector<char>(topology.num_vertices, 0));
   for (const SlicingPlane& plane : plan.planes)
@@ -183,15 +190,22 @@ int run(int argc, char** argv) {
       if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
       return argv[++i];
     };
-    if (arg == "--out") out_dir = next();
-    else if (arg == "--sequences") sequences = split(next());
-    else if (arg == "--reference-rays") reference_rays = std::stoi(next());
+    if (arg == "--out")
+      out_dir = next();
+    else if (arg == "--sequences")
+      sequences = split(next());
+    else if (arg == "--reference-rays")
+      reference_rays = std::stoi(next());
     else if (arg == "--orientations") {
       oracle_orientations.clear();
       for (const auto& s : split(next())) oracle_orientations.push_back(std::stoi(s));
-    } else if (arg == "--oracle-sample") oracle_sample = Index(std::stoi(next()));
-    else if (arg == "--quick") quick = true;
-    else throw std::invalid_argument("unknown flag '" + arg + "' (see the top of bench/accuracy_budget_bench.cpp)");
+    } else if (arg == "--oracle-sample")
+      oracle_sample = Index(std::stoi(next()));
+    else if (arg == "--quick")
+      quick = true;
+    else
+      throw std::invalid_argument("unknown flag '" + arg +
+                                  "' (see the top of bench/accuracy_budget_bench.cpp)");
   }
   if (quick) {
     if (sequences.empty()) sequences = {"curtain"};
@@ -208,8 +222,8 @@ int run(int argc, char** argv) {
     const std::size_t k = seq.real ? seq.native_available - 1 : kGeneratedFrame;
     const Frame frame = seq.native(k);
     const MeshTopology& topology = seq.topology;
-    std::fprintf(stderr, "[accuracy_budget] %s (%u vertices), frame %zu of its measured range\n", name.c_str(),
-                 topology.num_vertices, k);
+    std::fprintf(stderr, "[accuracy_budget] %s (%u vertices), frame %zu of its measured range\n",
+                 name.c_str(), topology.num_vertices, k);
     SkyValues reference;
     {
       EmbreeScene scene(topology, frame);
@@ -217,7 +231,8 @@ int run(int argc, char** argv) {
       params.rays_per_vertex = reference_rays;
       params.seed = 0x5eed4096;
       reference = [&] {
-        const auto r = ray_cast_sky_visibility(scene, topology, frame, vertex_normals(topology, frame), params);
+        const auto r =
+            ray_cast_sky_visibility(scene, topology, frame, vertex_normals(topology, frame), params);
         SkyValues a(r[0]);
         a.insert(a.end(), r[1].begin(), r[1].end());
         return a;
@@ -226,7 +241,8 @@ int run(int argc, char** argv) {
     const std::size_t n = topology.num_vertices;
     auto add = [&](Result r, const std::string& variant, double ms) {
       r.sequence = name, r.variant = variant, r.ms = ms;
-      std::fprintf(stderr, "[accuracy_budget] %s %-40s mean %.4f p95 %.4f bias %+.4f (%.0f%% of values) %.0f ms\n",
+      std::fprintf(stderr,
+                   "[accuracy_budget] %s %-40s mean %.4f p95 %.4f bias %+.4f (%.0f%% of values) %.0f ms\n",
                    name.c_str(), variant.c_str(), r.err.mean, r.err.p95, r.bias, 100 * r.share, ms);
       results.push_back(r);
     };
@@ -250,11 +266,10 @@ int run(int argc, char** argv) {
       const double ms = watch.process_cpu_ms();
       const SkyValues a = sky_of(vis.measures);
       const std::string label =
-          format("%s%d %s, %g edge apart, %s", s.orientations == 6 && s.spacing_edges == 1 && s.storage == kPaper
-                                                   ? "paper: "
-                                                   : "",
-                 s.orientations, s.orientations == 6 ? "axis orientations" : "spread orientations", s.spacing_edges,
-                 cone_storage_name(s.storage));
+          format("%s%d %s, %g edge apart, %s",
+                 s.orientations == 6 && s.spacing_edges == 1 && s.storage == kPaper ? "paper: " : "",
+                 s.orientations, s.orientations == 6 ? "axis orientations" : "spread orientations",
+                 s.spacing_edges, cone_storage_name(s.storage));
       add(compare(a, reference, [](std::size_t) { return true; }), label, ms);
       if (s.orientations == 6 && s.spacing_edges == 1.0 && s.storage == kPaper) {
         const std::vector<bool> own = own_in_every_orientation(topology, frame, plan);
@@ -266,7 +281,8 @@ int run(int argc, char** argv) {
     }
     const Index stride = std::max<Index>(1, (topology.num_vertices + oracle_sample - 1) / oracle_sample);
     auto sampled = [&](std::size_t i) { return (i % n) % stride == 0; };
-    if (stride > 1) {  // the paper's engine on the oracle's sample, so that the two are compared on the same values
+    if (stride >
+        1) {  // the paper's engine on the oracle's sample, so that the two are compared on the same values
       SlicingPlan plan = make_diffuse_plan(topology, frame, {});
       plan.storage = ConeStorage::NearerEndpoint;
       add(compare(sky_of(compute_visibility(topology, frame, plan).measures), reference, sampled),
@@ -285,23 +301,27 @@ int run(int argc, char** argv) {
     std::ofstream csv(out_dir / "accuracy_budget.csv");
     csv << "sequence,variant,ms,mean_err,p95_err,bias,share\n";
     for (const Result& r : results)
-      csv << r.sequence << ",\"" << r.variant << "\"," << r.ms << ',' << r.err.mean << ',' << r.err.p95 << ',' << r.bias
-          << ',' << r.share << '\n';
+      csv << r.sequence << ",\"" << r.variant << "\"," << r.ms << ',' << r.err.mean << ',' << r.err.p95 << ','
+          << r.bias << ',' << r.share << '\n';
   }
   std::ofstream md(out_dir / "accuracy_budget.md");
   md << "# Error budget of the cones\n\nWritten by `build/bench/accuracy_budget_bench"
      << (quick ? " --quick" : "") << "` (bench/accuracy_budget_bench.cpp explains every variant) on commit "
      << source.commit << (source.dirty.empty() ? "" : " plus uncommitted changes") << ", in "
-     << format("%.0f", run_watch.wall_ms() / 1000) << " s. Error = |A − A_ref| over every vertex and both sides "
-     << "against Embree with " << reference_rays << " rays; real sequences at their last frame, generated ones at "
-     << kGeneratedSize << " vertices, frame " << kGeneratedFrame << ". ms = CPU time of one frame's cones on "
-     << "one thread (the oracle: wall time on all threads; it is not an engine, its time only says what it costs)."
+     << format("%.0f", run_watch.wall_ms() / 1000)
+     << " s. Error = |A − A_ref| over every vertex and both sides "
+     << "against Embree with " << reference_rays
+     << " rays; real sequences at their last frame, generated ones at " << kGeneratedSize
+     << " vertices, frame " << kGeneratedFrame << ". ms = CPU time of one frame's cones on "
+     << "one thread (the oracle: wall time on all threads; it is not an engine, its time only says what it "
+        "costs)."
      << "\n\n";
   md << "| sequence | variant | mean | p95 | bias | share of values | ms |\n|---|---|---|---|---|---|---|\n";
   for (const Result& r : results)
     md << "| " << r.sequence << " | " << r.variant << " | " << format("%.4f", r.err.mean) << " | "
-       << format("%.4f", r.err.p95) << " | " << format("%+.4f", r.bias) << " | " << format("%.0f%%", 100 * r.share)
-       << " | " << (std::isfinite(r.ms) ? format("%.0f", r.ms) : std::string("–")) << " |\n";
+       << format("%.4f", r.err.p95) << " | " << format("%+.4f", r.bias) << " | "
+       << format("%.0f%%", 100 * r.share) << " | "
+       << (std::isfinite(r.ms) ? format("%.0f", r.ms) : std::string("–")) << " |\n";
   std::printf("accuracy_budget: wrote %s\n", (out_dir / "accuracy_budget.md").c_str());
   return 0;
 }

@@ -3,13 +3,14 @@
 // For each cloth sequence x size x temporal resolution u, on the same frames (bench/coherence/sequences.hpp):
 //   static   StaticVisibility::compute, a full recompute of every frame;
 //   kinetic  KineticVisibility::advance (constructed on the first frame), which keeps every slice alive;
-// both in a watched child process, frame by frame in turn (bench/coherence/cone_worker.hpp), at one thread for
-// every u and, at u = 1, also at each thread count of --threads. At u = 1 only (Embree's cost and accuracy do not
-// depend on u):
+// both in a watched child process, frame by frame in turn (bench/coherence/cone_worker.hpp), at one thread
+// for every u and, at u = 1, also at each thread count of --threads. At u = 1 only (Embree's cost and
+// accuracy do not depend on u):
 //   embree   Embree per-vertex ray casting (bench/coherence/peer.hpp) in its fastest measured configuration,
 //            over a ladder of ray counts per vertex and side, with fixed directions, at each thread count;
-//   embree-random  the same at --random-rays rays with new directions every frame (the flicker a naive loop has);
-//   reference      --reference-rays rays on every timed frame (untimed), for error and flicker of every method;
+//   embree-random  the same at --random-rays rays with new directions every frame (the flicker a naive loop
+//   has); reference      --reference-rays rays on every timed frame (untimed), for error and flicker of every
+//   method;
 // and the matched-error comparison (bench/coherence/matched_error.hpp): K*, Embree's time at K*, and
 // pleat ÷ Embree(K*) for both engines, by mean and by 95th-percentile error. Static and kinetic must agree
 // to 1e-9 on every frame where accuracy is measured.
@@ -17,9 +18,11 @@
 // DIR/frame_coherence_headline.md (bench/run_frame_coherence.sh puts the latter into the README).
 //
 // Flags (all optional):
-//   --quick                  curtain 3025, u = 1 and 2, 3 frames, rays 8,16,64, reference 512 (the test suite's run)
+//   --quick                  curtain 3025, u = 1 and 2, 3 frames, rays 8,16,64, reference 512 (the test
+//   suite's run)
 //   --out DIR                output directory (default bench/results)
-//   --sequences a,b,...      default: every real sequence in data/ (drape first), then curtain,roll,flag,sleeve
+//   --sequences a,b,...      default: every real sequence in data/ (drape first), then
+//   curtain,roll,flag,sleeve
 //   --sizes n,...            vertex counts of generated kinds: 3025, 29929, 300304 (default 3025,29929)
 //   --upsample u,...         default 0.5,1,2,4,8
 //   --frames N               frames per measurement (default 8; the first is not timed)
@@ -84,10 +87,10 @@ struct Run {
   }
 
   /// Static and kinetic at `threads`, in the child process (the static engine alone here if it fails).
-  void cone_engines(Measurement& m, const Sequence& seq, const SlicingPlan& plan, const std::vector<Frame>& frames,
-                    int threads, bool keep_sky) {
-    auto child = run_cone_engines_in_child(seq.name, seq.size, m.vertices, m.upsample, m.frames, threads, keep_sky,
-                                           options);
+  void cone_engines(Measurement& m, const Sequence& seq, const SlicingPlan& plan,
+                    const std::vector<Frame>& frames, int threads, bool keep_sky) {
+    auto child = run_cone_engines_in_child(seq.name, seq.size, m.vertices, m.upsample, m.frames, threads,
+                                           keep_sky, options);
     MethodRow s, k;
     if (auto* rows = std::get_if<std::vector<MethodRow>>(&child)) {
       s = std::move((*rows)[0]);
@@ -108,8 +111,8 @@ struct Run {
     }
     if (!s.ok()) fail(m, "static: " + s.status);
     if (!k.ok()) fail(m, "kinetic: " + k.status);
-    progress(m, format("%d thread(s): static %.1f ms/frame, kinetic %.1f ms/frame (construction %.1f)", threads,
-                       s.ms_per_frame(), k.ms_per_frame(), k.ms_first));
+    progress(m, format("%d thread(s): static %.1f ms/frame, kinetic %.1f ms/frame (construction %.1f)",
+                       threads, s.ms_per_frame(), k.ms_per_frame(), k.ms_first));
     m.rows.push_back(std::move(s));
     m.rows.push_back(std::move(k));
   }
@@ -121,9 +124,9 @@ struct Run {
       fail(m, "no Embree configuration ran");
       return;
     }
-    progress(m, "Embree configuration: " + describe(best) + format(" (%.1f ms at %d rays; %zu tried)",
-                                                                  m.peer_sweep.front().ms, options.sweep_rays,
-                                                                  m.peer_sweep.size()));
+    progress(m, "Embree configuration: " + describe(best) +
+                    format(" (%.1f ms at %d rays; %zu tried)", m.peer_sweep.front().ms, options.sweep_rays,
+                           m.peer_sweep.size()));
     for (int threads : options.threads)
       for (int rays : options.rays) {
         MethodRow row = run_embree(topology, frames, best, rays, false, threads, threads == 1);
@@ -140,13 +143,14 @@ struct Run {
 
   /// Error and flicker of every row that kept its sky values; static and kinetic compared.
   void accuracy(Measurement& m, const MeshTopology& topology, const std::vector<Frame>& frames) {
-    m.reference_stride = std::max<Index>(1, (m.vertices + options.reference_sample - 1) / options.reference_sample);
+    m.reference_stride =
+        std::max<Index>(1, (m.vertices + options.reference_sample - 1) / options.reference_sample);
     std::vector<SkyValues> reference;
     try {
       const Stopwatch watch;
       reference = reference_sky(topology, frames, options.reference_rays, m.reference_stride);
-      progress(m, format("reference (%d rays, every %u-th vertex, %zu frames): %.0f ms", options.reference_rays,
-                         m.reference_stride, reference.size(), watch.wall_ms()));
+      progress(m, format("reference (%d rays, every %u-th vertex, %zu frames): %.0f ms",
+                         options.reference_rays, m.reference_stride, reference.size(), watch.wall_ms()));
     } catch (const std::exception& e) {
       fail(m, std::string("reference: ") + e.what());
       m.reference_stride = 0;
@@ -170,7 +174,8 @@ struct Run {
       if (!(worst <= kEqualTolerance)) fail(m, format("max |A_static - A_kinetic| = %.3g > 1e-9", worst));
     }
     if (s && s->measured_accuracy())
-      progress(m, format("cone error mean %.4f, p95 %.4f, flicker %.4f", s->err.mean, s->err.p95, s->flicker));
+      progress(m,
+               format("cone error mean %.4f, p95 %.4f, flicker %.4f", s->err.mean, s->err.p95, s->flicker));
     for (MethodRow& row : m.rows) row.sky = {};  // not needed any more
   }
 
@@ -189,7 +194,8 @@ struct Run {
     const bool native = u == 1;
     cone_engines(m, seq, plan, frames, options.threads.front(), native);
     if (!native) return m;
-    for (std::size_t t = 1; t < options.threads.size(); ++t) cone_engines(m, seq, plan, frames, options.threads[t], false);
+    for (std::size_t t = 1; t < options.threads.size(); ++t)
+      cone_engines(m, seq, plan, frames, options.threads[t], false);
     peer(m, seq.topology, frames);
     accuracy(m, seq.topology, frames);
     return m;
@@ -221,7 +227,8 @@ int run(int argc, char** argv) {
       try {
         seq = make_sequence(name, size, options.data);
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "[frame_coherence] %s %u: cannot make the sequence: %s\n", name.c_str(), size, e.what());
+        std::fprintf(stderr, "[frame_coherence] %s %u: cannot make the sequence: %s\n", name.c_str(), size,
+                     e.what());
         r.failures.push_back(format("%s %u: %s", name.c_str(), size, e.what()));
         continue;
       }
@@ -232,9 +239,10 @@ int run(int argc, char** argv) {
           all.push_back(r.measure(*seq, u, frames));
           write_csv_rows(csv, all.back());
         } catch (const std::exception& e) {
-          std::fprintf(stderr, "[frame_coherence] %s %u u=%g: FAILED: %s\n", name.c_str(), seq->topology.num_vertices,
-                       u, e.what());
-          r.failures.push_back(format("%s %u u=%g: %s", name.c_str(), seq->topology.num_vertices, u, e.what()));
+          std::fprintf(stderr, "[frame_coherence] %s %u u=%g: FAILED: %s\n", name.c_str(),
+                       seq->topology.num_vertices, u, e.what());
+          r.failures.push_back(
+              format("%s %u u=%g: %s", name.c_str(), seq->topology.num_vertices, u, e.what()));
         }
         std::fprintf(stderr, "[frame_coherence] elapsed %.0f s\n", run_watch.wall_ms() / 1000.0);
       }

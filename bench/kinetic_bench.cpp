@@ -23,13 +23,14 @@
 //   certificate/lazy/<seq>            the undecided ones as KineticSlice's certify decides them at t = 0:
 //                                     orientation_certificate, exact Bernstein signs (Mpzf), certain_sign_at,
 //                                     first_root_after on the interval enclosure, the rational polynomial
-//                                     only where intervals cannot decide. Counters: s_per_certificate, and how
-//                                     many each stage decided (by_signs, by_intervals, by_exact).
+//                                     only where intervals cannot decide. Counters: s_per_certificate, and
+//                                     how many each stage decided (by_signs, by_intervals, by_exact).
 //   predicate/orientation/<seq>       CGAL::orientation (EPICK, filtered exact) on the same triples at frame
 //                                     k+1: what a static recompute pays per predicate. Counter:
 //                                     s_per_predicate.
 //   slice/rebuild/<seq>               KineticSlice::build of every plane at frame k+1 (the static path:
-//                                     slicing, constrained triangulation, regions, cones). s_per_slice_vertex.
+//                                     slicing, constrained triangulation, regions, cones).
+//                                     s_per_slice_vertex.
 //   slice/repair/<seq>                KineticSlice::build at frame k (not timed) then advance to k+1 with
 //                                     KineticPolicy{100, 100} (repair whatever can be repaired), every plane.
 //                                     Counters: s_per_slice_vertex (frame k+1's), events, edits, rebuilt
@@ -140,13 +141,13 @@ struct Workload {
   std::vector<std::vector<Index>> faces0, faces1;  // candidate faces per plane at k and k+1
   std::vector<KineticSlice> at_k;                  // every plane built at frame k (sized once: never moved)
   std::size_t slice_vertices0 = 0, slice_vertices1 = 0;
-  std::vector<Triple> triples;    // every finite face of frame k whose slice vertices survive
+  std::vector<Triple> triples;        // every finite face of frame k whose slice vertices survive
   std::size_t skipped_vanishing = 0;  // faces with a slice vertex whose mesh edge stops crossing at k+1
   std::size_t skipped_crossing = 0;   // faces with a crossing point of two chains (no mesh edge)
-  std::vector<Triple> undecided;  // the triples the interval filter cannot decide
+  std::vector<Triple> undecided;      // the triples the interval filter cannot decide
   std::vector<std::array<cgal::Point2, 3>> points1;  // the triples at frame k+1
-  std::vector<TreeTask> trees;    // every window of every region without holes
-  std::size_t tree_corners = 0;   // sum over trees of both ends: corners reached
+  std::vector<TreeTask> trees;                       // every window of every region without holes
+  std::size_t tree_corners = 0;                      // sum over trees of both ends: corners reached
   std::size_t max_corners = 0;
 
   void load(const std::string& name) {
@@ -157,7 +158,8 @@ struct Workload {
       frame0 = seq.frame(kDrapeFrame);
       frame1 = seq.frame(kDrapeFrame + 1);
     } else {
-      const ClothGenerator generator(ClothKind::Curtain, GeneratorParams{kCurtainResolution, kCurtainCycle, 24.0, 0});
+      const ClothGenerator generator(ClothKind::Curtain,
+                                     GeneratorParams{kCurtainResolution, kCurtainCycle, 24.0, 0});
       topology = generator.topology();
       frame0 = generator.frame(kCurtainFrame);
       frame1 = generator.frame(kCurtainFrame + 1);
@@ -241,7 +243,8 @@ const Workload& workload(const std::string& name) {
 
 /// Seconds per item: iteration time / items (printed with an SI prefix).
 benchmark::Counter per_item(double items) {
-  return benchmark::Counter(items, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  return benchmark::Counter(items,
+                            benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 // ---- Benchmarks ----
@@ -299,9 +302,12 @@ int decide_lazily(const Triple& t, const RootTime& t0) {
   benchmark::DoNotOptimize(failure.time);
   switch (failure.decided_by) {
     case kinetic::CertificateFailure::DecidedBy::filter:
-    case kinetic::CertificateFailure::DecidedBy::exact_signs: return 0;
-    case kinetic::CertificateFailure::DecidedBy::intervals: return 1;
-    case kinetic::CertificateFailure::DecidedBy::rationals: return 2;
+    case kinetic::CertificateFailure::DecidedBy::exact_signs:
+      return 0;
+    case kinetic::CertificateFailure::DecidedBy::intervals:
+      return 1;
+    case kinetic::CertificateFailure::DecidedBy::rationals:
+      return 2;
   }
   return 2;
 }

@@ -15,27 +15,26 @@
 //   --pleat_frame=20             the frame of the 60-frame curtain to shade
 //   --pleat_cones=1              0 skips the compute_visibility rows
 //   --pleat_large_repetitions=3  repetitions of the rows above 200 of resolution (the rest: --benchmark_*)
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <glm/geometric.hpp>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench/bench_args.hpp"
 #include "shading/environment_map.hpp"
 #include "shading/lights.hpp"
 #include "shading/shade.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
-
-#include <benchmark/benchmark.h>
-
-#include "bench/bench_args.hpp"
-#include <glm/geometric.hpp>
-#include <tbb/global_control.h>
-
-#include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <map>
-#include <memory>
-#include <sstream>
-#include <string>
-#include <vector>
 
 namespace {
 
@@ -85,8 +84,9 @@ EnvironmentMap synthetic_environment() {
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c) {
       const float elevation = 1.0f - 2.0f * (r + 0.5f) / h;  // +1 at the top row
-      glm::vec3 colour = elevation > 0 ? glm::mix(glm::vec3(0.9f, 0.95f, 1.0f), glm::vec3(0.3f, 0.5f, 1.0f), elevation)
-                                       : glm::vec3(0.25f, 0.22f, 0.2f);
+      glm::vec3 colour = elevation > 0
+                             ? glm::mix(glm::vec3(0.9f, 0.95f, 1.0f), glm::vec3(0.3f, 0.5f, 1.0f), elevation)
+                             : glm::vec3(0.25f, 0.22f, 0.2f);
       if (std::abs(c - w / 4) < 8 && std::abs(r - h / 4) < 8) colour = glm::vec3(40.0f, 36.0f, 30.0f);
       texels[static_cast<std::size_t>(r) * w + c] = colour;
     }
@@ -181,14 +181,15 @@ int main(int argc, char** argv) {
     for (int threads : {1, 2}) {
       for (const auto& [name, lighting] : setups) {
         auto* b = benchmark::RegisterBenchmark(
-            ("shade/" + name + "/" + vertices + "/threads:" + std::to_string(threads)).c_str(), bm_shade, resolution,
-            &lighting, threads);
+            ("shade/" + name + "/" + vertices + "/threads:" + std::to_string(threads)).c_str(), bm_shade,
+            resolution, &lighting, threads);
         b->UseRealTime()->Unit(benchmark::kMillisecond);
         if (large) b->Repetitions(g_large_repetitions)->Iterations(1);
       }
       if (g_cones) {
-        auto* b = benchmark::RegisterBenchmark(("cones/" + vertices + "/threads:" + std::to_string(threads)).c_str(),
-                                               bm_cones, resolution, threads);
+        auto* b = benchmark::RegisterBenchmark(
+            ("cones/" + vertices + "/threads:" + std::to_string(threads)).c_str(), bm_cones, resolution,
+            threads);
         b->UseRealTime()->Unit(benchmark::kMillisecond);
         if (large) b->Repetitions(g_large_repetitions)->Iterations(1);
       }

@@ -40,34 +40,43 @@ void create_parent_directory(const std::filesystem::path& output) {
 }
 
 void PlanOptions::add_to(CLI::App& command) {
-  command.add_option("--orientations", orientations,
-                     "plane orientations (6: the paper's axis-aligned ones; other counts are spread over the sphere)")
+  command
+      .add_option(
+          "--orientations", orientations,
+          "plane orientations (6: the paper's axis-aligned ones; other counts are spread over the sphere)")
       ->check(CLI::Range(1, 1000));
-  command.add_option("--spacing", spacing, "distance between parallel planes (default: the average edge length)")
+  command
+      .add_option("--spacing", spacing, "distance between parallel planes (default: the average edge length)")
       ->check(CLI::NonNegativeNumber);
   command.add_option("--planes", planes_per_orientation, "planes per orientation (overrides --spacing)")
       ->check(CLI::NonNegativeNumber);
   command.add_flag("--adaptive", adaptive,
                    "place planes by the paper's recursive median split (§2.3.3) instead of evenly");
-  command.add_option("--max-missing", max_missing,
-                     "with --adaptive: stop when at most this fraction of vertices lacks a cone")
+  command
+      .add_option("--max-missing", max_missing,
+                  "with --adaptive: stop when at most this fraction of vertices lacks a cone")
       ->check(CLI::Range(0.0, 1.0));
-  command.add_option("--cone-storage", storage,
-                     "how 2D cones reach mesh vertices: nearest-on-fan (the nearest cut of a vertex's own edges per "
-                     "orientation) or nearer-endpoint (the paper's: every plane's cut on edges the vertex is nearer to)")
+  command
+      .add_option(
+          "--cone-storage", storage,
+          "how 2D cones reach mesh vertices: nearest-on-fan (the nearest cut of a vertex's own edges per "
+          "orientation) or nearer-endpoint (the paper's: every plane's cut on edges the vertex is nearer to)")
       ->check(CLI::IsMember({"nearest-on-fan", "nearer-endpoint"}))
       ->capture_default_str();
-  command.add_flag("--paper", paper,
-                   "the paper's method: its 6 axis-aligned orientations and nearer-endpoint storage (overrides "
-                   "--orientations and --cone-storage)");
+  command.add_flag(
+      "--paper", paper,
+      "the paper's method: its 6 axis-aligned orientations and nearer-endpoint storage (overrides "
+      "--orientations and --cone-storage)");
 }
 
 SlicingPlan PlanOptions::make(const MeshTopology& topology, const Frame& frame) const {
-  if (paper && !adaptive && spacing == 0 && planes_per_orientation == 0) return make_paper_plan(topology, frame);
+  if (paper && !adaptive && spacing == 0 && planes_per_orientation == 0)
+    return make_paper_plan(topology, frame);
   const int count = paper ? 6 : orientations;
   SlicingPlan plan = adaptive ? make_adaptive_plan(topology, frame, {count, max_missing})
                               : make_diffuse_plan(topology, frame, {count, spacing, planes_per_orientation});
-  plan.storage = paper || storage == "nearer-endpoint" ? ConeStorage::NearerEndpoint : ConeStorage::NearestOnFan;
+  plan.storage =
+      paper || storage == "nearer-endpoint" ? ConeStorage::NearerEndpoint : ConeStorage::NearestOnFan;
   return plan;
 }
 
@@ -75,9 +84,11 @@ std::string PlanOptions::describe() const {
   const int count = paper ? 6 : orientations;
   const std::string stored = std::string(", ") + (paper ? "nearer-endpoint" : storage) + " storage";
   if (adaptive)
-    return std::to_string(count) + " orientations, adaptive (max missing " + std::to_string(max_missing) + ")" + stored;
+    return std::to_string(count) + " orientations, adaptive (max missing " + std::to_string(max_missing) +
+           ")" + stored;
   if (planes_per_orientation > 0)
-    return std::to_string(count) + " orientations x " + std::to_string(planes_per_orientation) + " planes" + stored;
+    return std::to_string(count) + " orientations x " + std::to_string(planes_per_orientation) + " planes" +
+           stored;
   return std::to_string(count) + " orientations, spacing " +
          (spacing > 0 ? std::to_string(spacing) : std::string("= average edge length")) + stored;
 }

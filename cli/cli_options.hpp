@@ -1,14 +1,13 @@
 // Options shared by the subcommands that compute cones: the frame range and the slicing plan.
 #pragma once
 
-#include "sim_io/mesh.hpp"
-#include "static_core/slicing_plan.hpp"
-
 #include <CLI/CLI.hpp>
-
 #include <cstddef>
 #include <filesystem>
 #include <string>
+
+#include "sim_io/mesh.hpp"
+#include "static_core/slicing_plan.hpp"
 
 namespace pleat::cli {
 

@@ -10,6 +10,20 @@
 //
 // Luminance: Rec. 709 weights of linear RGB radiance (the tone mapping's Y). Cost: one compute_visibility,
 // one shade_frame, and paths x (mean depth ~ 1/(1 - albedo)) rays per vertex and side.
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <glm/common.hpp>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "shading/embree_scene.hpp"
@@ -19,21 +33,6 @@
 #include "shading/shade.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/visibility.hpp"
-
-#include <glm/common.hpp>
-
-#include <algorithm>
-#include <array>
-#include <chrono>
-#include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <iostream>
-#include <memory>
-#include <sstream>
-#include <stdexcept>
-#include <string>
-#include <vector>
 
 namespace pleat::cli {
 
@@ -117,13 +116,15 @@ Image with_legend(const Image& image, double top, const std::string& title) {
   draw_text(out, x0, ty, lo, ink, kScale);
   draw_text(out, (x0 + x1 - text_width(mid, kScale)) / 2, ty, mid, ink, kScale);
   draw_text(out, x1 - text_width(hi, kScale), ty, hi, ink, kScale);
-  draw_text(out, std::max(kPad, (image.width - text_width(title, kScale)) / 2), ty + kText + kPad, title, ink, kScale);
+  draw_text(out, std::max(kPad, (image.width - text_width(title, kScale)) / 2), ty + kText + kPad, title, ink,
+            kScale);
   return out;
 }
 
 double percentile(std::vector<double> values, double q) {
   if (values.empty()) return 0.0;
-  const std::size_t k = std::min(values.size() - 1, static_cast<std::size_t>(std::ceil(q * values.size())) - 1);
+  const std::size_t k =
+      std::min(values.size() - 1, static_cast<std::size_t>(std::ceil(q * values.size())) - 1);
   std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
   return values[k];
 }
@@ -140,7 +141,8 @@ void run_compare(const CompareOptions& options) {
   const MeshTopology& topology = sequence.topology();
   std::size_t first = 0, last = 0;
   parse_frame_range(options.frame, sequence.num_frames(), first, last);
-  if (last != first + 1) throw std::invalid_argument("--frame: give one frame N, got '" + options.frame + "'");
+  if (last != first + 1)
+    throw std::invalid_argument("--frame: give one frame N, got '" + options.frame + "'");
   const Frame frame = sequence.frame(first);
 
   // pleat: cones, then the shading pass.
@@ -166,9 +168,11 @@ void run_compare(const CompareOptions& options) {
   trace.albedo = options.albedo;
   trace.paths_per_vertex = std::max(1, options.paths / 2);
   trace.seed = options.seed;
-  const PathTracedFrame half_a = path_trace_vertices(scene, topology, frame, visibility.normals, lighting, trace);
+  const PathTracedFrame half_a =
+      path_trace_vertices(scene, topology, frame, visibility.normals, lighting, trace);
   trace.seed = options.seed + 0x9e3779b97f4a7c15ULL;
-  const PathTracedFrame half_b = path_trace_vertices(scene, topology, frame, visibility.normals, lighting, trace);
+  const PathTracedFrame half_b =
+      path_trace_vertices(scene, topology, frame, visibility.normals, lighting, trace);
   const auto t3 = Clock::now();
 
   const std::size_t n = topology.num_vertices;
@@ -214,19 +218,20 @@ void run_compare(const CompareOptions& options) {
   }
   ToneMapParams tone;
   tone.exposure = options.exposure;
-  const Image ours_image = render_image(scene, frame, to_srgb(shaded.front(), tone), to_srgb(shaded.back(), tone),
-                                        camera, options.width, options.height);
-  const Image reference_image = render_image(scene, frame, to_srgb(reference[0], tone), to_srgb(reference[1], tone),
-                                             camera, options.width, options.height);
+  const Image ours_image = render_image(scene, frame, to_srgb(shaded.front(), tone),
+                                        to_srgb(shaded.back(), tone), camera, options.width, options.height);
+  const Image reference_image =
+      render_image(scene, frame, to_srgb(reference[0], tone), to_srgb(reference[1], tone), camera,
+                   options.width, options.height);
   const double top = nice_ceiling(std::max(p99, 1e-12));
   std::array<std::vector<glm::vec3>, 2> heat;
   for (int s = 0; s < 2; ++s) {
     heat[s].resize(n);
     for (std::size_t v = 0; v < n; ++v) heat[s][v] = viridis(difference[s][v] / top);
   }
-  const Image heat_image = with_legend(render_image(scene, frame, heat[0], heat[1], camera, options.width,
-                                                    options.height),
-                                       top, "LUMINANCE, REF MEAN " + format_number(reference_mean));
+  const Image heat_image =
+      with_legend(render_image(scene, frame, heat[0], heat[1], camera, options.width, options.height), top,
+                  "LUMINANCE, REF MEAN " + format_number(reference_mean));
   char pt_label[64];
   std::snprintf(pt_label, sizeof pt_label, "PATH TRACED (%d PATHS)", 2 * trace.paths_per_vertex);
   const std::array<LabeledImage, 3> panels = {LabeledImage{&ours_image, "PLEAT CONES"},
@@ -239,14 +244,15 @@ void run_compare(const CompareOptions& options) {
   if (!options.quiet) {
     const double ms = 1e3;
     char line[512];
-    std::snprintf(line, sizeof line,
-                  "frame %zu, %zu vertices x 2 sides: |cones - path traced| mean %.1f%%, p95 %.1f%% of the "
-                  "reference mean %.4g (bias %+.1f%%, reference noise %.1f%% rms at %d paths); cones %.0f ms, "
-                  "shading %.2f ms, path tracing %.1f s; wrote %s\n",
-                  first, n, 100 * mean_difference / scale, 100 * p95 / scale, reference_mean,
-                  100 * signed_sum / count / scale, 100 * noise / scale, 2 * trace.paths_per_vertex,
-                  ms * std::chrono::duration<double>(t1 - t0).count(), ms * shade_seconds,
-                  std::chrono::duration<double>(t3 - t2).count(), output.string().c_str());
+    std::snprintf(
+        line, sizeof line,
+        "frame %zu, %zu vertices x 2 sides: |cones - path traced| mean %.1f%%, p95 %.1f%% of the "
+        "reference mean %.4g (bias %+.1f%%, reference noise %.1f%% rms at %d paths); cones %.0f ms, "
+        "shading %.2f ms, path tracing %.1f s; wrote %s\n",
+        first, n, 100 * mean_difference / scale, 100 * p95 / scale, reference_mean,
+        100 * signed_sum / count / scale, 100 * noise / scale, 2 * trace.paths_per_vertex,
+        ms * std::chrono::duration<double>(t1 - t0).count(), ms * shade_seconds,
+        std::chrono::duration<double>(t3 - t2).count(), output.string().c_str());
     std::cout << line;
   }
 }
@@ -255,18 +261,20 @@ void run_compare(const CompareOptions& options) {
 
 void register_compare_command(CLI::App& app) {
   auto options = std::make_shared<CompareOptions>();
-  auto* cmd = app.add_subcommand(
-      "compare",
-      "Side-by-side PNG of pleat's cone shading, an Embree path-traced reference of the same frame and lights, "
-      "and their per-vertex difference; prints the mean and 95th-percentile difference.");
+  auto* cmd =
+      app.add_subcommand("compare",
+                         "Side-by-side PNG of pleat's cone shading, an Embree path-traced reference of the "
+                         "same frame and lights, "
+                         "and their per-vertex difference; prints the mean and 95th-percentile difference.");
   cmd->add_option("input", options->input, "mesh or sequence (.obj [+ --cache], numbered OBJs, .gltf/.glb)")
       ->required();
   cmd->add_option("--cache", options->cache, "PC2 or MDD point cache for an OBJ input");
   cmd->add_option("--frame", options->frame, "the frame to compare (negative counts from the end)")
       ->capture_default_str();
-  cmd->add_option("--light", options->light_specs,
-                  "a light (repeatable), as for `pleat shade`: sky:L | cloudy:L,up=X,Y,Z | dir:DX,DY,DZ,E=e | "
-                  "point:X,Y,Z,I=i | area:X,Y,Z;X,Y,Z;X,Y,Z[;...],L=l | env:FILE[,scale=s,up=X,Y,Z]")
+  cmd->add_option(
+         "--light", options->light_specs,
+         "a light (repeatable), as for `pleat shade`: sky:L | cloudy:L,up=X,Y,Z | dir:DX,DY,DZ,E=e | "
+         "point:X,Y,Z,I=i | area:X,Y,Z;X,Y,Z;X,Y,Z[;...],L=l | env:FILE[,scale=s,up=X,Y,Z]")
       ->allow_extra_args(false);
   cmd->add_option("--lights", options->lights_file, "JSON lighting file (combined with --light)");
   cmd->add_option("-o,--output", options->output, "output .png")->required();
@@ -280,19 +288,24 @@ void register_compare_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_option("--seed", options->seed, "path tracer seed")->capture_default_str();
-  cmd->add_option("--width", options->width, "width of each panel")->capture_default_str()->check(CLI::Range(16, 8192));
+  cmd->add_option("--width", options->width, "width of each panel")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 8192));
   cmd->add_option("--height", options->height, "height of each panel")
       ->capture_default_str()
       ->check(CLI::Range(16, 8192));
-  cmd->add_option("--camera", options->camera, "ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov] (default: auto-framed 3/4 view)");
+  cmd->add_option("--camera", options->camera,
+                  "ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov] (default: auto-framed 3/4 view)");
   cmd->add_option("--up", options->up, "world up for the auto-framed camera")->capture_default_str();
   options->plan.add_to(*cmd);
   cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
   cmd->footer(
       "Examples:\n"
-      "  pleat compare data/drape/drape.obj --cache data/drape/drape.pc2 --frame 60 --light cloudy:1,up=0,1,0 "
+      "  pleat compare data/drape/drape.obj --cache data/drape/drape.pc2 --frame 60 --light "
+      "cloudy:1,up=0,1,0 "
       "-o compare.png\n"
-      "  pleat compare curtain.obj --cache curtain.pc2 --frame 20 --light sky:0.2 --light point:0.3,-0.8,1.2,I=3 "
+      "  pleat compare curtain.obj --cache curtain.pc2 --frame 20 --light sky:0.2 --light "
+      "point:0.3,-0.8,1.2,I=3 "
       "--paths 4096 -o lamp.png");
   cmd->callback([options] { run_compare(*options); });
 }

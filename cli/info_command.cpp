@@ -1,20 +1,19 @@
 // `pleat info`: what pleat sees in an input — vertices (input and welded), faces, frames, frame rate,
 // duration, bounding box, boundary loops, non-manifold edges, degenerate faces, welded duplicates, and with
 // --check-intersections the self-intersecting face pairs of every frame (pleat's algorithm requires none).
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "sim_io/mesh_report.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/self_intersections.hpp"
-
-#include <nlohmann/json.hpp>
-
-#include <cstdio>
-#include <iostream>
-#include <memory>
-#include <sstream>
-#include <string>
-#include <vector>
 
 namespace pleat::cli {
 
@@ -34,7 +33,9 @@ std::string number(double v) {
   return buffer;
 }
 
-std::string vec(const glm::dvec3& v) { return "(" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + ")"; }
+std::string vec(const glm::dvec3& v) {
+  return "(" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + ")";
+}
 
 void run_info(const InfoOptions& options) {
   LoadOptions load;
@@ -42,7 +43,8 @@ void run_info(const InfoOptions& options) {
   const MeshSequence sequence = load_sequence(options.input, options.cache, load);
 
   std::vector<std::size_t> intersecting_pairs;  // per frame, when checked
-  Progress progress(options.check_intersections ? "checking frames" : "reading frames", sequence.num_frames());
+  Progress progress(options.check_intersections ? "checking frames" : "reading frames",
+                    sequence.num_frames());
   const MeshReport report = report_mesh(sequence, [&](std::size_t, const Frame& frame) {
     if (options.check_intersections)
       intersecting_pairs.push_back(self_intersecting_faces(sequence.topology(), frame).size());
@@ -98,25 +100,28 @@ void run_info(const InfoOptions& options) {
   std::ostringstream out;
   out << "input               " << options.input << '\n';
   if (!options.cache.empty()) out << "cache               " << options.cache << '\n';
-  out << "vertices            " << report.welded_vertices << " welded, " << report.input_vertices << " input ("
-      << report.welded_duplicates << " welded duplicates)\n";
-  out << "faces               " << report.faces << " triangles (" << report.input_faces << " input triangles, "
-      << report.removed_faces << " removed by welding)\n";
+  out << "vertices            " << report.welded_vertices << " welded, " << report.input_vertices
+      << " input (" << report.welded_duplicates << " welded duplicates)\n";
+  out << "faces               " << report.faces << " triangles (" << report.input_faces
+      << " input triangles, " << report.removed_faces << " removed by welding)\n";
   out << "frames              " << report.frames;
   if (report.frames > 1)
     out << " at " << number(report.frame_rate) << " fps, duration " << number(report.duration) << " s (from "
         << number(report.start_time) << " s)";
   out << '\n';
-  out << "bounding box        min " << vec(report.bbox_min) << "  max " << vec(report.bbox_max) << "  (all frames)\n";
+  out << "bounding box        min " << vec(report.bbox_min) << "  max " << vec(report.bbox_max)
+      << "  (all frames)\n";
   out << "edges               " << t.edges << " (" << t.boundary_edges << " on the boundary)\n";
   out << "boundary loops      " << t.boundary_loops << '\n';
   out << "non-manifold edges  " << t.non_manifold_edges << '\n';
   out << "flipped edges       " << t.inconsistent_edges << " (neighbouring faces with opposite winding)\n";
   out << "degenerate faces    " << report.degenerate_faces_first_frame << " in frame 0, at most "
-      << report.degenerate_faces_max << " per frame (" << report.frames_with_degenerate_faces << " frames with any)\n";
+      << report.degenerate_faces_max << " per frame (" << report.frames_with_degenerate_faces
+      << " frames with any)\n";
   out << "components          " << t.components << " (" << t.isolated_vertices << " isolated vertices)\n";
   if (options.check_intersections) {
-    out << "self-intersections  " << frames_with_intersections << " of " << report.frames << " frames intersect";
+    out << "self-intersections  " << frames_with_intersections << " of " << report.frames
+        << " frames intersect";
     if (max_pairs > 0) out << ", at most " << max_pairs << " face pairs (frame " << max_frame << ")";
     out << '\n';
     std::size_t listed = 0;
@@ -136,7 +141,8 @@ void run_info(const InfoOptions& options) {
 
 void register_info_command(CLI::App& app) {
   auto options = std::make_shared<InfoOptions>();
-  auto* cmd = app.add_subcommand("info", "Describe a cloth mesh or sequence: counts, frame rate, bounds, topology checks.");
+  auto* cmd = app.add_subcommand(
+      "info", "Describe a cloth mesh or sequence: counts, frame rate, bounds, topology checks.");
   cmd->add_option("INPUT", options->input,
                   ".obj (with --cache), a numbered OBJ sequence (printf pattern like frames/f_%04d.obj or a "
                   "directory), .gltf or .glb")

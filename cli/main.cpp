@@ -1,10 +1,10 @@
 // pleat: per-vertex visibility cones on animated cloth, and shading from them.
-#include "cli/commands.hpp"
-#include "sim_io/input_error.hpp"
-
 #include <cstdio>
 #include <exception>
 #include <iostream>
+
+#include "cli/commands.hpp"
+#include "sim_io/input_error.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{

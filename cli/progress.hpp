@@ -2,18 +2,21 @@
 // CI logs and pipes stay quiet.
 #pragma once
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cstddef>
 #include <cstdio>
 #include <string>
-#include <unistd.h>
 
 namespace pleat::cli {
 
 class Progress {
  public:
   Progress(std::string what, std::size_t total)
-      : m_what(std::move(what)), m_total(total), m_enabled(isatty(STDERR_FILENO) != 0),
+      : m_what(std::move(what)),
+        m_total(total),
+        m_enabled(isatty(STDERR_FILENO) != 0),
         m_start(std::chrono::steady_clock::now()) {}
   ~Progress() { finish(); }
 

@@ -7,6 +7,17 @@
 // for each lighting setup (shading/shade.hpp), to_srgb, and the setup's glb writer (sim_io/gltf_format.hpp)
 // and renderer (shading/render.hpp). The cones are computed once per frame whatever the number of setups:
 // relighting costs only the shading pass.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
@@ -18,17 +29,6 @@
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
-
-#include <chrono>
-#include <cstdio>
-#include <filesystem>
-#include <iostream>
-#include <memory>
-#include <optional>
-#include <sstream>
-#include <stdexcept>
-#include <string>
-#include <vector>
 
 namespace pleat::cli {
 
@@ -75,7 +75,8 @@ std::vector<Lighting> gather_lightings(const ShadeOptions& options) {
   std::vector<Lighting> setups;
   if (!options.relight_file.empty()) {
     if (!options.light_specs.empty() || !options.lights_file.empty())
-      throw std::invalid_argument("--relight replaces --light/--lights: give the lights inside the setups file");
+      throw std::invalid_argument(
+          "--relight replaces --light/--lights: give the lights inside the setups file");
     setups = load_lighting_setups(options.relight_file);
   } else {
     Lighting lighting;
@@ -164,8 +165,8 @@ void run_shade(const ShadeOptions& options) {
         char name[64];
         std::snprintf(name, sizeof name, "frame_%04zu.png", frame_ids[j]);
         if (options.turntable > 0 && frame_ids.size() == 1) {
-          render_turntable(render_dirs[s], "turntable", topology, frame, front, back, *camera, options.turntable,
-                           options.width, options.height);
+          render_turntable(render_dirs[s], "turntable", topology, frame, front, back, *camera,
+                           options.turntable, options.width, options.height);
         } else {
           write_png(render_dirs[s] / name,
                     render_image(*scene, frame, front, back, *camera, options.width, options.height));
@@ -208,45 +209,62 @@ void register_shade_command(CLI::App& app) {
   cmd->add_option("--cache", options->cache, "PC2 or MDD point cache for an OBJ input");
   cmd->add_option("-o,--output", options->output, "output .glb (with --relight: OUT_<setup>.glb per setup)")
       ->required();
-  cmd->add_option("--light", options->light_specs,
-                  "a light (repeatable): sky:L | cloudy:L,up=X,Y,Z | dir:DX,DY,DZ,E=e (D: direction of travel) | "
-                  "point:X,Y,Z,I=i | area:X,Y,Z;X,Y,Z;X,Y,Z[;...],L=l[,sided=1] (planar convex) | "
-                  "env:FILE.hdr|.png[,scale=s,up=X,Y,Z,rotate=DEG,maxres=W]; any but env take rgb=R,G,B. "
-                  "Default: sky:1")
-      ->allow_extra_args(false);  // one spec per --light: `--light sky:1 cloth.obj` keeps cloth.obj positional
-  cmd->add_option("--lights", options->lights_file,
-                  "JSON lighting file: {\"lights\": [\"sky:0.5\", {\"type\": \"point\", \"position\": [0,2,1], "
-                  "\"intensity\": 10}, ...]} (combined with --light)");
-  cmd->add_option("--relight", options->relight_file,
-                  "JSON file of several setups, {\"setups\": [{\"name\": \"noon\", \"lights\": [...]}, ...]}: one cone "
-                  "computation per frame, one output per setup");
+  cmd->add_option(
+         "--light", options->light_specs,
+         "a light (repeatable): sky:L | cloudy:L,up=X,Y,Z | dir:DX,DY,DZ,E=e (D: direction of travel) | "
+         "point:X,Y,Z,I=i | area:X,Y,Z;X,Y,Z;X,Y,Z[;...],L=l[,sided=1] (planar convex) | "
+         "env:FILE.hdr|.png[,scale=s,up=X,Y,Z,rotate=DEG,maxres=W]; any but env take rgb=R,G,B. "
+         "Default: sky:1")
+      ->allow_extra_args(
+          false);  // one spec per --light: `--light sky:1 cloth.obj` keeps cloth.obj positional
+  cmd->add_option(
+      "--lights", options->lights_file,
+      "JSON lighting file: {\"lights\": [\"sky:0.5\", {\"type\": \"point\", \"position\": [0,2,1], "
+      "\"intensity\": 10}, ...]} (combined with --light)");
+  cmd->add_option(
+      "--relight", options->relight_file,
+      "JSON file of several setups, {\"setups\": [{\"name\": \"noon\", \"lights\": [...]}, ...]}: one cone "
+      "computation per frame, one output per setup");
   cmd->add_option("--albedo", options->albedo, "cloth albedo rho in [0, 1)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.999));
-  cmd->add_option("--exposure", options->exposure, "multiplies the radiance before tone mapping (Reinhard, white 4)")
+  cmd->add_option("--exposure", options->exposure,
+                  "multiplies the radiance before tone mapping (Reinhard, white 4)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--no-interreflection", options->no_interreflection, "direct light only: B = rho E / pi");
-  cmd->add_option("--frames", options->frames, "frames A:B (first A, up to but excluding B; either may be omitted) or N");
+  cmd->add_option("--frames", options->frames,
+                  "frames A:B (first A, up to but excluding B; either may be omitted) or N");
   cmd->add_option("--render", options->render_dir, "also write PNG images of the shaded frames into DIR");
-  cmd->add_option("--width", options->width, "image width")->capture_default_str()->check(CLI::Range(16, 16384));
-  cmd->add_option("--height", options->height, "image height")->capture_default_str()->check(CLI::Range(16, 16384));
-  cmd->add_option("--camera", options->camera, "ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov] (default: auto-framed 3/4 view)");
-  cmd->add_option("--up", options->up, "world up for the auto-framed camera (Blender data: 0,0,1)")->capture_default_str();
+  cmd->add_option("--width", options->width, "image width")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 16384));
+  cmd->add_option("--height", options->height, "image height")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 16384));
+  cmd->add_option("--camera", options->camera,
+                  "ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov] (default: auto-framed 3/4 view)");
+  cmd->add_option("--up", options->up, "world up for the auto-framed camera (Blender data: 0,0,1)")
+      ->capture_default_str();
   cmd->add_option("--render-every", options->render_every, "render every N-th shaded frame")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--turntable", options->turntable, "with a single frame: N images turning about the up axis")
+  cmd->add_option("--turntable", options->turntable,
+                  "with a single frame: N images turning about the up axis")
       ->check(CLI::NonNegativeNumber);
   options->plan.add_to(*cmd);
   cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
   cmd->footer(
       "Examples:\n"
-      "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --light cloudy:1,up=0,1,0 --render renders/\n"
-      "  pleat shade curtain.obj --cache curtain.pc2 -o lit.glb --light sky:0.15 --light point:0.6,-0.8,1.2,I=3 \\\n"
+      "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --light cloudy:1,up=0,1,0 --render "
+      "renders/\n"
+      "  pleat shade curtain.obj --cache curtain.pc2 -o lit.glb --light sky:0.15 --light "
+      "point:0.6,-0.8,1.2,I=3 \\\n"
       "      --light 'area:-0.5,-1.5,2;0.5,-1.5,2;0.5,-0.5,2;-0.5,-0.5,2,L=4' --albedo 0.5 --frames 0:30\n"
-      "  pleat shade flag.glb -o flag.glb --light env:studio.hdr,up=0,1,0,scale=1.5 --render renders/ --up 0,1,0\n"
-      "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --relight setups.json   # curtain_<name>.glb\n"
+      "  pleat shade flag.glb -o flag.glb --light env:studio.hdr,up=0,1,0,scale=1.5 --render renders/ --up "
+      "0,1,0\n"
+      "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --relight setups.json   # "
+      "curtain_<name>.glb\n"
       "Radiance: B = rho (E/pi) / (1 - rho (1 - A)) per vertex and side, E the direct irradiance through the "
       "cone, A its sky visibility; colours are Reinhard-tone-mapped sRGB.");
   cmd->callback([options] { run_shade(*options); });

@@ -1,20 +1,19 @@
 // pleat visibility: per-vertex sky visibility A of both sides, every frame, as the visibility CSV.
-#include "cli/cli_options.hpp"
-#include "cli/commands.hpp"
-#include "cli/progress.hpp"
-#include "sim_io/atomic_file.hpp"
-#include "sim_io/mesh_sequence.hpp"
-#include "sim_io/visibility_csv.hpp"
-#include "kinetic/kinetic_visibility.hpp"
-#include "static_core/visibility.hpp"
-
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
+
+#include "cli/cli_options.hpp"
+#include "cli/commands.hpp"
+#include "cli/progress.hpp"
+#include "kinetic/kinetic_visibility.hpp"
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/mesh_sequence.hpp"
+#include "sim_io/visibility_csv.hpp"
+#include "static_core/visibility.hpp"
 
 namespace pleat::cli {
 namespace {
@@ -140,36 +139,47 @@ void run(const VisibilityOptions& options) {
   progress.finish();
   if (!options.stats.empty()) write_file_atomically(options.stats, stats.dump(2) + "\n");
   csv.commit();
-  std::cout << "wrote " << options.output << ": " << (last - first) << " frames x " << sequence.num_input_vertices()
-            << " vertices (" << plan.planes.size() << " planes: " << options.plan.describe() << ")\n";
+  std::cout << "wrote " << options.output << ": " << (last - first) << " frames x "
+            << sequence.num_input_vertices() << " vertices (" << plan.planes.size()
+            << " planes: " << options.plan.describe() << ")\n";
   if (crossing_frames > 0)
     std::cout << "warning: chains cross in " << crossing_frames
-              << " frames (the surface self-intersects there); crossing points were inserted and counted in --stats\n";
+              << " frames (the surface self-intersects there); crossing points were inserted and counted in "
+                 "--stats\n";
 }
 
 }  // namespace
 
 void register_visibility_command(CLI::App& app) {
   auto options = std::make_shared<VisibilityOptions>();
-  CLI::App* cmd = app.add_subcommand("visibility", "per-vertex sky visibility A (front, back) of every frame, as CSV");
-  cmd->add_option("INPUT", options->input, "mesh: .obj, OBJ sequence (pattern or directory), .gltf/.glb")->required();
+  CLI::App* cmd =
+      app.add_subcommand("visibility", "per-vertex sky visibility A (front, back) of every frame, as CSV");
+  cmd->add_option("INPUT", options->input, "mesh: .obj, OBJ sequence (pattern or directory), .gltf/.glb")
+      ->required();
   cmd->add_option("--cache", options->cache, "point cache for an OBJ: .pc2 or .mdd");
   cmd->add_option("-o,--output", options->output, "the visibility CSV (frame,vertex,front,back)")->required();
-  cmd->add_option("--engine", options->engine, "kinetic (default: slices kept alive and repaired between frames) or static (full recompute per frame); both give the same output")
+  cmd->add_option("--engine", options->engine,
+                  "kinetic (default: slices kept alive and repaired between frames) or static (full "
+                  "recompute per frame); both give the same output")
       ->check(CLI::IsMember({"static", "kinetic"}));
-  cmd->add_option("--frames", options->frames, "frames A:B (first A, up to but excluding B; either may be omitted) or N");
+  cmd->add_option("--frames", options->frames,
+                  "frames A:B (first A, up to but excluding B; either may be omitted) or N");
   cmd->add_option("--stats", options->stats, "also write per-frame statistics as JSON");
-  cmd->add_option("--max-events-per-vertex", options->policy.max_events_per_vertex,
-                  "kinetic: rebuild a slice when its events in a frame exceed this many per slice vertex (+16)")
+  cmd->add_option(
+         "--max-events-per-vertex", options->policy.max_events_per_vertex,
+         "kinetic: rebuild a slice when its events in a frame exceed this many per slice vertex (+16)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  cmd->add_option("--max-edit-fraction", options->policy.max_edit_fraction,
-                  "kinetic: rebuild a slice when the slice vertices removed plus inserted exceed this fraction (+2)")
+  cmd->add_option(
+         "--max-edit-fraction", options->policy.max_edit_fraction,
+         "kinetic: rebuild a slice when the slice vertices removed plus inserted exceed this fraction (+2)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_flag("--serial", options->serial, "one thread (default: TBB over slices)");
   options->plan.add_to(*cmd);
-  cmd->footer("Example:\n  pleat visibility data/drape/drape.obj --cache data/drape/drape.pc2 -o drape.csv --stats stats.json");
+  cmd->footer(
+      "Example:\n  pleat visibility data/drape/drape.obj --cache data/drape/drape.pc2 -o drape.csv --stats "
+      "stats.json");
   cmd->callback([options] { run(*options); });
 }
 

@@ -126,10 +126,10 @@ class CertificatePolynomial {
   int m_degree = -1;
 };
 
-/// The homogeneous-Bernstein coefficients (B0, 2 B1, B2) of orient(a(t), b(t), c(t)) for points moving linearly
-/// in a plane, p(t) = (1 - t) p0 + t p1, given as {a0, a1, b0, b1, c0, c1}: B0 = u0 x v0, B2 = u1 x v1,
-/// 2 B1 = u0 x v1 + u1 x v0 with u = b - a, v = c - a at t = 0 and 1 (kinetic/moving_orientation.hpp). N: any
-/// ring the doubles convert into exactly (an interval type for enclosures, an exact type).
+/// The homogeneous-Bernstein coefficients (B0, 2 B1, B2) of orient(a(t), b(t), c(t)) for points moving
+/// linearly in a plane, p(t) = (1 - t) p0 + t p1, given as {a0, a1, b0, b1, c0, c1}: B0 = u0 x v0, B2 = u1 x
+/// v1, 2 B1 = u0 x v1 + u1 x v0 with u = b - a, v = c - a at t = 0 and 1 (kinetic/moving_orientation.hpp). N:
+/// any ring the doubles convert into exactly (an interval type for enclosures, an exact type).
 template <class N>
 std::array<N, 3> planar_orientation_coefficients(const std::array<glm::dvec2, 6>& p) {
   auto cross = [](const N& ux, const N& uy, const N& vx, const N& vy) { return ux * vy - uy * vx; };

@@ -19,12 +19,18 @@ using cgal::VertexHandle;
 
 const char* rebuild_reason_name(RebuildReason reason) {
   switch (reason) {
-    case RebuildReason::none: return "none";
-    case RebuildReason::degenerate: return "degenerate";
-    case RebuildReason::crossing: return "crossing";
-    case RebuildReason::policy: return "policy";
-    case RebuildReason::repair_failed: return "repair_failed";
-    case RebuildReason::count: break;
+    case RebuildReason::none:
+      return "none";
+    case RebuildReason::degenerate:
+      return "degenerate";
+    case RebuildReason::crossing:
+      return "crossing";
+    case RebuildReason::policy:
+      return "policy";
+    case RebuildReason::repair_failed:
+      return "repair_failed";
+    case RebuildReason::count:
+      break;
   }
   return "?";
 }
@@ -72,28 +78,33 @@ bool certificate_points(const Cdt& cdt, FaceHandle f, const Motion& motion, std:
 /// Flips the edge (f, i) (either face may be infinite) and keeps the constraint flags of the four outer
 /// edges, as CGAL's Constrained_triangulation_2::flip does, without its geometric preconditions (the points
 /// are those of t = 0 while the flip happens at the event time). Precondition: (f, i) is not constrained.
-/// Returns false, changing nothing, when the flip is combinatorially impossible: the two opposite vertices are
-/// one vertex or already joined by an edge (a repair sequence decided on doubles can lead there).
+/// Returns false, changing nothing, when the flip is combinatorially impossible: the two opposite vertices
+/// are one vertex or already joined by an edge (a repair sequence decided on doubles can lead there).
 bool flip_edge(Cdt& cdt, FaceHandle f, int i) {
   const FaceHandle g = f->neighbor(i);
   const int j = cdt.mirror_index(f, i);
   if (f->vertex(i) == g->vertex(j) || cdt.tds().is_edge(f->vertex(i), g->vertex(j))) return false;
-  std::array<std::pair<FaceHandle, int>, 4> outer{{{f->neighbor(Cdt::cw(i)), cdt.mirror_index(f, Cdt::cw(i))},
-                                                   {f->neighbor(Cdt::ccw(i)), cdt.mirror_index(f, Cdt::ccw(i))},
-                                                   {g->neighbor(Cdt::cw(j)), cdt.mirror_index(g, Cdt::cw(j))},
-                                                   {g->neighbor(Cdt::ccw(j)), cdt.mirror_index(g, Cdt::ccw(j))}}};
+  std::array<std::pair<FaceHandle, int>, 4> outer{
+      {{f->neighbor(Cdt::cw(i)), cdt.mirror_index(f, Cdt::cw(i))},
+       {f->neighbor(Cdt::ccw(i)), cdt.mirror_index(f, Cdt::ccw(i))},
+       {g->neighbor(Cdt::cw(j)), cdt.mirror_index(g, Cdt::cw(j))},
+       {g->neighbor(Cdt::ccw(j)), cdt.mirror_index(g, Cdt::ccw(j))}}};
   cdt.tds().flip(f, i);
   f->set_constraint(f->index(g), false);
   g->set_constraint(g->index(f), false);
-  for (const auto& [h, k] : outer) h->neighbor(k)->set_constraint(cdt.mirror_index(h, k), h->is_constrained(k));
+  for (const auto& [h, k] : outer)
+    h->neighbor(k)->set_constraint(cdt.mirror_index(h, k), h->is_constrained(k));
   return true;
 }
 
 }  // namespace
 
 std::string event_invariants(const Cdt& cdt, std::span<const SliceVertex> next,
-                             const std::vector<KineticScratch::Event>& queue, const RootTime& t, std::size_t constraints) {
-  auto motion = [&](VertexHandle v) { return MovingPoint{cgal::to_glm(v->point()), next[v->info().slice_vertex].point}; };
+                             const std::vector<KineticScratch::Event>& queue, const RootTime& t,
+                             std::size_t constraints) {
+  auto motion = [&](VertexHandle v) {
+    return MovingPoint{cgal::to_glm(v->point()), next[v->info().slice_vertex].point};
+  };
   if (!cdt.tds().is_valid()) return "the triangulation's combinatorics are invalid";
   std::size_t constrained = 0;
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
@@ -103,7 +114,8 @@ std::string event_invariants(const Cdt& cdt, std::span<const SliceVertex> next,
       constrained += f->is_constrained(i);
     }
   if (constrained != 2 * constraints)
-    return std::to_string(constrained / 2) + " constrained edges for " + std::to_string(constraints) + " chain edges";
+    return std::to_string(constrained / 2) + " constrained edges for " + std::to_string(constraints) +
+           " chain edges";
   std::unordered_map<const void*, const KineticScratch::Event*> live;
   for (const KineticScratch::Event& e : queue) {
     if (e.face->info().version != e.version) continue;
@@ -132,18 +144,20 @@ std::string event_invariants(const Cdt& cdt, std::span<const SliceVertex> next,
       return "an event claims a failure its certificate does not have";
     if (poly.is_zero()) {
       if (hull ? pending != nullptr : !(pending && pending->time == t))
-        return hull ? "a hull corner flat for all t has an event" : "a triangle flat for all t is not repaired now";
+        return hull ? "a hull corner flat for all t has an event"
+                    : "a triangle flat for all t is not repaired now";
       continue;
     }
     if (t == RootTime::one()) {
-      // The end of the interval: every triangle must be strictly positive (one degenerate at t = 1 is flipped,
-      // since static_core has none), a hull corner may be flat.
+      // The end of the interval: every triangle must be strictly positive (one degenerate at t = 1 is
+      // flipped, since static_core has none), a hull corner may be flat.
       const int s = sign_at(poly, t);
       if (hull ? s < 0 : s <= 0) {
-        // A reflex hull corner at t = 1 can only follow a flip chosen on doubles; with its event now (a flip at
-        // t = 1 made it), the exact guard after the events rebuilds the slice.
+        // A reflex hull corner at t = 1 can only follow a flip chosen on doubles; with its event now (a flip
+        // at t = 1 made it), the exact guard after the events rebuilds the slice.
         if (!(pending && pending->time == t))
-          return hull ? "a hull corner is reflex at t = 1" : "a triangle flat or inverted at t = 1 has no event now";
+          return hull ? "a hull corner is reflex at t = 1"
+                      : "a triangle flat or inverted at t = 1 has no event now";
       } else if (pending && !(s == 0 && pending->time == t)) {
         return "a certificate that holds at t = 1 has an event";
       }
@@ -153,7 +167,8 @@ std::string event_invariants(const Cdt& cdt, std::span<const SliceVertex> next,
       if (!(pending && pending->time == t)) return "an inverted certificate has no event now";
       continue;
     }
-    if (pending && pending->time == t && sign_at(poly, t) == 0) continue;  // this instant's touch, still queued
+    if (pending && pending->time == t && sign_at(poly, t) == 0)
+      continue;  // this instant's touch, still queued
     const std::optional<RootTime> next = first_root_after(poly, t);
     if (next.has_value() != (pending != nullptr) || (next && !(pending->time == *next)))
       return "a certificate's event is not at its first zero";
@@ -189,9 +204,10 @@ void KineticSlice::grow_cones(const MeshTopology& topology, const Frame& frame, 
   compute_plane_cones(topology.num_vertices, m_storage, frame, m_tri, scratch.cones, m_out);
 }
 
-SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshEdges& edges, const Frame& next,
-                                       const SlicingPlane& plane, std::span<const Index> faces,
-                                       const KineticPolicy& policy, KineticScratch& scratch, bool check_every_event) {
+SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshEdges& edges,
+                                       const Frame& next, const SlicingPlane& plane,
+                                       std::span<const Index> faces, const KineticPolicy& policy,
+                                       KineticScratch& scratch, bool check_every_event) {
   SliceEventCounts counts;
   m_changed_edges.clear();
   slice_mesh(topology, edges, next, plane, faces, scratch.slicer, m_next);
@@ -206,8 +222,10 @@ SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshE
 
   // Match slice vertices by mesh edge: survivors, and those that vanish or appear.
   const Slice& old = m_out.slice;
-  if (scratch.old_of_edge.size() != edges.endpoints.size()) scratch.old_of_edge.assign(edges.endpoints.size(), -1);
-  for (Index x = 0; x < old.vertices.size(); ++x) scratch.old_of_edge[old.vertices[x].edge] = static_cast<std::int32_t>(x);
+  if (scratch.old_of_edge.size() != edges.endpoints.size())
+    scratch.old_of_edge.assign(edges.endpoints.size(), -1);
+  for (Index x = 0; x < old.vertices.size(); ++x)
+    scratch.old_of_edge[old.vertices[x].edge] = static_cast<std::int32_t>(x);
   scratch.new_of_old.assign(old.vertices.size(), -1);
   scratch.born.clear();
   scratch.is_born.assign(m_next.vertices.size(), 0);
@@ -254,13 +272,15 @@ SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshE
     for (const SliceEdge& e : old.edges)
       *surviving_chain_edges += scratch.new_of_old[e.from] >= 0 && scratch.new_of_old[e.to] >= 0;
   }
-  if (const RebuildReason r = move_survivors(policy, surviving_chain_edges, scratch, counts); r != RebuildReason::none)
+  if (const RebuildReason r = move_survivors(policy, surviving_chain_edges, scratch, counts);
+      r != RebuildReason::none)
     return rebuild(r);
 
   // 3. Insert the appearing slice vertices and their chain edges at t = 1.
   for (Index y : scratch.born) {
     const VertexHandle v = cdt.insert(cgal::to_point(m_next.vertices[y].point));
-    if (v->info().slice_vertex != -1) return rebuild(RebuildReason::degenerate);  // coincides with another point
+    if (v->info().slice_vertex != -1)
+      return rebuild(RebuildReason::degenerate);  // coincides with another point
     v->info().slice_vertex = static_cast<int>(y);
     scratch.vertex_of_new[y] = v;
   }
@@ -278,7 +298,8 @@ SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshE
   return counts;
 }
 
-RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::optional<std::size_t> check_constraints,
+RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy,
+                                           std::optional<std::size_t> check_constraints,
                                            KineticScratch& scratch, SliceEventCounts& counts) {
   Cdt& cdt = m_tri.cdt_for_editing();
   const VertexHandle infinite = cdt.infinite_vertex();
@@ -358,8 +379,8 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::opt
     if (same_instant > max_same_instant) return RebuildReason::policy;
     last_time = event.time;
     const bool at_end = event.time == one;
-    // Before t = 1, an event not known to fail may be a touch: decide exactly. (At t = 1 a triangle is flipped
-    // and a hull corner left flat, whatever the sign after.)
+    // Before t = 1, an event not known to fail may be a touch: decide exactly. (At t = 1 a triangle is
+    // flipped and a hull corner left flat, whatever the sign after.)
     bool inverts = event.fails;
     ExactPolynomial poly;
     if (!inverts && !at_end) {
@@ -371,7 +392,8 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::opt
       // collinear hull points as hull vertices): no repair; look for its next zero.
       ++counts.touches;
       if (!at_end)
-        if (auto next = first_root_after(poly, event.time)) schedule(*next, f, std::move(event.certificate), false);
+        if (auto next = first_root_after(poly, event.time))
+          schedule(*next, f, std::move(event.certificate), false);
       check(event.time);
       continue;
     }
@@ -392,7 +414,8 @@ RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy, std::opt
     double most_between = INFINITY;
     for (int m = 0; m < 3; ++m) {
       const glm::dvec2 pm = motion(f->vertex(m)).at(t);
-      const double d = glm::dot(motion(f->vertex(Cdt::ccw(m))).at(t) - pm, motion(f->vertex(Cdt::cw(m))).at(t) - pm);
+      const double d =
+          glm::dot(motion(f->vertex(Cdt::ccw(m))).at(t) - pm, motion(f->vertex(Cdt::cw(m))).at(t) - pm);
       if (d < most_between) most_between = d, k = m;
     }
     if (f->is_constrained(k)) return RebuildReason::crossing;  // a vertex reaches a chain edge
@@ -449,20 +472,23 @@ bool KineticSlice::check_invariants(std::string* why) const {
   // A slice that is not editable (chains cross or touch, points merged, or not 2D) is rebuilt every interval:
   // CGAL's own split constraints are its invariant, checked above.
   if (m_tri.dimension() < 2 || !m_editable) return true;
-  // The constraints are exactly the chain edges between distinct points (several chain edges may join the same
-  // two points where slice points coincide: a mesh edge lying in the plane).
+  // The constraints are exactly the chain edges between distinct points (several chain edges may join the
+  // same two points where slice points coincide: a mesh edge lying in the plane).
   std::size_t constrained = 0;
-  for (auto e = cdt.finite_edges_begin(); e != cdt.finite_edges_end(); ++e) constrained += cdt.is_constrained(*e);
+  for (auto e = cdt.finite_edges_begin(); e != cdt.finite_edges_end(); ++e)
+    constrained += cdt.is_constrained(*e);
   std::vector<std::pair<const void*, const void*>> chain_edges;
   for (const SliceEdge& e : m_out.slice.edges) {
     const VertexHandle a = m_tri.vertex_of(e.from), b = m_tri.vertex_of(e.to);
     if (a == b) continue;
     const void* pa = &*a;
     const void* pb = &*b;
-    chain_edges.emplace_back(std::less<const void*>()(pa, pb) ? std::make_pair(pa, pb) : std::make_pair(pb, pa));
+    chain_edges.emplace_back(std::less<const void*>()(pa, pb) ? std::make_pair(pa, pb)
+                                                              : std::make_pair(pb, pa));
     FaceHandle f;
     int i = 0;
-    if (!cdt.is_edge(a, b, f, i) || !f->is_constrained(i)) return fail("a chain edge is not a constrained edge");
+    if (!cdt.is_edge(a, b, f, i) || !f->is_constrained(i))
+      return fail("a chain edge is not a constrained edge");
   }
   std::sort(chain_edges.begin(), chain_edges.end());
   const std::size_t distinct = std::unique(chain_edges.begin(), chain_edges.end()) - chain_edges.begin();

@@ -19,43 +19,44 @@
 //   3. The slice vertices of edges that start crossing are inserted with their chain edges at t = 1.
 //   4. Regions, windows and corners are re-derived from the triangulation when its combinatorics changed
 //      (they depend on nothing else); the funnel trees and cones are grown on it (static_core's code). Trees
-//      are regrown, not kept with tautness certificates: between two frames the tree at t = 1 is a function of
-//      the kept triangulation and the points at t = 1, and certifying a kept tree over the interval (a
+//      are regrown, not kept with tautness certificates: between two frames the tree at t = 1 is a function
+//      of the kept triangulation and the points at t = 1, and certifying a kept tree over the interval (a
 //      tautness certificate per node and tree, a visibility one per triangle edge its tree edge crosses,
 //      13-27 ns each) costs nearly as much as regrowing it (65-71 ns per node and tree), while the wedges are
 //      re-evaluated either way: a few percent of a frame at best (bench/results/kinetic_micro.md).
 // Checks: with check_every_event (Debug builds, tests) the kinetic invariants after every event
-// (event_invariants). Guard: before step 3 every triangle is checked exactly at t = 1 (the static engine's predicates on the
-// same points); a failure, chains that cross, points that coincide, a collinear slice, or more events or
-// edits than the policy allows rebuild the slice from scratch with static_core, and the reason is counted.
-// Because hull, regions, windows and corners of a valid constrained triangulation do not depend on which
-// triangulation it is, and shortest paths are unique, the result equals the static engine's.
+// (event_invariants). Guard: before step 3 every triangle is checked exactly at t = 1 (the static engine's
+// predicates on the same points); a failure, chains that cross, points that coincide, a collinear slice, or
+// more events or edits than the policy allows rebuild the slice from scratch with static_core, and the reason
+// is counted. Because hull, regions, windows and corners of a valid constrained triangulation do not depend
+// on which triangulation it is, and shortest paths are unique, the result equals the static engine's.
 // Internal header (CGAL types): kinetic only.
 #pragma once
-
-#include "kinetic/kinetic_visibility.hpp"
-#include "kinetic/moving_orientation.hpp"
-#include "static_core/frame_assembly.hpp"
-#include "static_core/slice_triangulation.hpp"
 
 #include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "kinetic/kinetic_visibility.hpp"
+#include "kinetic/moving_orientation.hpp"
+#include "static_core/frame_assembly.hpp"
+#include "static_core/slice_triangulation.hpp"
+
 namespace pleat::kinetic {
 
 /// What happened to one slice in one interval.
 struct SliceEventCounts {
-  std::size_t certificates = 0;        ///< triangle and hull certificates computed
-  std::size_t exact_certificates = 0;  ///< of which the filter could not decide (exact signs, intervals or rationals)
-  std::size_t flips = 0;               ///< a triangle collapsed: its edge flipped
-  std::size_t hull_enter = 0;          ///< a vertex crossed a hull edge and joined the hull
-  std::size_t hull_leave = 0;          ///< a hull vertex went reflex and left the hull
-  std::size_t touches = 0;             ///< a certificate touched zero and kept its sign
-  std::size_t removed = 0;             ///< slice vertices removed (their mesh edge stopped crossing)
-  std::size_t inserted = 0;            ///< slice vertices inserted (their mesh edge started crossing)
-  bool structure_changed = false;      ///< regions, windows and corners were re-derived
+  std::size_t certificates = 0;  ///< triangle and hull certificates computed
+  std::size_t exact_certificates =
+      0;                       ///< of which the filter could not decide (exact signs, intervals or rationals)
+  std::size_t flips = 0;       ///< a triangle collapsed: its edge flipped
+  std::size_t hull_enter = 0;  ///< a vertex crossed a hull edge and joined the hull
+  std::size_t hull_leave = 0;  ///< a hull vertex went reflex and left the hull
+  std::size_t touches = 0;     ///< a certificate touched zero and kept its sign
+  std::size_t removed = 0;     ///< slice vertices removed (their mesh edge stopped crossing)
+  std::size_t inserted = 0;    ///< slice vertices inserted (their mesh edge started crossing)
+  bool structure_changed = false;  ///< regions, windows and corners were re-derived
   RebuildReason rebuild = RebuildReason::none;
 
   std::size_t events() const { return flips + hull_enter + hull_leave + touches; }
@@ -93,35 +94,38 @@ struct KineticScratch {
   std::vector<char> is_born;                      ///< per slice vertex of the next frame
   std::vector<cgal::VertexHandle> vertex_of_new;  ///< per slice vertex of the next frame
   using Event = KineticEvent;
-  std::vector<Event> queue;  ///< a binary heap, earliest event on top
+  std::vector<Event> queue;               ///< a binary heap, earliest event on top
   std::vector<cgal::FaceHandle> touched;  ///< faces to re-certify after a flip
   KineticScratch();
   ~KineticScratch();
 };
 
 /// The kinetic invariants of a slice in move (KineticSlice::advance's `check_every_event`), after the events
-/// at time t: the triangulation's combinatorics are valid (CGAL's check), constraint flags agree on both sides
-/// of every edge and number `constraints`, and every certificate is scheduled where it fails. Each face has at
-/// most one live event (its version current): at t when its certificate is zero at t (an event of this instant
-/// not yet processed) or negative just after t (a repair still to come), else at its first zero after t, else
-/// none; at t = 1 a triangle must be positive or have its event now. A finite face certifies its orientation,
-/// an infinite face (oo, a, b) the hull corner at b; a CDT vertex moves from its point to
+/// at time t: the triangulation's combinatorics are valid (CGAL's check), constraint flags agree on both
+/// sides of every edge and number `constraints`, and every certificate is scheduled where it fails. Each face
+/// has at most one live event (its version current): at t when its certificate is zero at t (an event of this
+/// instant not yet processed) or negative just after t (a repair still to come), else at its first zero after
+/// t, else none; at t = 1 a triangle must be positive or have its event now. A finite face certifies its
+/// orientation, an infinite face (oo, a, b) the hull corner at b; a CDT vertex moves from its point to
 /// next[its slice_vertex].point. Exact (interval filter, then exact polynomials). Empty when they hold, else
 /// the first violation.
 std::string event_invariants(const cgal::Cdt& cdt, std::span<const SliceVertex> next,
-                             const std::vector<KineticEvent>& queue, const RootTime& t, std::size_t constraints);
+                             const std::vector<KineticEvent>& queue, const RootTime& t,
+                             std::size_t constraints);
 
 class KineticSlice {
  public:
   /// The static build of `frame` (also the fallback). `storage` is the plan's rule (compute_plane_cones).
-  void build(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame, const SlicingPlane& plane,
-             ConeStorage storage, std::span<const Index> faces, KineticScratch& scratch);
+  void build(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
+             const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
+             KineticScratch& scratch);
   /// From the current frame to `next` (see the header comment). With `check_every_event`, the kinetic
-  /// invariants are checked exactly after every event (the triangulation's combinatorics, the constraints, and
-  /// every certificate scheduled at its first failure); a violation throws InvariantError (a bug).
+  /// invariants are checked exactly after every event (the triangulation's combinatorics, the constraints,
+  /// and every certificate scheduled at its first failure); a violation throws InvariantError (a bug).
   SliceEventCounts advance(const MeshTopology& topology, const MeshEdges& edges, const Frame& next,
-                           const SlicingPlane& plane, std::span<const Index> faces, const KineticPolicy& policy,
-                           KineticScratch& scratch, bool check_every_event = false);
+                           const SlicingPlane& plane, std::span<const Index> faces,
+                           const KineticPolicy& policy, KineticScratch& scratch,
+                           bool check_every_event = false);
 
   const PlaneCones& cones() const { return m_out; }
   /// The mesh edges that started or stopped crossing the plane in the last advance() (local edits only).
@@ -133,7 +137,8 @@ class KineticSlice {
 
  private:
   void finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
-  void finish_frame(const MeshTopology& topology, const Frame& frame, bool structure_changed, KineticScratch& scratch);
+  void finish_frame(const MeshTopology& topology, const Frame& frame, bool structure_changed,
+                    KineticScratch& scratch);
   void grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
   /// Every chain edge between distinct points is a single constrained edge of the triangulation.
   bool chains_are_edges() const;

@@ -1,14 +1,14 @@
 #include "kinetic/kinetic_visibility.hpp"
 
-#include "kinetic/kinetic_slice.hpp"
-#include "sim_io/mesh_validation.hpp"
-#include "static_core/assert.hpp"
-#include "static_core/frame_assembly.hpp"
-
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <chrono>
+
+#include "kinetic/kinetic_slice.hpp"
+#include "sim_io/mesh_validation.hpp"
+#include "static_core/assert.hpp"
+#include "static_core/frame_assembly.hpp"
 
 namespace pleat {
 
@@ -50,8 +50,8 @@ struct KineticVisibility::Impl {
     if (!params.check_invariants) return;
     std::string why;
     if (!slices[p].check_invariants(&why))  // thrown whatever PLEAT_CHECK_INVARIANTS says: the caller asked
-      throw InvariantError("plane " + std::to_string(p) + " (" + kinetic::rebuild_reason_name(counts[p].rebuild) +
-                           "): " + why);
+      throw InvariantError("plane " + std::to_string(p) + " (" +
+                           kinetic::rebuild_reason_name(counts[p].rebuild) + "): " + why);
   }
 
   void index_vertex_faces() {
@@ -89,8 +89,8 @@ struct KineticVisibility::Impl {
     const auto start = std::chrono::steady_clock::now();
     candidate_faces_per_plane(topology, next, plan, faces);
     for_each_plane([&](std::size_t p) {
-      counts[p] = slices[p].advance(topology, edges, next, plan.planes[p], faces[p], params.policy, scratch.local(),
-                                    params.check_invariants);
+      counts[p] = slices[p].advance(topology, edges, next, plan.planes[p], faces[p], params.policy,
+                                    scratch.local(), params.check_invariants);
       check(p);
     });
     gather_and_assemble(next);
@@ -114,7 +114,8 @@ struct KineticVisibility::Impl {
       // Classify the mesh vertices that crossed this plane (each counted once per plane).
       for (Index e : slices[p].changed_edges())
         for (Index v : edges.endpoints[e]) {
-          if (on_or_above(plan.planes[p], previous.positions[v]) == on_or_above(plan.planes[p], next.positions[v]))
+          if (on_or_above(plan.planes[p], previous.positions[v]) ==
+              on_or_above(plan.planes[p], next.positions[v]))
             continue;
           if (crossed_stamp[v] == p + 1 + stamp_base) continue;
           crossed_stamp[v] = p + 1 + stamp_base;

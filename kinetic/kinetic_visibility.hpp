@@ -14,14 +14,14 @@
 // (sim_io/mesh_validation.hpp: InputError; a rejected frame leaves the engine as it was).
 #pragma once
 
+#include <array>
+#include <cstddef>
+#include <memory>
+
 #include "sim_io/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
 #include "static_core/visibility_cone.hpp"
-
-#include <array>
-#include <cstddef>
-#include <memory>
 
 namespace pleat {
 namespace kinetic {
@@ -34,9 +34,10 @@ const char* rebuild_reason_name(RebuildReason reason);
 /// When repairing a slice costs more than rebuilding it. Measured by bench/run_kinetic_policy.sh
 /// (bench/results/kinetic_policy.md: static vs X = 0, 0.25, 1, 100 for `--max-events-per-vertex X
 /// --max-edit-fraction X` on the drape and a curtain at native and 4x rate): X = 0 is the best on the drape
-/// and the curtain at native rate, and within 4% of the best at 4x. An event or edit costs more (certificates, exact decisions, flips, CGAL's vertex removal and
-/// insertion) than CGAL's rebuild of a small share of the slice, so the defaults repair only slices with few
-/// events and edits (the constants below) and keep every slice that has none.
+/// and the curtain at native rate, and within 4% of the best at 4x. An event or edit costs more
+/// (certificates, exact decisions, flips, CGAL's vertex removal and insertion) than CGAL's rebuild of a small
+/// share of the slice, so the defaults repair only slices with few events and edits (the constants below) and
+/// keep every slice that has none.
 struct KineticPolicy {
   /// Rebuild when an interval's events exceed 16 plus this many per slice vertex; also, before processing
   /// them, when more certificates than that fail in the interval or are left undecided by the interval filter
@@ -61,20 +62,21 @@ struct KineticParams {
 
 /// Counters of one advance(), summed over slices (reported by `pleat visibility --stats`).
 struct KineticFrameStats {
-  double seconds = 0.0;              ///< wall time of advance()
-  std::size_t certificates = 0;      ///< triangle and hull certificates computed
-  std::size_t exact_certificates = 0;  ///< of which the filter could not decide (exact signs, intervals or rationals)
-  std::size_t flips = 0;             ///< triangle collapses repaired by an edge flip
-  std::size_t hull_enter = 0;        ///< vertices that crossed a hull edge (windows change)
-  std::size_t hull_leave = 0;        ///< hull vertices that went reflex (windows change)
-  std::size_t touches = 0;           ///< certificates that touched zero and held
+  double seconds = 0.0;          ///< wall time of advance()
+  std::size_t certificates = 0;  ///< triangle and hull certificates computed
+  std::size_t exact_certificates =
+      0;                       ///< of which the filter could not decide (exact signs, intervals or rationals)
+  std::size_t flips = 0;       ///< triangle collapses repaired by an edge flip
+  std::size_t hull_enter = 0;  ///< vertices that crossed a hull edge (windows change)
+  std::size_t hull_leave = 0;  ///< hull vertices that went reflex (windows change)
+  std::size_t touches = 0;     ///< certificates that touched zero and held
   std::size_t side_changes_regular = 0;   ///< (mesh vertex, plane) crossings of a regular vertex
   std::size_t side_changes_critical = 0;  ///< ... of an extremum, saddle or boundary vertex
-  std::size_t removed = 0;           ///< slice vertices removed by local edits
-  std::size_t inserted = 0;          ///< slice vertices inserted by local edits
-  std::size_t slices_unchanged = 0;  ///< no event, no edit: only the cone geometry was re-evaluated
-  std::size_t slices_repaired = 0;   ///< kept and repaired locally (regions, windows, corners re-derived)
-  std::size_t slices_rebuilt = 0;    ///< built from scratch
+  std::size_t removed = 0;                ///< slice vertices removed by local edits
+  std::size_t inserted = 0;               ///< slice vertices inserted by local edits
+  std::size_t slices_unchanged = 0;       ///< no event, no edit: only the cone geometry was re-evaluated
+  std::size_t slices_repaired = 0;  ///< kept and repaired locally (regions, windows, corners re-derived)
+  std::size_t slices_rebuilt = 0;   ///< built from scratch
   std::array<std::size_t, static_cast<std::size_t>(kinetic::RebuildReason::count)> rebuilt_because{};
 
   std::size_t events() const { return flips + hull_enter + hull_leave + touches; }
@@ -84,7 +86,8 @@ struct KineticFrameStats {
 
 class KineticVisibility {
  public:
-  KineticVisibility(const MeshTopology& topology, SlicingPlan plan, const Frame& first, const KineticParams& params = {});
+  KineticVisibility(const MeshTopology& topology, SlicingPlan plan, const Frame& first,
+                    const KineticParams& params = {});
   ~KineticVisibility();
   KineticVisibility(KineticVisibility&&) noexcept;
   KineticVisibility& operator=(KineticVisibility&&) noexcept;

@@ -21,7 +21,8 @@ std::array<int, 3> bernstein_signs(const MovingPoint& a, const MovingPoint& b, c
   return {static_cast<int>(h[0].sign()), static_cast<int>(h[1].sign()), static_cast<int>(h[2].sign())};
 }
 
-CertificatePolynomial orientation_certificate(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c) {
+CertificatePolynomial orientation_certificate(const MovingPoint& a, const MovingPoint& b,
+                                              const MovingPoint& c) {
   return planar_orientation_certificate(as_points(a, b, c));
 }
 

@@ -35,16 +35,18 @@ struct MovingPoint {
 /// Precondition: a CGAL::Protect_FPU_rounding<true> guard is alive (rounding towards +infinity).
 bool certainly_positive(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c);
 
-/// The exact signs (-1, 0, 1) of the Bernstein coefficients (B0, B1, B2) of orient(a(t), b(t), c(t)) on [0, 1]
-/// (CGAL::Mpzf: exact, no allocation for these sizes, no rational arithmetic). All zero: the points stay
+/// The exact signs (-1, 0, 1) of the Bernstein coefficients (B0, B1, B2) of orient(a(t), b(t), c(t)) on [0,
+/// 1] (CGAL::Mpzf: exact, no allocation for these sizes, no rational arithmetic). All zero: the points stay
 /// collinear; all non-negative: the orientation is non-negative on [0, 1], zero in (0, 1] at most at t = 1
 /// (when B2 = 0). The exact decision for certificates the interval filter leaves undecided, mostly degenerate
 /// ones (collinear slice points of flat or ruled cloth).
 std::array<int, 3> bernstein_signs(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c);
 
 /// orient(a(t), b(t), c(t)) as a certificate: its interval enclosure (no allocation), the exact polynomial on
-/// demand. root_isolation decides most roots on the enclosure (interval subdivision) without exact arithmetic.
-CertificatePolynomial orientation_certificate(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c);
+/// demand. root_isolation decides most roots on the enclosure (interval subdivision) without exact
+/// arithmetic.
+CertificatePolynomial orientation_certificate(const MovingPoint& a, const MovingPoint& b,
+                                              const MovingPoint& c);
 
 /// orient(a(t), b(t), c(t)) as an exact polynomial of degree <= 2 (allocates).
 ExactPolynomial orientation_polynomial(const MovingPoint& a, const MovingPoint& b, const MovingPoint& c);
@@ -63,8 +65,8 @@ struct CertificateFailure {
 };
 
 /// Cheapest decision first: the interval filter (positive on [0, 1]); at t0 = 0 the exact Bernstein signs;
-/// the certificate's interval sign at t0 and interval subdivision for its first zero; rational arithmetic only
-/// where intervals cannot decide. Exact in every case.
+/// the certificate's interval sign at t0 and interval subdivision for its first zero; rational arithmetic
+/// only where intervals cannot decide. Exact in every case.
 CertificateFailure first_failure(const std::array<MovingPoint, 3>& p, const RootTime& t0, bool triangle);
 
 }  // namespace pleat::kinetic

@@ -190,8 +190,9 @@ RootTime lazy_root(const CertificatePolynomial& c, double a, double b, int sign_
   e->hi = Rational(b);
   e->sign_lo = sign_a;
   if (const std::optional<double> root = narrow(*e)) return RootTime(*root);
-  // Intervals could not narrow it well (tiny coefficients, clustered roots): finish with the exact polynomial,
-  // so that every time's enclosure is narrow (its approximate() value is used for geometric choices).
+  // Intervals could not narrow it well (tiny coefficients, clustered roots): finish with the exact
+  // polynomial, so that every time's enclosure is narrow (its approximate() value is used for geometric
+  // choices).
   if (CGAL::to_double(e->hi - e->lo) > kLazyWidth) {
     e->poly();
     e->source.reset();

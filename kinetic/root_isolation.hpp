@@ -58,8 +58,8 @@ class RootTime {
   Rational rational_value() const;
   /// A double within the enclosure: a few ulps from the value when the exact polynomial was built; when an
   /// event was isolated by intervals alone (its exact polynomial is built lazily, on the first tie or
-  /// ambiguous sign), the enclosure is as narrow as interval evaluation can certify, at most 1e-11 wide (exact
-  /// arithmetic finishes the narrowing where intervals stop earlier).
+  /// ambiguous sign), the enclosure is as narrow as interval evaluation can certify, at most 1e-11 wide
+  /// (exact arithmetic finishes the narrowing where intervals stop earlier).
   double approximate() const;
   /// Doubles enclosing the exact value: lower_bound() <= value <= upper_bound().
   double lower_bound() const { return m_lo; }
@@ -101,8 +101,8 @@ std::optional<RootTime> first_root_after(const CertificatePolynomial& p, const R
 /// The same on an exact polynomial (stage (c) only).
 std::optional<RootTime> first_root_after(const ExactPolynomial& p, const RootTime& t0);
 
-/// The sign of P at t when interval arithmetic certifies it (P's enclosure over t's enclosure excludes 0; P then
-/// has that sign just after t and just before it too); 0 when it cannot. No allocation, no exact work.
+/// The sign of P at t when interval arithmetic certifies it (P's enclosure over t's enclosure excludes 0; P
+/// then has that sign just after t and just before it too); 0 when it cannot. No allocation, no exact work.
 int certain_sign_at(const CertificatePolynomial& p, const RootTime& t);
 
 /// Exact sign of P at t (0 when t is a root).

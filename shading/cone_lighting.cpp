@@ -1,10 +1,9 @@
 // ConeLighting: per-light irradiance through a clipped visibility cone (see header).
 #include "shading/cone_lighting.hpp"
 
+#include <cmath>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-
-#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -29,7 +28,8 @@ void plane_frame(const glm::dvec3& l, glm::dvec3& e1, glm::dvec3& e2) {
 /// Winding number about l of the orthographic projection of the piece onto the plane (e1, e2) orthogonal
 /// to l (Sunday's crossing rule, no trigonometry); `ambiguous` is set when l lies on the great circle of an
 /// edge crossing the reference ray (the count is then unreliable).
-int projected_winding(const SphericalPolygon& piece, const glm::dvec3& e1, const glm::dvec3& e2, bool& ambiguous) {
+int projected_winding(const SphericalPolygon& piece, const glm::dvec3& e1, const glm::dvec3& e2,
+                      bool& ambiguous) {
   const std::size_t count = piece.size();
   int winding = 0;
   ambiguous = false;
@@ -85,8 +85,8 @@ constexpr double kOppositeMargin = 1e-9;
 }  // namespace
 
 ConeLighting::ConeLighting(const Lighting& lighting) : m_lighting(&lighting) {
-  m_needs_pieces = !(lighting.cloudy_skies.empty() && lighting.directional.empty() && lighting.points.empty() &&
-                     lighting.areas.empty() && lighting.environments.empty());
+  m_needs_pieces = !(lighting.cloudy_skies.empty() && lighting.directional.empty() &&
+                     lighting.points.empty() && lighting.areas.empty() && lighting.environments.empty());
 }
 
 bool ConeLighting::prepare(const VisibilityCone& cone, const glm::dvec3& axis, bool copy) {
@@ -126,8 +126,8 @@ double ConeLighting::set_cone(const VisibilityCone& cone, const glm::dvec3& axis
   return m_projected / kPi;
 }
 
-ConeIrradiance ConeLighting::evaluate(const VisibilityCone& cone, const glm::dvec3& position, const glm::dvec3& axis,
-                                      const ConeMeasures* measures) {
+ConeIrradiance ConeLighting::evaluate(const VisibilityCone& cone, const glm::dvec3& position,
+                                      const glm::dvec3& axis, const ConeMeasures* measures) {
   ConeIrradiance out;
   m_axis = axis;
   if (cone.pieces.empty()) {
@@ -155,7 +155,9 @@ ConeIrradiance ConeLighting::evaluate(const VisibilityCone& cone, const glm::dve
   return out;
 }
 
-glm::dvec3 ConeLighting::uniform_sky(const UniformSkyLight& light) const { return m_projected * light.radiance; }
+glm::dvec3 ConeLighting::uniform_sky(const UniformSkyLight& light) const {
+  return m_projected * light.radiance;
+}
 
 glm::dvec3 ConeLighting::hemisphere_sky(const HemisphereSkyLight& light) {
   const double facing = glm::dot(m_axis, light.up);

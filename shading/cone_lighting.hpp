@@ -33,13 +33,12 @@
 // size. One instance per thread.
 #pragma once
 
+#include <glm/vec3.hpp>
+#include <vector>
+
 #include "shading/lights.hpp"
 #include "static_core/spherical_polygon.hpp"
 #include "static_core/visibility_cone.hpp"
-
-#include <glm/vec3.hpp>
-
-#include <vector>
 
 namespace pleat {
 

@@ -2,10 +2,10 @@
 #include "shading/embree_scene.hpp"
 
 #include <embree3/rtcore.h>
-#include <glm/glm.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <glm/glm.hpp>
 #include <stdexcept>
 #include <string>
 
@@ -41,19 +41,27 @@ void init_context(FilterContext& context, IgnoredTriangles ignore) {
 
 const char* error_name(RTCError code) {
   switch (code) {
-    case RTC_ERROR_NONE: return "no error";
-    case RTC_ERROR_UNKNOWN: return "unknown error";
-    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
-    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
-    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
-    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
-    case RTC_ERROR_CANCELLED: return "cancelled";
+    case RTC_ERROR_NONE:
+      return "no error";
+    case RTC_ERROR_UNKNOWN:
+      return "unknown error";
+    case RTC_ERROR_INVALID_ARGUMENT:
+      return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION:
+      return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY:
+      return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU:
+      return "unsupported CPU";
+    case RTC_ERROR_CANCELLED:
+      return "cancelled";
   }
   return "unrecognised error";
 }
 
 float clamp_to_float(double t) {
-  if (t >= static_cast<double>(std::numeric_limits<float>::max())) return std::numeric_limits<float>::infinity();
+  if (t >= static_cast<double>(std::numeric_limits<float>::max()))
+    return std::numeric_limits<float>::infinity();
   return static_cast<float>(t);
 }
 
@@ -80,17 +88,20 @@ struct EmbreeScene::Impl {
 
   void check(const char* what) const {
     const RTCError code = rtcGetDeviceError(device);
-    if (code != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree: ") + what + ": " + error_name(code));
+    if (code != RTC_ERROR_NONE)
+      throw std::runtime_error(std::string("Embree: ") + what + ": " + error_name(code));
   }
 
   void validate(const Frame& frame) const {
     if (frame.positions.size() != topology.num_vertices)
       throw std::invalid_argument("EmbreeScene: frame has " + std::to_string(frame.positions.size()) +
-                                  " positions, topology has " + std::to_string(topology.num_vertices) + " vertices");
+                                  " positions, topology has " + std::to_string(topology.num_vertices) +
+                                  " vertices");
     for (std::size_t i = 0; i < frame.positions.size(); ++i) {
       const glm::dvec3& p = frame.positions[i];
       if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-        throw std::invalid_argument("EmbreeScene: vertex " + std::to_string(i) + " has a non-finite position");
+        throw std::invalid_argument("EmbreeScene: vertex " + std::to_string(i) +
+                                    " has a non-finite position");
     }
   }
 
@@ -133,10 +144,11 @@ struct EmbreeScene::Impl {
 
     geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetGeometryBuildQuality(geometry, for_refit ? RTC_BUILD_QUALITY_REFIT : RTC_BUILD_QUALITY_MEDIUM);
-    vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                           3 * sizeof(float), topology.num_vertices));
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                   3 * sizeof(unsigned), topology.triangles.size()));
+    vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), topology.num_vertices));
+    auto* indices =
+        static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                       3 * sizeof(unsigned), topology.triangles.size()));
     check("allocating buffers");
     for (std::size_t f = 0; f < topology.triangles.size(); ++f)
       for (int k = 0; k < 3; ++k) indices[3 * f + k] = topology.triangles[f][k];
@@ -159,8 +171,8 @@ EmbreeScene::EmbreeScene(const MeshTopology& topology, const Frame& frame, const
   for (std::size_t f = 0; f < topology.triangles.size(); ++f)
     for (Index v : topology.triangles[f])
       if (v >= topology.num_vertices)
-        throw std::invalid_argument("EmbreeScene: triangle " + std::to_string(f) + " has vertex " + std::to_string(v) +
-                                    " out of range");
+        throw std::invalid_argument("EmbreeScene: triangle " + std::to_string(f) + " has vertex " +
+                                    std::to_string(v) + " out of range");
   s.validate(frame);
 
   s.ring_begin.assign(topology.num_vertices + 1, 0);
@@ -199,10 +211,12 @@ EmbreeScene::EmbreeScene(const MeshTopology& topology, const Frame& frame, const
   }
 
   s.device = rtcNewDevice(nullptr);
-  if (s.device == nullptr) throw std::runtime_error(std::string("Embree: cannot create a device: ") +
-                                                    error_name(rtcGetDeviceError(nullptr)));
+  if (s.device == nullptr)
+    throw std::runtime_error(std::string("Embree: cannot create a device: ") +
+                             error_name(rtcGetDeviceError(nullptr)));
   if (rtcGetDeviceProperty(s.device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED) == 0)
-    throw std::runtime_error("Embree: this build lacks filter functions, which pleat needs to skip self-hits");
+    throw std::runtime_error(
+        "Embree: this build lacks filter functions, which pleat needs to skip self-hits");
   s.build_scene(frame, s.params.mode == EmbreeSceneParams::BuildMode::Refit);
 }
 
@@ -306,7 +320,8 @@ void fill_lane(Ray& r, int lane, const RayFan& fan, std::size_t i) {
 
 /// rtcOccluded4/8/16 over the fan, W lanes at a time (the last packet masked).
 template <int W, class Packet, auto occluded>
-void occluded_packets(RTCScene scene, RTCIntersectContext* context, const RayFan& fan, std::span<std::uint8_t> escaped) {
+void occluded_packets(RTCScene scene, RTCIntersectContext* context, const RayFan& fan,
+                      std::span<std::uint8_t> escaped) {
   alignas(64) int valid[W];
   alignas(64) Packet packet;
   for (std::size_t begin = 0; begin < fan.directions.size(); begin += W) {
@@ -321,7 +336,8 @@ void occluded_packets(RTCScene scene, RTCIntersectContext* context, const RayFan
 }
 
 /// rtcOccluded1M over chunks of 64 rays: enough for Embree to form packets, small enough for L1.
-void occluded_stream(RTCScene scene, RTCIntersectContext* context, const RayFan& fan, std::span<std::uint8_t> escaped) {
+void occluded_stream(RTCScene scene, RTCIntersectContext* context, const RayFan& fan,
+                     std::span<std::uint8_t> escaped) {
   constexpr std::size_t kChunk = 64;
   RTCRay rays[kChunk];
   for (std::size_t begin = 0; begin < fan.directions.size(); begin += kChunk) {
@@ -332,7 +348,8 @@ void occluded_stream(RTCScene scene, RTCIntersectContext* context, const RayFan&
   }
 }
 
-void occluded_single(RTCScene scene, RTCIntersectContext* context, const RayFan& fan, std::span<std::uint8_t> escaped) {
+void occluded_single(RTCScene scene, RTCIntersectContext* context, const RayFan& fan,
+                     std::span<std::uint8_t> escaped) {
   RTCRay ray;
   for (std::size_t i = 0; i < fan.directions.size(); ++i) {
     fill_lane(ray, 0, fan, i);
@@ -346,11 +363,16 @@ void occluded_single(RTCScene scene, RTCIntersectContext* context, const RayFan&
 const char* ray_call_name(EmbreeSceneParams::RayCall call) {
   using C = EmbreeSceneParams::RayCall;
   switch (call) {
-    case C::Stream: return "stream";
-    case C::Packet4: return "packet4";
-    case C::Packet8: return "packet8";
-    case C::Packet16: return "packet16";
-    case C::Single: return "single";
+    case C::Stream:
+      return "stream";
+    case C::Packet4:
+      return "packet4";
+    case C::Packet8:
+      return "packet8";
+    case C::Packet16:
+      return "packet16";
+    case C::Single:
+      return "single";
   }
   return "?";
 }
@@ -368,11 +390,16 @@ void EmbreeScene::escaping_rays(const glm::dvec3& origin, std::span<const glm::v
                    static_cast<float>(tnear), directions};
   using C = EmbreeSceneParams::RayCall;
   switch (s.params.ray_call) {
-    case C::Stream: return occluded_stream(s.scene, &context.base, fan, escaped);
-    case C::Packet4: return occluded_packets<4, RTCRay4, rtcOccluded4>(s.scene, &context.base, fan, escaped);
-    case C::Packet8: return occluded_packets<8, RTCRay8, rtcOccluded8>(s.scene, &context.base, fan, escaped);
-    case C::Packet16: return occluded_packets<16, RTCRay16, rtcOccluded16>(s.scene, &context.base, fan, escaped);
-    case C::Single: return occluded_single(s.scene, &context.base, fan, escaped);
+    case C::Stream:
+      return occluded_stream(s.scene, &context.base, fan, escaped);
+    case C::Packet4:
+      return occluded_packets<4, RTCRay4, rtcOccluded4>(s.scene, &context.base, fan, escaped);
+    case C::Packet8:
+      return occluded_packets<8, RTCRay8, rtcOccluded8>(s.scene, &context.base, fan, escaped);
+    case C::Packet16:
+      return occluded_packets<16, RTCRay16, rtcOccluded16>(s.scene, &context.base, fan, escaped);
+    case C::Single:
+      return occluded_single(s.scene, &context.base, fan, escaped);
   }
 }
 

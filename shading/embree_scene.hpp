@@ -19,16 +19,15 @@
 // Embree handles never appear in this header.
 #pragma once
 
-#include "sim_io/mesh.hpp"
-
-#include <glm/vec3.hpp>
-
 #include <cstddef>
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <limits>
 #include <memory>
 #include <span>
 #include <vector>
+
+#include "sim_io/mesh.hpp"
 
 namespace pleat {
 
@@ -69,8 +68,8 @@ struct RayQuery {
 struct RayHit {
   bool hit = false;
   double t = 0.0;
-  Index triangle = 0;      ///< index into MeshTopology::triangles
-  double u = 0.0, v = 0.0; ///< barycentrics: point = (1-u-v) p0 + u p1 + v p2 (triangle corners in order)
+  Index triangle = 0;       ///< index into MeshTopology::triangles
+  double u = 0.0, v = 0.0;  ///< barycentrics: point = (1-u-v) p0 + u p1 + v p2 (triangle corners in order)
 };
 
 /// Triangles a query ignores (typically the one-ring of the ray's origin vertex). Unordered, small.

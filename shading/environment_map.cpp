@@ -1,16 +1,16 @@
 // EnvironmentMap: loading, lookup, and the Green's-theorem integral over spherical polygons (see header).
 #include "shading/environment_map.hpp"
-#include "sim_io/srgb.hpp"
 
-#include "sim_io/input_error.hpp"
-
-#include <glm/geometric.hpp>
 #include <stb/stb_image.h>
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <stdexcept>
 #include <string>
+
+#include "sim_io/input_error.hpp"
+#include "sim_io/srgb.hpp"
 
 namespace pleat {
 
@@ -38,7 +38,9 @@ void halve(int& width, int& height, std::vector<glm::vec3>& texels) {
   for (int r = 0; r < h; ++r) {
     const double w0 = row_weight(2 * r), w1 = row_weight(2 * r + 1);
     for (int c = 0; c < w; ++c) {
-      const auto at = [&](int rr, int cc) { return glm::dvec3(texels[static_cast<std::size_t>(rr) * width + cc]); };
+      const auto at = [&](int rr, int cc) {
+        return glm::dvec3(texels[static_cast<std::size_t>(rr) * width + cc]);
+      };
       const glm::dvec3 sum = w0 * (at(2 * r, 2 * c) + at(2 * r, 2 * c + 1)) +
                              w1 * (at(2 * r + 1, 2 * c) + at(2 * r + 1, 2 * c + 1));
       out[static_cast<std::size_t>(r) * w + c] = glm::vec3(sum / (2.0 * (w0 + w1)));
@@ -58,7 +60,8 @@ EnvironmentMap::EnvironmentMap(int width, int height, std::vector<glm::vec3> tex
     throw std::invalid_argument("EnvironmentMap: texel count does not match " + std::to_string(width) + "x" +
                                 std::to_string(height));
   const double len = glm::length(orientation.up);
-  if (!(len > 0.0) || !std::isfinite(len)) throw std::invalid_argument("EnvironmentMap: zero or invalid up axis");
+  if (!(len > 0.0) || !std::isfinite(len))
+    throw std::invalid_argument("EnvironmentMap: zero or invalid up axis");
   m_u = orientation.up / len;
   const glm::dvec3 ref = std::abs(m_u.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   m_x = glm::normalize(ref - glm::dot(ref, m_u) * m_u);
@@ -67,20 +70,23 @@ EnvironmentMap::EnvironmentMap(int width, int height, std::vector<glm::vec3> tex
   build_tables();
 }
 
-EnvironmentMap EnvironmentMap::load(const std::filesystem::path& path, const EnvironmentOrientation& orientation,
-                                    int max_width) {
+EnvironmentMap EnvironmentMap::load(const std::filesystem::path& path,
+                                    const EnvironmentOrientation& orientation, int max_width) {
   const std::string name = path.string();
   int w = 0, h = 0, channels = 0;
   std::vector<glm::vec3> texels;
   if (stbi_is_hdr(name.c_str())) {
     float* data = stbi_loadf(name.c_str(), &w, &h, &channels, 3);
-    if (data == nullptr) throw InputError(name, "", std::string("cannot read HDR image: ") + stbi_failure_reason());
+    if (data == nullptr)
+      throw InputError(name, "", std::string("cannot read HDR image: ") + stbi_failure_reason());
     texels.resize(static_cast<std::size_t>(w) * h);
-    for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = glm::vec3(data[3 * i], data[3 * i + 1], data[3 * i + 2]);
+    for (std::size_t i = 0; i < texels.size(); ++i)
+      texels[i] = glm::vec3(data[3 * i], data[3 * i + 1], data[3 * i + 2]);
     stbi_image_free(data);
   } else {
     unsigned char* data = stbi_load(name.c_str(), &w, &h, &channels, 3);
-    if (data == nullptr) throw InputError(name, "", std::string("cannot read image: ") + stbi_failure_reason());
+    if (data == nullptr)
+      throw InputError(name, "", std::string("cannot read image: ") + stbi_failure_reason());
     float table[256];
     for (int i = 0; i < 256; ++i) table[i] = srgb_to_linear(i / 255.0f);
     texels.resize(static_cast<std::size_t>(w) * h);
@@ -194,7 +200,7 @@ glm::dvec3 EnvironmentMap::edge_integral(const glm::dvec3& a, const glm::dvec3& 
     const int r = std::min(m_height - 1, static_cast<int>(theta / row_height));
     const glm::dvec3 L(m_texels[static_cast<std::size_t>(r) * m_width + c]);
     const double sin2 = 0.5 * theta - 0.5 * x * y / r2;  // integral_sin2(theta)
-    const double sincos = 0.5 * y * y / r2;               // integral_sincos(theta)
+    const double sincos = 0.5 * y * y / r2;              // integral_sincos(theta)
     const glm::dvec3 s2 = glm::dvec3(m_prefix_s2[c * stride + r]) + L * (sin2 - m_row_sin2[r]);
     const glm::dvec3 sc = glm::dvec3(m_prefix_sc[c * stride + r]) + L * (sincos - m_row_sincos[r]);
     const double across = nl.x * cos_psi + nl.y * sin_psi;
@@ -215,7 +221,8 @@ glm::dvec3 EnvironmentMap::edge_integral(const glm::dvec3& a, const glm::dvec3& 
   double theta_prev = theta_at(psi_a);
   while (u != u1) {
     // Next column boundary in the direction of travel.
-    double next = step > 0 ? (std::floor(u * m_width) + 1.0) / m_width : (std::ceil(u * m_width) - 1.0) / m_width;
+    double next =
+        step > 0 ? (std::floor(u * m_width) + 1.0) / m_width : (std::ceil(u * m_width) - 1.0) / m_width;
     if (next == u)  // u * width rounded to just below/above a boundary that u sits on: skip to the next
       next = step > 0 ? (std::floor(u * m_width) + 2.0) / m_width : (std::ceil(u * m_width) - 2.0) / m_width;
     if ((step > 0 && next > u1) || (step < 0 && next < u1)) next = u1;
@@ -225,7 +232,8 @@ glm::dvec3 EnvironmentMap::edge_integral(const glm::dvec3& a, const glm::dvec3& 
     const double psi0 = m_rotation - kTwoPi * u;
     const double psi1 = m_rotation - kTwoPi * next;
     const double theta_end = theta_at(psi1);
-    const int pieces = std::max(1, static_cast<int>(std::ceil(std::abs(theta_end - theta_prev) / row_height)));
+    const int pieces =
+        std::max(1, static_cast<int>(std::ceil(std::abs(theta_end - theta_prev) / row_height)));
     const double h = (psi1 - psi0) / pieces;
     for (int p = 0; p < pieces; ++p) {
       const double centre = psi0 + h * (p + 0.5);

@@ -23,18 +23,17 @@
 // Wider maps can be box-filtered down at load (max_width) to trade detail for speed.
 #pragma once
 
-#include "static_core/spherical_polygon.hpp"
-
-#include <glm/vec3.hpp>
-
 #include <filesystem>
+#include <glm/vec3.hpp>
 #include <vector>
+
+#include "static_core/spherical_polygon.hpp"
 
 namespace pleat {
 
 struct EnvironmentOrientation {
-  glm::dvec3 up{0.0, 0.0, 1.0};  ///< the map's top row looks along up
-  double rotation_degrees = 0.0; ///< turn of the map about up
+  glm::dvec3 up{0.0, 0.0, 1.0};   ///< the map's top row looks along up
+  double rotation_degrees = 0.0;  ///< turn of the map about up
 };
 
 /// Default width maps are box-filtered down to at load: one texel is 1.4 degrees, finer than the cone
@@ -46,11 +45,13 @@ class EnvironmentMap {
  public:
   EnvironmentMap() = default;
   /// From linear RGB texels, row-major from the top row; throws std::invalid_argument on bad sizes.
-  EnvironmentMap(int width, int height, std::vector<glm::vec3> texels, const EnvironmentOrientation& orientation = {});
+  EnvironmentMap(int width, int height, std::vector<glm::vec3> texels,
+                 const EnvironmentOrientation& orientation = {});
 
   /// Loads an .hdr (linear) or 8-bit image (sRGB -> linear); box-filters down by powers of two until the
   /// width is at most max_width (0: keep). Throws InputError naming the file on failure.
-  static EnvironmentMap load(const std::filesystem::path& path, const EnvironmentOrientation& orientation = {},
+  static EnvironmentMap load(const std::filesystem::path& path,
+                             const EnvironmentOrientation& orientation = {},
                              int max_width = kDefaultEnvironmentWidth);
 
   int width() const { return m_width; }
@@ -77,17 +78,18 @@ class EnvironmentMap {
   int column_of_psi(double psi) const;
   /// Contribution of the edge a -> b (local coordinates) to the contour integral, for local normal nl.
   /// from_bottom: G swept from the bottom pole -U instead of the top pole U.
-  glm::dvec3 edge_integral(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& nl, bool from_bottom) const;
+  glm::dvec3 edge_integral(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& nl,
+                           bool from_bottom) const;
 
   int m_width = 0;
   int m_height = 0;
   EnvironmentOrientation m_orientation;
   glm::dvec3 m_x{1, 0, 0}, m_y{0, 1, 0}, m_u{0, 0, 1};  // local frame X', Y', U
-  double m_rotation = 0.0;                             // radians
-  std::vector<glm::vec3> m_texels;                     // width * height, row-major from the top
-  std::vector<glm::vec3> m_prefix_s2;                  // (height + 1) per column, column-major
+  double m_rotation = 0.0;                              // radians
+  std::vector<glm::vec3> m_texels;                      // width * height, row-major from the top
+  std::vector<glm::vec3> m_prefix_s2;                   // (height + 1) per column, column-major
   std::vector<glm::vec3> m_prefix_sc;
-  std::vector<double> m_row_sin2, m_row_sincos;      // integral_0^t sin^2, sin cos at row boundaries t
+  std::vector<double> m_row_sin2, m_row_sincos;  // integral_0^t sin^2, sin cos at row boundaries t
   glm::dvec3 m_sphere_moment[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};  // world axes
 };
 

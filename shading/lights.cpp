@@ -1,18 +1,17 @@
 // Lights: spec-string and JSON parsing, validation (see header for the grammar).
 #include "shading/lights.hpp"
 
-#include "sim_io/input_error.hpp"
-
-#include <glm/geometric.hpp>
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 #include <stdexcept>
+
+#include "sim_io/input_error.hpp"
 
 namespace pleat {
 
@@ -32,7 +31,8 @@ std::vector<std::string> split(std::string_view s, char sep) {
   std::size_t start = 0;
   while (true) {
     const std::size_t pos = s.find(sep, start);
-    out.push_back(trim(s.substr(start, pos == std::string_view::npos ? std::string_view::npos : pos - start)));
+    out.push_back(
+        trim(s.substr(start, pos == std::string_view::npos ? std::string_view::npos : pos - start)));
     if (pos == std::string_view::npos) break;
     start = pos + 1;
   }
@@ -48,7 +48,8 @@ bool parse_number(const std::string& text, double& value) {
 
 glm::dvec3 unit_or_throw(const glm::dvec3& v, const char* what) {
   const double len = glm::length(v);
-  if (!(len > 0.0) || !std::isfinite(len)) throw std::invalid_argument(std::string(what) + " must be a non-zero vector");
+  if (!(len > 0.0) || !std::isfinite(len))
+    throw std::invalid_argument(std::string(what) + " must be a non-zero vector");
   return v / len;
 }
 
@@ -303,7 +304,8 @@ void add_json_light(Lighting& lighting, const JsonContext& ctx, const Json& j, c
     if (const Json* v = get(key)) c = json_colour(ctx, *v, place + "." + key);
     if (j.contains("color")) c *= json_colour(ctx, j["color"], place + ".color");
     for (int k = 0; k < 3; ++k)
-      if (!(c[k] >= 0.0) || !std::isfinite(c[k])) ctx.fail(place + "." + key, "must be finite and non-negative");
+      if (!(c[k] >= 0.0) || !std::isfinite(c[k]))
+        ctx.fail(place + "." + key, "must be finite and non-negative");
     return c;
   };
   auto unit = [&](const char* key, glm::dvec3 fallback) {
@@ -359,7 +361,8 @@ void add_json_light(Lighting& lighting, const JsonContext& ctx, const Json& j, c
     orientation.up = unit("up", orientation.up);
     if (const Json* r = get("rotate")) orientation.rotation_degrees = json_number(ctx, *r, place + ".rotate");
     int max_width = kDefaultEnvironmentWidth;
-    if (const Json* m = get("max_width")) max_width = static_cast<int>(json_number(ctx, *m, place + ".max_width"));
+    if (const Json* m = get("max_width"))
+      max_width = static_cast<int>(json_number(ctx, *m, place + ".max_width"));
     if (const Json* s = get("scale")) light.scale = json_number(ctx, *s, place + ".scale");
     if (!(light.scale >= 0.0)) ctx.fail(place + ".scale", "must be non-negative");
     if (j.contains("color")) ctx.fail(place + ".color", "not supported for env lights (use scale)");
@@ -367,7 +370,8 @@ void add_json_light(Lighting& lighting, const JsonContext& ctx, const Json& j, c
     light.map = EnvironmentMap::load(light.file, orientation, max_width);
     lighting.environments.push_back(std::move(light));
   } else {
-    ctx.fail(place + ".type", "unknown light type '" + type + "' (sky, cloudy, directional, point, area, env)");
+    ctx.fail(place + ".type",
+             "unknown light type '" + type + "' (sky, cloudy, directional, point, area, env)");
   }
   for (const auto& [key, value] : j.items())
     if (!allowed.count(key)) ctx.fail(place + "." + key, "unknown field for a " + type + " light");
@@ -433,10 +437,12 @@ void validate_area_light(AreaLight& light) {
   double size = 0.0;
   for (const auto& v : p) size = std::max(size, glm::length(v - centre));
   const double len = glm::length(normal);
-  if (!(len > 1e-12 * size * size) || size == 0.0) throw std::invalid_argument("area light polygon is degenerate");
+  if (!(len > 1e-12 * size * size) || size == 0.0)
+    throw std::invalid_argument("area light polygon is degenerate");
   normal /= len;
   for (const auto& v : p)
-    if (std::abs(glm::dot(v - centre, normal)) > 1e-6 * size) throw std::invalid_argument("area light polygon is not planar");
+    if (std::abs(glm::dot(v - centre, normal)) > 1e-6 * size)
+      throw std::invalid_argument("area light polygon is not planar");
   // Convex: every turn is to the left about the normal, and the turns add up to one full turn (a
   // self-crossing star turns left everywhere too, but twice around).
   double turning = 0.0;
@@ -444,7 +450,8 @@ void validate_area_light(AreaLight& light) {
     const glm::dvec3 e0 = p[(i + 1) % p.size()] - p[i];
     const glm::dvec3 e1 = p[(i + 2) % p.size()] - p[(i + 1) % p.size()];
     const double turn_sin = glm::dot(glm::cross(e0, e1), normal);
-    if (turn_sin < 0.0 || glm::length(e0) == 0.0) throw std::invalid_argument("area light polygon is not convex");
+    if (turn_sin < 0.0 || glm::length(e0) == 0.0)
+      throw std::invalid_argument("area light polygon is not convex");
     turning += std::atan2(turn_sin, glm::dot(e0, e1));
   }
   if (std::abs(turning - 2.0 * 3.14159265358979323846) > 1e-6)
@@ -455,16 +462,18 @@ void validate_area_light(AreaLight& light) {
 std::string Lighting::describe() const {
   std::ostringstream s;
   for (const auto& l : skies) s << "sky L=" << format_colour(l.radiance) << '\n';
-  for (const auto& l : cloudy_skies) s << "cloudy L=" << format_colour(l.radiance) << " up=" << format_vec(l.up) << '\n';
+  for (const auto& l : cloudy_skies)
+    s << "cloudy L=" << format_colour(l.radiance) << " up=" << format_vec(l.up) << '\n';
   for (const auto& l : directional)
     s << "directional towards " << format_vec(l.direction) << " E=" << format_colour(l.irradiance) << '\n';
-  for (const auto& l : points) s << "point at " << format_vec(l.position) << " I=" << format_colour(l.intensity) << '\n';
+  for (const auto& l : points)
+    s << "point at " << format_vec(l.position) << " I=" << format_colour(l.intensity) << '\n';
   for (const auto& l : areas)
     s << "area light, " << l.polygon.size() << " vertices, L=" << format_colour(l.radiance)
       << (l.two_sided ? " two-sided" : " one-sided") << '\n';
   for (const auto& l : environments)
-    s << "environment " << l.file.string() << " (" << l.map.width() << 'x' << l.map.height() << ") scale="
-      << l.scale << '\n';
+    s << "environment " << l.file.string() << " (" << l.map.width() << 'x' << l.map.height()
+      << ") scale=" << l.scale << '\n';
   return s.str();
 }
 
@@ -513,7 +522,8 @@ std::vector<Lighting> parse_lighting_setups_json(const std::string& text, const 
   for (std::size_t i = 0; i < out.size(); ++i) {
     if (!is_valid_setup_name(out[i].name))
       ctx.fail("setups[" + std::to_string(i) + "].name", "use letters, digits, '-', '_' and '.' only");
-    if (!names.insert(out[i].name).second) ctx.fail("setups[" + std::to_string(i) + "].name", "duplicate name");
+    if (!names.insert(out[i].name).second)
+      ctx.fail("setups[" + std::to_string(i) + "].name", "duplicate name");
   }
   return out;
 }

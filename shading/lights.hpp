@@ -19,14 +19,13 @@
 // Relative env-map paths are resolved against the JSON file's directory (or the working directory).
 #pragma once
 
-#include "shading/environment_map.hpp"
-
-#include <glm/vec3.hpp>
-
 #include <filesystem>
+#include <glm/vec3.hpp>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "shading/environment_map.hpp"
 
 namespace pleat {
 
@@ -54,8 +53,8 @@ struct PointLight {
 struct AreaLight {
   std::vector<glm::dvec3> polygon;
   glm::dvec3 radiance{1.0};
-  bool two_sided = true;  ///< false: emits only towards the right-hand normal of the vertex order
-  glm::dvec3 normal{0.0}; ///< unit right-hand normal (set by validation)
+  bool two_sided = true;   ///< false: emits only towards the right-hand normal of the vertex order
+  glm::dvec3 normal{0.0};  ///< unit right-hand normal (set by validation)
 };
 
 struct EnvironmentLight {

@@ -1,18 +1,18 @@
 // path_trace: per-vertex path-traced reference radiance (see the header for the model).
 #include "shading/path_trace.hpp"
 
-#include "shading/ray_visibility.hpp"
-#include "sim_io/mesh_validation.hpp"
-
-#include <glm/glm.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <glm/glm.hpp>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+
+#include "shading/ray_visibility.hpp"
+#include "sim_io/mesh_validation.hpp"
 
 namespace pleat {
 
@@ -69,17 +69,21 @@ bool area_light_hit(const Lighting& lighting, const glm::dvec3& o, const glm::dv
 /// A point a path is at: a mesh vertex (with its one-ring side test) or a point inside a hit triangle.
 struct PathPoint {
   glm::dvec3 position;
-  glm::dvec3 axis;  // unit normal of the side the path is on
+  glm::dvec3 axis;                 // unit normal of the side the path is on
   const VertexFan* fan = nullptr;  // set at the starting vertex
   Side side = Side::Front;
-  std::span<const Index> ignore;   // the vertex's one-ring, or the hit triangle
+  std::span<const Index> ignore;  // the vertex's one-ring, or the hit triangle
 };
 
 class Tracer {
  public:
   Tracer(const EmbreeScene& scene, const MeshTopology& topology, const Frame& frame, const Lighting& lighting,
          double albedo)
-      : m_scene(scene), m_topology(topology), m_frame(frame), m_lighting(lighting), m_albedo(albedo),
+      : m_scene(scene),
+        m_topology(topology),
+        m_frame(frame),
+        m_lighting(lighting),
+        m_albedo(albedo),
         m_tnear(1e-6 * scene.scene_diameter()) {}
 
   std::uint64_t rays() const { return m_rays; }
@@ -123,8 +127,8 @@ class Tracer {
         const RayHit hit = m_scene.intersect(ray, x.ignore);
         ++m_rays;
         glm::dvec3 area(0.0);
-        if (area_light_hit(m_lighting, x.position, w, hit.hit ? hit.t : std::numeric_limits<double>::infinity(),
-                           area)) {
+        if (area_light_hit(m_lighting, x.position, w,
+                           hit.hit ? hit.t : std::numeric_limits<double>::infinity(), area)) {
           sum += beta * area;
           break;
         }
@@ -133,7 +137,8 @@ class Tracer {
           break;
         }
         const Triangle& t = m_topology.triangles[hit.triangle];
-        const glm::dvec3 &p0 = m_frame.positions[t[0]], &p1 = m_frame.positions[t[1]], &p2 = m_frame.positions[t[2]];
+        const glm::dvec3 &p0 = m_frame.positions[t[0]], &p1 = m_frame.positions[t[1]],
+                         &p2 = m_frame.positions[t[2]];
         const glm::dvec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
         x.position = (1.0 - hit.u - hit.v) * p0 + hit.u * p1 + hit.v * p2;
         x.axis = glm::dot(w, n) < 0.0 ? n : -n;
@@ -185,8 +190,8 @@ PathTracedFrame path_trace_vertices(EmbreeScene& scene, const MeshTopology& topo
                                     const std::vector<glm::dvec3>& normals, const Lighting& lighting,
                                     const PathTraceParams& params) {
   validate_mesh(topology, frame, "path_trace_vertices");
-  check_vertex_estimator_inputs("path_trace_vertices", "paths_per_vertex", params.paths_per_vertex, scene, topology,
-                                frame, normals);
+  check_vertex_estimator_inputs("path_trace_vertices", "paths_per_vertex", params.paths_per_vertex, scene,
+                                topology, frame, normals);
   if (!(params.albedo >= 0.0 && params.albedo < 1.0))
     throw std::invalid_argument("path_trace_vertices: albedo must be in [0, 1)");
   scene.update(frame);
@@ -219,11 +224,12 @@ PathTracedFrame path_trace_vertices(EmbreeScene& scene, const MeshTopology& topo
         for (int i = 0; i < k; ++i) {
           const glm::dvec3& l = local[static_cast<std::size_t>(i)];
           Random random(splitmix64(params.seed ^ 0x5eedULL) ^
-                        splitmix64((static_cast<std::uint64_t>(v) << 24) ^ (static_cast<std::uint64_t>(i) << 1) ^
-                                   static_cast<std::uint64_t>(side)));
+                        splitmix64((static_cast<std::uint64_t>(v) << 24) ^
+                                   (static_cast<std::uint64_t>(i) << 1) ^ static_cast<std::uint64_t>(side)));
           indirect += tracer.trace(start, l.x * t1 + l.y * t2 + l.z * start.axis, random);
         }
-        const glm::dvec3 b = params.albedo * kInvPi * tracer.direct_irradiance(start) + params.albedo * indirect / double(k);
+        const glm::dvec3 b =
+            params.albedo * kInvPi * tracer.direct_irradiance(start) + params.albedo * indirect / double(k);
         out.radiance[static_cast<int>(side)][v] = glm::vec3(b);
       }
       rays[v] = tracer.rays() - before;

@@ -16,15 +16,14 @@
 // and side; TBB over vertices. Deterministic for a seed.
 #pragma once
 
+#include <array>
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <vector>
+
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
 #include "sim_io/mesh.hpp"
-
-#include <glm/vec3.hpp>
-
-#include <array>
-#include <cstdint>
-#include <vector>
 
 namespace pleat {
 

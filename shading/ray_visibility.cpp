@@ -1,11 +1,11 @@
 // Ray-cast sky visibility: stratified cosine sampling, one-ring side test, Embree ray streams.
 #include "shading/ray_visibility.hpp"
 
-#include <glm/glm.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <glm/glm.hpp>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -25,15 +25,18 @@ double radical_inverse_base2(std::uint32_t i) {
 }
 
 std::uint64_t stream_key(std::uint64_t seed, Index vertex, Side side) {
-  return splitmix64(splitmix64(seed) ^ (static_cast<std::uint64_t>(vertex) << 1 | static_cast<std::uint64_t>(side)));
+  return splitmix64(splitmix64(seed) ^
+                    (static_cast<std::uint64_t>(vertex) << 1 | static_cast<std::uint64_t>(side)));
 }
 
 /// sin and cos of x in [-π/4, π/4] by their Taylor series to x^11 / x^10 (error < 2e-9): no libm call,
 /// the same bits on every platform, several times cheaper than sincos.
 void small_sincos(double x, double& s, double& c) {
   const double x2 = x * x;
-  s = x * (1.0 + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800))))));
-  c = 1.0 + x2 * (-1.0 / 2 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800)))));
+  s = x * (1.0 + x2 * (-1.0 / 6 +
+                       x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800))))));
+  c = 1.0 +
+      x2 * (-1.0 / 2 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800)))));
 }
 
 }  // namespace
@@ -121,14 +124,14 @@ void cosine_hemisphere_directions(int count, std::uint64_t seed, Index vertex, S
   }
 }
 
-void check_vertex_estimator_inputs(const char* who, const char* count_name, int count, const EmbreeScene& scene,
-                                   const MeshTopology& topology, const Frame& frame,
+void check_vertex_estimator_inputs(const char* who, const char* count_name, int count,
+                                   const EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
                                    const std::vector<glm::dvec3>& normals) {
   const std::string name(who);
   if (count < 1) throw std::invalid_argument(name + ": " + count_name + " must be >= 1");
   if (frame.positions.size() != topology.num_vertices || normals.size() != topology.num_vertices)
-    throw std::invalid_argument(name + ": frame has " + std::to_string(frame.positions.size()) + " positions and " +
-                                std::to_string(normals.size()) + " normals for " +
+    throw std::invalid_argument(name + ": frame has " + std::to_string(frame.positions.size()) +
+                                " positions and " + std::to_string(normals.size()) + " normals for " +
                                 std::to_string(topology.num_vertices) + " vertices");
   if (scene.topology().num_vertices != topology.num_vertices ||
       scene.topology().triangles.size() != topology.triangles.size())
@@ -137,9 +140,10 @@ void check_vertex_estimator_inputs(const char* who, const char* count_name, int 
 
 RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
                                   const std::vector<glm::dvec3>& normals, const RayVisibilityParams& params) {
-  check_vertex_estimator_inputs("ray_cast_visibility", "rays_per_vertex", params.rays_per_vertex, scene, topology,
-                                frame, normals);
-  if (params.vertex_stride < 1) throw std::invalid_argument("ray_cast_visibility: vertex_stride must be >= 1");
+  check_vertex_estimator_inputs("ray_cast_visibility", "rays_per_vertex", params.rays_per_vertex, scene,
+                                topology, frame, normals);
+  if (params.vertex_stride < 1)
+    throw std::invalid_argument("ray_cast_visibility: vertex_stride must be >= 1");
   scene.update(frame);
 
   const Index n_vertices = topology.num_vertices;
@@ -208,7 +212,8 @@ RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topolo
 }
 
 std::array<std::vector<double>, 2> ray_cast_sky_visibility(EmbreeScene& scene, const MeshTopology& topology,
-                                                           const Frame& frame, const std::vector<glm::dvec3>& normals,
+                                                           const Frame& frame,
+                                                           const std::vector<glm::dvec3>& normals,
                                                            const RayVisibilityParams& params) {
   return std::move(ray_cast_visibility(scene, topology, frame, normals, params).sky_visibility);
 }

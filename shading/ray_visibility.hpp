@@ -33,23 +33,22 @@
 // are decided by the one-ring test without a ray); 100k-vertex curtain ≈5 Mrays/s.
 #pragma once
 
-#include "shading/embree_scene.hpp"
-#include "sim_io/mesh.hpp"
-
-#include <glm/vec2.hpp>
-#include <glm/vec3.hpp>
-
 #include <array>
 #include <cstdint>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <span>
 #include <vector>
+
+#include "shading/embree_scene.hpp"
+#include "sim_io/mesh.hpp"
 
 namespace pleat {
 
 struct RayVisibilityParams {
   int rays_per_vertex = 256;  ///< K, per vertex and side (the ground truth uses 4096)
   std::uint64_t seed = 1;
-  bool parallel = true;       ///< TBB-parallel over vertices
+  bool parallel = true;  ///< TBB-parallel over vertices
   /// Estimate only vertices 0, s, 2s, ... (a ground truth on a sample of a large mesh); the others get NaN.
   Index vertex_stride = 1;
 };
@@ -58,25 +57,27 @@ struct RayVisibilityParams {
 struct RayVisibility {
   std::array<std::vector<double>, 2> sky_visibility;    ///< A estimate in [0,1]
   std::array<std::vector<glm::dvec3>, 2> bent_normals;  ///< unit; side axis if nothing escapes
-  std::uint64_t rays_cast = 0;                          ///< rays handed to Embree (locally blocked ones excluded)
+  std::uint64_t rays_cast = 0;  ///< rays handed to Embree (locally blocked ones excluded)
 };
 
 /// The preconditions shared by the per-vertex Embree estimators (ray casting, path tracing): `count` >= 1,
 /// one position and one normal per vertex, a scene built for this topology. Throws std::invalid_argument
 /// naming `who`.
-void check_vertex_estimator_inputs(const char* who, const char* count_name, int count, const EmbreeScene& scene,
-                                   const MeshTopology& topology, const Frame& frame,
+void check_vertex_estimator_inputs(const char* who, const char* count_name, int count,
+                                   const EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
                                    const std::vector<glm::dvec3>& normals);
 
 /// Estimates A and bent normals for every vertex and both sides of `frame`. Brings `scene` to `frame`
 /// first (a refit, free if it already holds it). `normals` are the unit vertex normals n(v) of `frame`
 /// (static_core's vertex_normals). Throws std::invalid_argument on size mismatches or K < 1.
 RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
-                                  const std::vector<glm::dvec3>& normals, const RayVisibilityParams& params = {});
+                                  const std::vector<glm::dvec3>& normals,
+                                  const RayVisibilityParams& params = {});
 
 /// A only: {A_front, A_back} per vertex. Same estimator as ray_cast_visibility.
 std::array<std::vector<double>, 2> ray_cast_sky_visibility(EmbreeScene& scene, const MeshTopology& topology,
-                                                           const Frame& frame, const std::vector<glm::dvec3>& normals,
+                                                           const Frame& frame,
+                                                           const std::vector<glm::dvec3>& normals,
                                                            const RayVisibilityParams& params = {});
 
 /// The one-ring of a vertex, prepared to tell on which side of the cloth a direction leaves the vertex
@@ -93,7 +94,7 @@ class VertexFan {
 
  private:
   struct Wedge {
-    glm::dvec3 sector_a;     // n × ea: w·(n × ea) = (ea × w)·n  (ea, eb: other corners − v, in winding order)
+    glm::dvec3 sector_a;  // n × ea: w·(n × ea) = (ea × w)·n  (ea, eb: other corners − v, in winding order)
     glm::dvec3 sector_b;     // eb × n: w·(eb × n) = (w × eb)·n
     glm::dvec3 unit_normal;  // (ea × eb) normalized: the input winding's front
     bool flipped;            // (ea × eb)·n < 0: w's projection is in the sector iff both dots are <= 0

@@ -1,11 +1,6 @@
 // render: camera helpers, Embree primary rays, PNG output, turntables, labelled side-by-side panels.
 #include "shading/render.hpp"
-#include "sim_io/srgb.hpp"
 
-#include "sim_io/atomic_file.hpp"
-#include "sim_io/mesh_validation.hpp"
-
-#include <glm/glm.hpp>
 #include <stb/stb_image_write.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -15,8 +10,13 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <glm/glm.hpp>
 #include <numbers>
 #include <stdexcept>
+
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/mesh_validation.hpp"
+#include "sim_io/srgb.hpp"
 
 namespace pleat {
 
@@ -24,7 +24,9 @@ namespace {
 
 double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
 
-std::uint8_t to_byte(double srgb) { return static_cast<std::uint8_t>(std::lround(std::clamp(srgb, 0.0, 1.0) * 255.0)); }
+std::uint8_t to_byte(double srgb) {
+  return static_cast<std::uint8_t>(std::lround(std::clamp(srgb, 0.0, 1.0) * 255.0));
+}
 
 /// Neutral background: light grey at the top to mid grey at the bottom (sRGB), returned in linear light.
 glm::dvec3 background(double v) {
@@ -32,11 +34,12 @@ glm::dvec3 background(double v) {
   return glm::dvec3(srgb_to_linear(srgb));
 }
 
-void validate_colours(std::size_t vertices, std::span<const glm::vec3> front, std::span<const glm::vec3> back) {
+void validate_colours(std::size_t vertices, std::span<const glm::vec3> front,
+                      std::span<const glm::vec3> back) {
   if (front.size() != vertices || back.size() != vertices)
     throw std::invalid_argument("render: " + std::to_string(front.size()) + " front and " +
-                                std::to_string(back.size()) + " back colours for " + std::to_string(vertices) +
-                                " vertices");
+                                std::to_string(back.size()) + " back colours for " +
+                                std::to_string(vertices) + " vertices");
 }
 
 // ---- 5×7 bitmap font: 7 rows per glyph, 5 bits per row, bit 4 = leftmost column. ----
@@ -51,8 +54,10 @@ constexpr std::uint8_t b(const char* s) {
   return v;
 }
 
-#define PLEAT_GLYPH(ch, r0, r1, r2, r3, r4, r5, r6) \
-  Glyph { ch, { b(r0), b(r1), b(r2), b(r3), b(r4), b(r5), b(r6) } }
+#define PLEAT_GLYPH(ch, r0, r1, r2, r3, r4, r5, r6)         \
+  Glyph {                                                   \
+    ch, { b(r0), b(r1), b(r2), b(r3), b(r4), b(r5), b(r6) } \
+  }
 
 const std::array kFont = {
     PLEAT_GLYPH(' ', "00000", "00000", "00000", "00000", "00000", "00000", "00000"),
@@ -131,14 +136,16 @@ Camera parse_camera(std::string_view text) {
     double value = 0.0;
     const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), value);
     if (field.empty() || error != std::errc() || end != field.data() + field.size() || !std::isfinite(value))
-      throw std::invalid_argument("--camera: field " + std::to_string(values.size() + 1) + " ('" + std::string(field) +
+      throw std::invalid_argument("--camera: field " + std::to_string(values.size() + 1) + " ('" +
+                                  std::string(field) +
                                   "') is not a number; expected ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov]");
     values.push_back(value);
     start = comma + 1;
   }
   if (values.size() != 9 && values.size() != 10)
-    throw std::invalid_argument("--camera: expected 9 or 10 numbers (ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov]), got " +
-                                std::to_string(values.size()));
+    throw std::invalid_argument(
+        "--camera: expected 9 or 10 numbers (ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov]), got " +
+        std::to_string(values.size()));
   Camera camera;
   camera.eye = {values[0], values[1], values[2]};
   camera.target = {values[3], values[4], values[5]};
@@ -293,8 +300,9 @@ Image render_image(const EmbreeScene& scene, const Frame& frame, std::span<const
             sum += (1.0 - hit.u - hit.v) * c[t[0]] + hit.u * c[t[1]] + hit.v * c[t[2]];
           }
         sum /= static_cast<double>(n * n);
-        image.set_pixel(x, y, {to_byte(linear_to_srgb(sum.x)), to_byte(linear_to_srgb(sum.y)),
-                               to_byte(linear_to_srgb(sum.z))});
+        image.set_pixel(
+            x, y,
+            {to_byte(linear_to_srgb(sum.x)), to_byte(linear_to_srgb(sum.y)), to_byte(linear_to_srgb(sum.z))});
       }
   };
   if (params.parallel)
@@ -318,13 +326,16 @@ Image render_image(const MeshTopology& topology, const Frame& frame, std::span<c
 }
 
 void write_png(const std::filesystem::path& path, const Image& image) {
-  if (image.width < 1 || image.height < 1 || image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3)
+  if (image.width < 1 || image.height < 1 ||
+      image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3)
     throw std::invalid_argument("write_png: " + path.string() + ": malformed image");
   std::string bytes;
   auto append = [](void* context, void* data, int size) {
-    static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<std::size_t>(size));
   };
-  if (stbi_write_png_to_func(append, &bytes, image.width, image.height, 3, image.rgb.data(), image.width * 3) == 0)
+  if (stbi_write_png_to_func(append, &bytes, image.width, image.height, 3, image.rgb.data(),
+                             image.width * 3) == 0)
     throw std::runtime_error(path.string() + ": PNG encoding failed");
   write_file_atomically(path, bytes);
 }
@@ -335,11 +346,12 @@ void render_png(const std::filesystem::path& path, const MeshTopology& topology,
   write_png(path, render_image(topology, frame, front_srgb, back_srgb, camera, width, height));
 }
 
-std::vector<std::filesystem::path> render_turntable(const std::filesystem::path& directory, const std::string& stem,
-                                                    const MeshTopology& topology, const Frame& frame,
+std::vector<std::filesystem::path> render_turntable(const std::filesystem::path& directory,
+                                                    const std::string& stem, const MeshTopology& topology,
+                                                    const Frame& frame,
                                                     const std::vector<glm::vec3>& front_srgb,
-                                                    const std::vector<glm::vec3>& back_srgb, const Camera& camera,
-                                                    int count, int width, int height) {
+                                                    const std::vector<glm::vec3>& back_srgb,
+                                                    const Camera& camera, int count, int width, int height) {
   validate_mesh(topology, frame, "render_turntable");
   if (count < 1) throw std::invalid_argument("render_turntable: count must be >= 1");
   validate_colours(topology.num_vertices, front_srgb, back_srgb);
@@ -352,13 +364,15 @@ std::vector<std::filesystem::path> render_turntable(const std::filesystem::path&
     char name[32];
     std::snprintf(name, sizeof name, "_%03d.png", i);
     const std::filesystem::path path = directory / (stem + name);
-    write_png(path, render_image(scene, frame, front_srgb, back_srgb, orbit(camera, 360.0 * i / count), width, height));
+    write_png(path, render_image(scene, frame, front_srgb, back_srgb, orbit(camera, 360.0 * i / count), width,
+                                 height));
     written.push_back(path);
   }
   return written;
 }
 
-// ---------------------------------------------------------------------------------------------- labels, panels
+// ---------------------------------------------------------------------------------------------- labels,
+// panels
 
 int text_width(std::string_view text, int scale) {
   return text.empty() ? 0 : (static_cast<int>(text.size()) * kGlyphAdvance - 1) * scale;

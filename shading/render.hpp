@@ -10,19 +10,18 @@
 // plus one BVH build. Files are written atomically (temporary sibling, then rename).
 #pragma once
 
-#include "shading/embree_scene.hpp"
-#include "sim_io/mesh.hpp"
-
-#include <glm/ext/vector_uint3_sized.hpp>
-#include <glm/vec3.hpp>
-
 #include <cstdint>
 #include <filesystem>
+#include <glm/ext/vector_uint3_sized.hpp>
+#include <glm/vec3.hpp>
 #include <limits>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "shading/embree_scene.hpp"
+#include "sim_io/mesh.hpp"
 
 namespace pleat {
 
@@ -54,8 +53,8 @@ struct AutoFrameParams {
   double azimuth_degrees = 30.0;    ///< turn about up, from `front`
   double elevation_degrees = 20.0;  ///< above the horizontal plane
   double fov_y_degrees = 35.0;
-  double aspect = 4.0 / 3.0;        ///< width / height of the image to fit
-  double margin = 1.05;             ///< > 1 leaves a border around the bounding sphere
+  double aspect = 4.0 / 3.0;  ///< width / height of the image to fit
+  double margin = 1.05;       ///< > 1 leaves a border around the bounding sphere
 };
 
 /// A 3/4 view that fits the bounding sphere of `bounds` (a frame, or a whole sequence so the camera stays
@@ -102,11 +101,12 @@ void render_png(const std::filesystem::path& path, const MeshTopology& topology,
 
 /// `count` images of one frame, the camera turned about the axis through its target along its up vector
 /// by 360°·i/count; written as DIRECTORY/STEM_000.png, ... Returns the paths written.
-std::vector<std::filesystem::path> render_turntable(const std::filesystem::path& directory, const std::string& stem,
-                                                    const MeshTopology& topology, const Frame& frame,
+std::vector<std::filesystem::path> render_turntable(const std::filesystem::path& directory,
+                                                    const std::string& stem, const MeshTopology& topology,
+                                                    const Frame& frame,
                                                     const std::vector<glm::vec3>& front_srgb,
-                                                    const std::vector<glm::vec3>& back_srgb, const Camera& camera,
-                                                    int count, int width, int height);
+                                                    const std::vector<glm::vec3>& back_srgb,
+                                                    const Camera& camera, int count, int width, int height);
 
 /// Camera `camera` turned by `degrees` about the vertical axis through its target (along camera.up).
 Camera orbit(const Camera& camera, double degrees);

@@ -1,19 +1,19 @@
 // shade_frame and tone mapping (see header).
 #include "shading/shade.hpp"
-#include "sim_io/srgb.hpp"
 
-#include "shading/cone_lighting.hpp"
-#include "sim_io/mesh_validation.hpp"
-
-#include <glm/common.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <glm/common.hpp>
 #include <stdexcept>
 #include <string>
+
+#include "shading/cone_lighting.hpp"
+#include "sim_io/mesh_validation.hpp"
+#include "sim_io/srgb.hpp"
 
 namespace pleat {
 
@@ -63,7 +63,8 @@ void shade_frame(const MeshTopology& topology, const Frame& frame, const FrameVi
   };
   const tbb::blocked_range<std::size_t> all(0, n, 256);
   if (params.parallel) {
-    tbb::parallel_for(all, [&](const tbb::blocked_range<std::size_t>& range) { shade_range(range, scratch.local()); });
+    tbb::parallel_for(
+        all, [&](const tbb::blocked_range<std::size_t>& range) { shade_range(range, scratch.local()); });
   } else {
     ConeLighting cone_lighting(lighting);
     shade_range(all, cone_lighting);

@@ -17,18 +17,17 @@
 //
 // Cost: O(sum of cone edges x lights) per frame at most, O(1) per vertex and side for uniform skies (A read
 // from FrameVisibility::measures); TBB-parallel over vertices, one ConeLighting (scratch) per thread: no
-// allocation per vertex once warm. Measured in bench/shading_bench.cpp (bench/results/shading.md). Preconditions: visibility was computed for this frame
-// (normals and cones sized to the topology's vertices).
+// allocation per vertex once warm. Measured in bench/shading_bench.cpp (bench/results/shading.md).
+// Preconditions: visibility was computed for this frame (normals and cones sized to the topology's vertices).
 #pragma once
+
+#include <array>
+#include <glm/vec3.hpp>
+#include <vector>
 
 #include "shading/lights.hpp"
 #include "sim_io/mesh.hpp"
 #include "static_core/visibility_cone.hpp"
-
-#include <glm/vec3.hpp>
-
-#include <array>
-#include <vector>
 
 namespace pleat {
 

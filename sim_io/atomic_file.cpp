@@ -1,14 +1,14 @@
 #include "sim_io/atomic_file.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <fcntl.h>
-#include <unistd.h>
 
 namespace pleat {
 
@@ -36,7 +36,8 @@ std::filesystem::path make_temporary_sibling(const std::filesystem::path& path) 
       ::close(fd);
       return candidate;
     }
-    if (errno != EEXIST) throw write_error(path, "cannot create a temporary file: " + std::string(std::strerror(errno)));
+    if (errno != EEXIST)
+      throw write_error(path, "cannot create a temporary file: " + std::string(std::strerror(errno)));
   }
   throw write_error(path, "cannot create a temporary file: too many name collisions");
 }
@@ -73,14 +74,16 @@ void AtomicFile::commit() {
   m_committed = true;
 }
 
-void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
+void write_file_atomically(const std::filesystem::path& path,
+                           const std::function<void(std::ostream&)>& write) {
   AtomicFile file(path);
   write(file.stream());
   file.commit();
 }
 
 void write_file_atomically(const std::filesystem::path& path, const std::string& content) {
-  write_file_atomically(path, [&](std::ostream& out) { out.write(content.data(), std::streamsize(content.size())); });
+  write_file_atomically(
+      path, [&](std::ostream& out) { out.write(content.data(), std::streamsize(content.size())); });
 }
 
 }  // namespace pleat

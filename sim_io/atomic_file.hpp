@@ -36,7 +36,8 @@ class AtomicFile {
 };
 
 /// Writes `path` atomically with the bytes `write` puts on the (binary) stream; rethrows what `write` throws.
-void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
+void write_file_atomically(const std::filesystem::path& path,
+                           const std::function<void(std::ostream&)>& write);
 
 /// Convenience: writes a whole byte/text buffer atomically.
 void write_file_atomically(const std::filesystem::path& path, const std::string& content);

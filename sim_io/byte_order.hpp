@@ -5,10 +5,9 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <glm/vec3.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 namespace pleat {
 
@@ -19,13 +18,19 @@ enum class ByteOrder { Little, Big };
 namespace pleat::bytes {
 
 inline std::uint32_t load_u32_le(const unsigned char* p) {
-  return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) | (std::uint32_t(p[3]) << 24);
+  return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) |
+         (std::uint32_t(p[3]) << 24);
 }
 inline std::uint32_t load_u32_be(const unsigned char* p) {
-  return std::uint32_t(p[3]) | (std::uint32_t(p[2]) << 8) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[0]) << 24);
+  return std::uint32_t(p[3]) | (std::uint32_t(p[2]) << 8) | (std::uint32_t(p[1]) << 16) |
+         (std::uint32_t(p[0]) << 24);
 }
-inline std::int32_t load_i32_le(const unsigned char* p) { return std::bit_cast<std::int32_t>(load_u32_le(p)); }
-inline std::int32_t load_i32_be(const unsigned char* p) { return std::bit_cast<std::int32_t>(load_u32_be(p)); }
+inline std::int32_t load_i32_le(const unsigned char* p) {
+  return std::bit_cast<std::int32_t>(load_u32_le(p));
+}
+inline std::int32_t load_i32_be(const unsigned char* p) {
+  return std::bit_cast<std::int32_t>(load_u32_be(p));
+}
 inline float load_f32_le(const unsigned char* p) { return std::bit_cast<float>(load_u32_le(p)); }
 inline float load_f32_be(const unsigned char* p) { return std::bit_cast<float>(load_u32_be(p)); }
 
@@ -35,8 +40,12 @@ inline void append_u32_le(std::string& out, std::uint32_t v) {
 inline void append_u32_be(std::string& out, std::uint32_t v) {
   for (int k = 3; k >= 0; --k) out.push_back(char((v >> (8 * k)) & 0xFF));
 }
-inline void append_i32_le(std::string& out, std::int32_t v) { append_u32_le(out, std::bit_cast<std::uint32_t>(v)); }
-inline void append_i32_be(std::string& out, std::int32_t v) { append_u32_be(out, std::bit_cast<std::uint32_t>(v)); }
+inline void append_i32_le(std::string& out, std::int32_t v) {
+  append_u32_le(out, std::bit_cast<std::uint32_t>(v));
+}
+inline void append_i32_be(std::string& out, std::int32_t v) {
+  append_u32_be(out, std::bit_cast<std::uint32_t>(v));
+}
 inline void append_f32_le(std::string& out, float v) { append_u32_le(out, std::bit_cast<std::uint32_t>(v)); }
 inline void append_f32_be(std::string& out, float v) { append_u32_be(out, std::bit_cast<std::uint32_t>(v)); }
 inline float load_f32(const unsigned char* p, ByteOrder order) {

@@ -1,15 +1,5 @@
 #include "sim_io/gltf_format.hpp"
-#include "sim_io/srgb.hpp"
 
-#include "sim_io/input_error.hpp"
-#include "sim_io/input_file.hpp"
-
-#include <glm/common.hpp>
-#include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/quaternion.hpp>
-#include <glm/gtc/type_ptr.hpp>
-#include <glm/mat4x4.hpp>
-#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -17,11 +7,21 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <glm/common.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
+
+#include "sim_io/input_error.hpp"
+#include "sim_io/input_file.hpp"
+#include "sim_io/srgb.hpp"
 
 namespace pleat {
 
@@ -35,7 +35,8 @@ constexpr int kModeTriangleFan = 6;
 
 std::string at_accessor(int index) { return "accessor " + std::to_string(index); }
 
-bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*,
+                  int, void*) {
   return true;  // pleat reads geometry only; images are neither decoded nor checked
 }
 
@@ -51,21 +52,28 @@ Model load_model(const std::filesystem::path& path) {
   std::string extension = path.extension().string();
   for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-  if (extension == ".glb" && !binary) throw InputError(file, "byte 0", "wrong magic: not a binary glTF (expected \"glTF\")");
-  if (bytes.size() > std::numeric_limits<unsigned int>::max()) throw InputError(file, "", "file too large (over 4 GB)");
+  if (extension == ".glb" && !binary)
+    throw InputError(file, "byte 0", "wrong magic: not a binary glTF (expected \"glTF\")");
+  if (bytes.size() > std::numeric_limits<unsigned int>::max())
+    throw InputError(file, "", "file too large (over 4 GB)");
   if (binary) {
     // Check the GLB framing ourselves for precise messages; tinygltf checks it again.
     if (bytes.size() < 20)
-      throw InputError(file, "byte " + std::to_string(bytes.size()), "truncated: a GLB needs a 12-byte header and a chunk");
-    if (load_u32(bytes, 4) != 2) throw InputError(file, "byte 4", "unsupported glTF container version " + std::to_string(load_u32(bytes, 4)));
+      throw InputError(file, "byte " + std::to_string(bytes.size()),
+                       "truncated: a GLB needs a 12-byte header and a chunk");
+    if (load_u32(bytes, 4) != 2)
+      throw InputError(file, "byte 4",
+                       "unsupported glTF container version " + std::to_string(load_u32(bytes, 4)));
     const std::uint64_t declared = load_u32(bytes, 8);
     if (declared > bytes.size())
       throw InputError(file, "byte " + std::to_string(bytes.size()),
                        "truncated: the GLB header announces " + std::to_string(declared) + " bytes");
     const std::uint64_t json_end = 20 + std::uint64_t(load_u32(bytes, 12));
-    if (load_u32(bytes, 16) != 0x4E4F534Au) throw InputError(file, "byte 16", "the first GLB chunk is not JSON");
+    if (load_u32(bytes, 16) != 0x4E4F534Au)
+      throw InputError(file, "byte 16", "the first GLB chunk is not JSON");
     if (json_end > declared)
-      throw InputError(file, "byte " + std::to_string(declared), "truncated: the JSON chunk runs past the end of the GLB");
+      throw InputError(file, "byte " + std::to_string(declared),
+                       "truncated: the JSON chunk runs past the end of the GLB");
   }
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(ignore_image, nullptr);
@@ -75,8 +83,10 @@ Model load_model(const std::filesystem::path& path) {
   bool ok = false;
   try {
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-    ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning, data, unsigned(bytes.size()), base_dir)
-                : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), unsigned(bytes.size()), base_dir);
+    ok = binary
+             ? loader.LoadBinaryFromMemory(&model, &error, &warning, data, unsigned(bytes.size()), base_dir)
+             : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), unsigned(bytes.size()),
+                                          base_dir);
   } catch (const std::exception& e) {
     throw InputError(file, "", std::string("invalid glTF: ") + e.what());
   }
@@ -92,7 +102,8 @@ void check_extensions(const Model& model, const std::string& file) {
   for (const std::string& name : model.extensionsRequired) {
     const bool appearance_only = name.rfind("KHR_materials_", 0) == 0 || name.rfind("KHR_texture_", 0) == 0 ||
                                  name == "KHR_lights_punctual" || name == "EXT_texture_webp";
-    if (!appearance_only) throw InputError(file, "extensionsRequired", "unsupported glTF feature: required extension " + name);
+    if (!appearance_only)
+      throw InputError(file, "extensionsRequired", "unsupported glTF feature: required extension " + name);
   }
 }
 
@@ -111,27 +122,33 @@ AccessorView view_accessor(const Model& m, int index, const std::string& file, c
     throw InputError(file, at_accessor(index), role + " refers to a missing accessor");
   const tinygltf::Accessor& a = m.accessors[std::size_t(index)];
   const std::string place = at_accessor(index);
-  if (a.sparse.isSparse) throw InputError(file, place, "unsupported glTF feature: sparse accessor (" + role + ")");
+  if (a.sparse.isSparse)
+    throw InputError(file, place, "unsupported glTF feature: sparse accessor (" + role + ")");
   if (a.bufferView < 0 || std::size_t(a.bufferView) >= m.bufferViews.size())
-    throw InputError(file, place, "unsupported glTF feature: accessor without a valid bufferView (" + role + ")");
+    throw InputError(file, place,
+                     "unsupported glTF feature: accessor without a valid bufferView (" + role + ")");
   const tinygltf::BufferView& bv = m.bufferViews[std::size_t(a.bufferView)];
   if (bv.buffer < 0 || std::size_t(bv.buffer) >= m.buffers.size())
-    throw InputError(file, place, "its bufferView " + std::to_string(a.bufferView) + " refers to a missing buffer");
+    throw InputError(file, place,
+                     "its bufferView " + std::to_string(a.bufferView) + " refers to a missing buffer");
   const tinygltf::Buffer& buffer = m.buffers[std::size_t(bv.buffer)];
   const int component_size = tinygltf::GetComponentSizeInBytes(std::uint32_t(a.componentType));
   const int components = tinygltf::GetNumComponentsInType(std::uint32_t(a.type));
-  if (component_size <= 0 || components <= 0) throw InputError(file, place, "unknown component type or element type");
+  if (component_size <= 0 || components <= 0)
+    throw InputError(file, place, "unknown component type or element type");
   const std::uint64_t element = std::uint64_t(component_size) * std::uint64_t(components);
   const std::uint64_t stride = bv.byteStride ? std::uint64_t(bv.byteStride) : element;
   if (stride < element) throw InputError(file, place, "byteStride smaller than the element size");
-  if (std::uint64_t(bv.byteOffset) > buffer.data.size() || std::uint64_t(bv.byteLength) > buffer.data.size() - bv.byteOffset)
+  if (std::uint64_t(bv.byteOffset) > buffer.data.size() ||
+      std::uint64_t(bv.byteLength) > buffer.data.size() - bv.byteOffset)
     throw InputError(file, "bufferView " + std::to_string(a.bufferView), "runs past the end of its buffer");
   if (a.count > 0) {
     const std::uint64_t count = a.count;
     if (count > (std::uint64_t(bv.byteLength) / stride) + 1 ||
         std::uint64_t(a.byteOffset) + stride * (count - 1) + element > bv.byteLength)
-      throw InputError(file, place, "its " + std::to_string(count) + " elements run past the end of bufferView " +
-                                        std::to_string(a.bufferView));
+      throw InputError(file, place,
+                       "its " + std::to_string(count) + " elements run past the end of bufferView " +
+                           std::to_string(a.bufferView));
   }
   AccessorView view;
   view.data = buffer.data.data() + bv.byteOffset + a.byteOffset;
@@ -152,8 +169,10 @@ float read_float(const AccessorView& v, std::size_t i, int c) {
       std::memcpy(&f, p + 4 * c, 4);
       return f;
     }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return float(p[c]) / 255.0f;
-    case TINYGLTF_COMPONENT_TYPE_BYTE: return std::max(float(static_cast<signed char>(p[c])) / 127.0f, -1.0f);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return float(p[c]) / 255.0f;
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return std::max(float(static_cast<signed char>(p[c])) / 127.0f, -1.0f);
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
       std::uint16_t s;
       std::memcpy(&s, p + 2 * c, 2);
@@ -164,19 +183,21 @@ float read_float(const AccessorView& v, std::size_t i, int c) {
       std::memcpy(&s, p + 2 * c, 2);
       return std::max(float(s) / 32767.0f, -1.0f);
     }
-    default: return std::numeric_limits<float>::quiet_NaN();
+    default:
+      return std::numeric_limits<float>::quiet_NaN();
   }
 }
 
-AccessorView float_accessor(const Model& m, int index, int type, bool allow_normalized, const std::string& file,
-                            const std::string& role) {
+AccessorView float_accessor(const Model& m, int index, int type, bool allow_normalized,
+                            const std::string& file, const std::string& role) {
   AccessorView v = view_accessor(m, index, file, role);
   const tinygltf::Accessor& a = m.accessors[std::size_t(index)];
   if (a.type != type) throw InputError(file, at_accessor(index), role + " has the wrong element type");
   const bool is_float = a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
   const bool is_normalized_int = a.normalized && a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
   if (!is_float && !(allow_normalized && is_normalized_int))
-    throw InputError(file, at_accessor(index), "unsupported glTF feature: " + role + " is not float (quantized data)");
+    throw InputError(file, at_accessor(index),
+                     "unsupported glTF feature: " + role + " is not float (quantized data)");
   return v;
 }
 
@@ -188,15 +209,20 @@ std::vector<std::uint32_t> read_indices(const Model& m, int index, const std::st
   for (std::size_t i = 0; i < v.count; ++i) {
     const unsigned char* p = v.data + i * v.stride;
     switch (v.component_type) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: out[i] = p[0]; break;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        out[i] = p[0];
+        break;
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
         std::uint16_t s;
         std::memcpy(&s, p, 2);
         out[i] = s;
         break;
       }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: std::memcpy(&out[i], p, 4); break;
-      default: throw InputError(file, at_accessor(index), "indices must be unsigned byte, short or int");
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+        std::memcpy(&out[i], p, 4);
+        break;
+      default:
+        throw InputError(file, at_accessor(index), "indices must be unsigned byte, short or int");
     }
   }
   return out;
@@ -204,8 +230,8 @@ std::vector<std::uint32_t> read_indices(const Model& m, int index, const std::st
 
 // The vertices and triangles of one glTF mesh: primitives sharing a POSITION accessor share vertices.
 struct MeshLayout {
-  std::vector<int> position_accessors;           // one slot per distinct POSITION accessor
-  std::vector<std::size_t> offsets;              // first vertex of each slot
+  std::vector<int> position_accessors;             // one slot per distinct POSITION accessor
+  std::vector<std::size_t> offsets;                // first vertex of each slot
   std::vector<std::vector<int>> target_accessors;  // [slot][target] morph POSITION accessor, or -1
   std::size_t num_targets = 0;
   std::size_t num_vertices = 0;
@@ -220,7 +246,8 @@ bool is_pleat_back_side(const tinygltf::Primitive& p) {
 
 MeshLayout layout_of_mesh(const Model& m, int mesh_index, const std::string& file) {
   const std::string mesh_place = "mesh " + std::to_string(mesh_index);
-  if (mesh_index < 0 || std::size_t(mesh_index) >= m.meshes.size()) throw InputError(file, mesh_place, "missing mesh");
+  if (mesh_index < 0 || std::size_t(mesh_index) >= m.meshes.size())
+    throw InputError(file, mesh_place, "missing mesh");
   const tinygltf::Mesh& mesh = m.meshes[std::size_t(mesh_index)];
   MeshLayout layout;
   bool targets_known = false;
@@ -234,18 +261,22 @@ MeshLayout layout_of_mesh(const Model& m, int mesh_index, const std::string& fil
     if (mode != kModeTriangles && mode != kModeTriangleStrip && mode != kModeTriangleFan) {
       static const char* const kNames[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
       const std::string name = mode >= 0 && mode < 4 ? kNames[mode] : "mode " + std::to_string(mode);
-      throw InputError(file, place, "unsupported glTF feature: primitive mode " + name + " (pleat reads triangles)");
+      throw InputError(file, place,
+                       "unsupported glTF feature: primitive mode " + name + " (pleat reads triangles)");
     }
     const auto position = prim.attributes.find("POSITION");
-    if (position == prim.attributes.end()) throw InputError(file, place, "primitive has no POSITION attribute");
-    const AccessorView positions = float_accessor(m, position->second, TINYGLTF_TYPE_VEC3, false, file, "POSITION");
+    if (position == prim.attributes.end())
+      throw InputError(file, place, "primitive has no POSITION attribute");
+    const AccessorView positions =
+        float_accessor(m, position->second, TINYGLTF_TYPE_VEC3, false, file, "POSITION");
     if (!targets_known) {
       layout.num_targets = prim.targets.size();
       targets_known = true;
     } else if (prim.targets.size() != layout.num_targets) {
       throw InputError(file, place, "primitives of one mesh have different numbers of morph targets");
     }
-    const auto existing = std::find(layout.position_accessors.begin(), layout.position_accessors.end(), position->second);
+    const auto existing =
+        std::find(layout.position_accessors.begin(), layout.position_accessors.end(), position->second);
     std::size_t slot = std::size_t(existing - layout.position_accessors.begin());
     if (existing == layout.position_accessors.end()) {
       layout.position_accessors.push_back(position->second);
@@ -256,16 +287,19 @@ MeshLayout layout_of_mesh(const Model& m, int mesh_index, const std::string& fil
         int accessor = -1;
         if (tp != prim.targets[t].end()) {
           accessor = tp->second;
-          const AccessorView target = float_accessor(m, accessor, TINYGLTF_TYPE_VEC3, true, file, "morph target POSITION");
+          const AccessorView target =
+              float_accessor(m, accessor, TINYGLTF_TYPE_VEC3, true, file, "morph target POSITION");
           if (target.count != positions.count)
-            throw InputError(file, at_accessor(accessor), "morph target has " + std::to_string(target.count) +
-                                                              " positions, its base has " + std::to_string(positions.count));
+            throw InputError(file, at_accessor(accessor),
+                             "morph target has " + std::to_string(target.count) +
+                                 " positions, its base has " + std::to_string(positions.count));
         }
         targets.push_back(accessor);
       }
       layout.target_accessors.push_back(std::move(targets));
       layout.num_vertices += positions.count;
-      if (layout.num_vertices > std::numeric_limits<Index>::max()) throw InputError(file, place, "too many vertices");
+      if (layout.num_vertices > std::numeric_limits<Index>::max())
+        throw InputError(file, place, "too many vertices");
     }
     std::vector<std::uint32_t> corners;
     if (prim.indices >= 0) {
@@ -273,8 +307,8 @@ MeshLayout layout_of_mesh(const Model& m, int mesh_index, const std::string& fil
       for (std::uint32_t c : corners)
         if (c >= positions.count)
           throw InputError(file, at_accessor(prim.indices),
-                           "index " + std::to_string(c) + " out of range (" + std::to_string(positions.count) +
-                               " vertices) in " + place);
+                           "index " + std::to_string(c) + " out of range (" +
+                               std::to_string(positions.count) + " vertices) in " + place);
     } else {
       corners.resize(positions.count);
       std::iota(corners.begin(), corners.end(), 0u);
@@ -285,12 +319,16 @@ MeshLayout layout_of_mesh(const Model& m, int mesh_index, const std::string& fil
     };
     if (mode == kModeTriangles) {
       if (corners.size() % 3 != 0)
-        throw InputError(file, place, "TRIANGLES primitive with " + std::to_string(corners.size()) + " indices (not a multiple of 3)");
+        throw InputError(
+            file, place,
+            "TRIANGLES primitive with " + std::to_string(corners.size()) + " indices (not a multiple of 3)");
       for (std::size_t i = 0; i + 2 < corners.size(); i += 3) add(corners[i], corners[i + 1], corners[i + 2]);
     } else if (mode == kModeTriangleStrip) {
       for (std::size_t i = 0; i + 2 < corners.size(); ++i)
-        if (i % 2 == 0) add(corners[i], corners[i + 1], corners[i + 2]);
-        else add(corners[i], corners[i + 2], corners[i + 1]);
+        if (i % 2 == 0)
+          add(corners[i], corners[i + 1], corners[i + 2]);
+        else
+          add(corners[i], corners[i + 2], corners[i + 1]);
     } else {
       for (std::size_t i = 1; i + 1 < corners.size(); ++i) add(corners[i], corners[i + 1], corners[0]);
     }
@@ -301,8 +339,10 @@ MeshLayout layout_of_mesh(const Model& m, int mesh_index, const std::string& fil
 glm::dmat4 local_matrix(const tinygltf::Node& n, const std::vector<double>* scale_override) {
   if (n.matrix.size() == 16) return glm::make_mat4(n.matrix.data());
   glm::dmat4 m(1.0);
-  if (n.translation.size() == 3) m = glm::translate(m, glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
-  if (n.rotation.size() == 4) m *= glm::mat4_cast(glm::dquat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]));
+  if (n.translation.size() == 3)
+    m = glm::translate(m, glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
+  if (n.rotation.size() == 4)
+    m *= glm::mat4_cast(glm::dquat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]));
   const std::vector<double>& s = scale_override ? *scale_override : n.scale;
   if (s.size() == 3) m = glm::scale(m, glm::dvec3(s[0], s[1], s[2]));
   return m;
@@ -341,11 +381,13 @@ std::vector<MeshNode> scene_mesh_nodes(const Model& m, const std::string& file) 
     if (item.node < 0 || std::size_t(item.node) >= m.nodes.size())
       throw InputError(file, "node " + std::to_string(item.node), "the scene refers to a missing node");
     if (visited[std::size_t(item.node)])
-      throw InputError(file, "node " + std::to_string(item.node), "node reached twice (cycle or shared child)");
+      throw InputError(file, "node " + std::to_string(item.node),
+                       "node reached twice (cycle or shared child)");
     visited[std::size_t(item.node)] = true;
     const tinygltf::Node& n = m.nodes[std::size_t(item.node)];
     if (n.mesh >= 0) {
-      if (n.skin >= 0) throw InputError(file, "node " + std::to_string(item.node), "unsupported glTF feature: skinned mesh");
+      if (n.skin >= 0)
+        throw InputError(file, "node " + std::to_string(item.node), "unsupported glTF feature: skinned mesh");
       out.push_back({item.node, item.parent_world});
     }
     const glm::dmat4 world = item.parent_world * local_matrix(n, nullptr);
@@ -354,7 +396,8 @@ std::vector<MeshNode> scene_mesh_nodes(const Model& m, const std::string& file) 
   return out;
 }
 
-std::vector<float> read_scalars(const Model& m, int accessor, const std::string& file, const std::string& role) {
+std::vector<float> read_scalars(const Model& m, int accessor, const std::string& file,
+                                const std::string& role) {
   const AccessorView v = float_accessor(m, accessor, TINYGLTF_TYPE_SCALAR, true, file, role);
   std::vector<float> out(v.count);
   for (std::size_t i = 0; i < v.count; ++i) out[i] = read_float(v, i, 0);
@@ -376,7 +419,8 @@ std::vector<float> read_key_times(const Model& m, int accessor, const std::strin
   std::vector<float> times = read_scalars(m, accessor, file, "animation input");
   if (times.empty()) throw InputError(file, at_accessor(accessor), "animation with no keyframes");
   for (std::size_t i = 0; i < times.size(); ++i) {
-    if (!std::isfinite(times[i])) throw InputError(file, at_accessor(accessor), "keyframe time is not finite");
+    if (!std::isfinite(times[i]))
+      throw InputError(file, at_accessor(accessor), "keyframe time is not finite");
     if (i > 0 && !(times[i] > times[i - 1]))
       throw InputError(file, at_accessor(accessor), "keyframe times do not increase strictly");
   }
@@ -392,9 +436,12 @@ struct Part {
 
 class GltfSource : public FrameSource {
  public:
-  GltfSource(std::string file, Model model, std::vector<MeshLayout> layouts, std::vector<std::vector<Part>> frames,
-             std::vector<double> times)
-      : m_file(std::move(file)), m_model(std::move(model)), m_layouts(std::move(layouts)), m_frames(std::move(frames)),
+  GltfSource(std::string file, Model model, std::vector<MeshLayout> layouts,
+             std::vector<std::vector<Part>> frames, std::vector<double> times)
+      : m_file(std::move(file)),
+        m_model(std::move(model)),
+        m_layouts(std::move(layouts)),
+        m_frames(std::move(frames)),
         m_times(std::move(times)) {}
 
   std::size_t num_frames() const override { return m_frames.size(); }
@@ -406,23 +453,27 @@ class GltfSource : public FrameSource {
       const std::size_t first = out.size();
       out.resize(first + layout.num_vertices);
       for (std::size_t slot = 0; slot < layout.position_accessors.size(); ++slot) {
-        const AccessorView base = float_accessor(m_model, layout.position_accessors[slot], TINYGLTF_TYPE_VEC3, false, m_file, "POSITION");
+        const AccessorView base = float_accessor(m_model, layout.position_accessors[slot], TINYGLTF_TYPE_VEC3,
+                                                 false, m_file, "POSITION");
         glm::dvec3* dst = out.data() + first + layout.offsets[slot];
         for (std::size_t v = 0; v < base.count; ++v)
           dst[v] = glm::dvec3(read_float(base, v, 0), read_float(base, v, 1), read_float(base, v, 2));
         for (std::size_t t = 0; t < layout.num_targets && t < part.weights.size(); ++t) {
           const int accessor = layout.target_accessors[slot][t];
           if (accessor < 0 || part.weights[t] == 0.0) continue;
-          const AccessorView target = float_accessor(m_model, accessor, TINYGLTF_TYPE_VEC3, true, m_file, "morph target POSITION");
+          const AccessorView target =
+              float_accessor(m_model, accessor, TINYGLTF_TYPE_VEC3, true, m_file, "morph target POSITION");
           for (std::size_t v = 0; v < target.count; ++v)
-            dst[v] += part.weights[t] * glm::dvec3(read_float(target, v, 0), read_float(target, v, 1), read_float(target, v, 2));
+            dst[v] += part.weights[t] * glm::dvec3(read_float(target, v, 0), read_float(target, v, 1),
+                                                   read_float(target, v, 2));
         }
         for (std::size_t v = 0; v < base.count; ++v) {
           dst[v] = glm::dvec3(part.world * glm::dvec4(dst[v], 1.0));
           if (!std::isfinite(dst[v].x) || !std::isfinite(dst[v].y) || !std::isfinite(dst[v].z))
             throw InputError(m_file,
-                             "frame " + std::to_string(i) + ", vertex " + std::to_string(first + layout.offsets[slot] + v) +
-                                 " (" + at_accessor(layout.position_accessors[slot]) + ")",
+                             "frame " + std::to_string(i) + ", vertex " +
+                                 std::to_string(first + layout.offsets[slot] + v) + " (" +
+                                 at_accessor(layout.position_accessors[slot]) + ")",
                              "non-finite position");
         }
       }
@@ -479,15 +530,18 @@ MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps) {
       if (values.size() != keys.size() * per_key)
         throw InputError(file, at_accessor(sampler.output),
                          "weights output has " + std::to_string(values.size()) + " values, expected " +
-                             std::to_string(keys.size() * per_key) + " (" + std::to_string(keys.size()) + " keys x " +
-                             std::to_string(layout.num_targets) + " targets" + (cubic ? " x 3" : "") + ")");
+                             std::to_string(keys.size() * per_key) + " (" + std::to_string(keys.size()) +
+                             " keys x " + std::to_string(layout.num_targets) + " targets" +
+                             (cubic ? " x 3" : "") + ")");
       const glm::dmat4 world = node_world(*mn, nullptr);
       layouts.push_back(std::move(layout));
       for (std::size_t k = 0; k < keys.size(); ++k) {
         Part part;
         part.world = world;
-        const std::size_t first = k * per_key + (cubic ? layouts[0].num_targets : 0);  // cubic: (in, value, out)
-        part.weights.assign(values.begin() + std::ptrdiff_t(first), values.begin() + std::ptrdiff_t(first + layouts[0].num_targets));
+        const std::size_t first =
+            k * per_key + (cubic ? layouts[0].num_targets : 0);  // cubic: (in, value, out)
+        part.weights.assign(values.begin() + std::ptrdiff_t(first),
+                            values.begin() + std::ptrdiff_t(first + layouts[0].num_targets));
         frames.push_back({std::move(part)});
         times.push_back(double(keys[k]));
       }
@@ -510,13 +564,15 @@ MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps) {
       std::map<int, std::pair<std::size_t, const tinygltf::AnimationChannel*>> found;
       for (const auto& channel : model.animations[a].channels)
         if (channel.target_path == "scale") found[channel.target_node] = {a, &channel};
-      if (std::all_of(mesh_nodes.begin(), mesh_nodes.end(), [&](const MeshNode& n) { return found.count(n.node) > 0; }))
+      if (std::all_of(mesh_nodes.begin(), mesh_nodes.end(),
+                      [&](const MeshNode& n) { return found.count(n.node) > 0; }))
         scale_channels = std::move(found);
     }
     std::vector<int> mesh_indices;
     for (const MeshNode& mn : mesh_nodes) mesh_indices.push_back(model.nodes[std::size_t(mn.node)].mesh);
     std::sort(mesh_indices.begin(), mesh_indices.end());
-    const bool distinct_meshes = std::adjacent_find(mesh_indices.begin(), mesh_indices.end()) == mesh_indices.end();
+    const bool distinct_meshes =
+        std::adjacent_find(mesh_indices.begin(), mesh_indices.end()) == mesh_indices.end();
     if (same && (scale_channels || distinct_meshes)) {
       struct FlipFrame {
         double time;
@@ -531,10 +587,12 @@ MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps) {
           const tinygltf::Animation& animation = model.animations[a];
           const auto& sampler = sampler_of(animation, int(a), *channel, file);
           const std::vector<float> keys = read_key_times(model, sampler.input, file);
-          const AccessorView values = float_accessor(model, sampler.output, TINYGLTF_TYPE_VEC3, true, file, "scale animation output");
+          const AccessorView values =
+              float_accessor(model, sampler.output, TINYGLTF_TYPE_VEC3, true, file, "scale animation output");
           const bool cubic = sampler.interpolation == "CUBICSPLINE";
           if (values.count != keys.size() * (cubic ? 3 : 1))
-            throw InputError(file, at_accessor(sampler.output), "scale output count does not match its keyframes");
+            throw InputError(file, at_accessor(sampler.output),
+                             "scale output count does not match its keyframes");
           bool visible = false;
           for (std::size_t k = 0; k < keys.size() && !visible; ++k) {
             const std::size_t e = cubic ? 3 * k + 1 : k;
@@ -551,12 +609,14 @@ MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps) {
         }
         order.push_back(std::move(f));
       }
-      std::stable_sort(order.begin(), order.end(), [](const FlipFrame& a, const FlipFrame& b) { return a.time < b.time; });
+      std::stable_sort(order.begin(), order.end(),
+                       [](const FlipFrame& a, const FlipFrame& b) { return a.time < b.time; });
       for (std::size_t j = 0; j < order.size(); ++j) {
         layouts.push_back(std::move(candidates[order[j].node]));
         Part part;
         part.layout = j;
-        part.world = node_world(mesh_nodes[order[j].node], order[j].scale.empty() ? nullptr : &order[j].scale);
+        part.world =
+            node_world(mesh_nodes[order[j].node], order[j].scale.empty() ? nullptr : &order[j].scale);
         frames.push_back({std::move(part)});
         times.push_back(order[j].time);
       }
@@ -584,13 +644,15 @@ MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps) {
   std::size_t num_vertices = 0;
   for (const Part& part : frames.front()) {
     for (const Triangle& t : layouts[part.layout].triangles)
-      triangles.push_back({Index(t[0] + num_vertices), Index(t[1] + num_vertices), Index(t[2] + num_vertices)});
+      triangles.push_back(
+          {Index(t[0] + num_vertices), Index(t[1] + num_vertices), Index(t[2] + num_vertices)});
     num_vertices += layouts[part.layout].num_vertices;
   }
   if (num_vertices == 0) throw InputError(file, "", "empty mesh: no vertices");
   if (num_vertices > std::numeric_limits<Index>::max()) throw InputError(file, "", "too many vertices");
   if (triangles.empty()) throw InputError(file, "", "empty mesh: no triangles");
-  auto source = std::make_unique<GltfSource>(file, std::move(model), std::move(layouts), std::move(frames), std::move(times));
+  auto source = std::make_unique<GltfSource>(file, std::move(model), std::move(layouts), std::move(frames),
+                                             std::move(times));
   return MeshSequence(file, std::move(triangles), Index(num_vertices), std::move(source));
 }
 
@@ -620,7 +682,8 @@ std::string frame_name(std::size_t frame) {
 }
 
 // Keyframes of flipbook node j out of n: visible (scale 1) from time j/fps to (j+1)/fps.
-void flipbook_keys(std::size_t j, std::size_t n, double fps, std::vector<float>& times, std::vector<float>& scales) {
+void flipbook_keys(std::size_t j, std::size_t n, double fps, std::vector<float>& times,
+                   std::vector<float>& scales) {
   times.clear();
   scales.clear();
   const auto key = [&](double t, float s) {
@@ -643,7 +706,8 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
                                  std::vector<std::size_t> frames, double fps)
     : m_sequence(sequence), m_frames(std::move(frames)), m_file(path) {
   if (m_frames.empty()) throw std::invalid_argument("ShadedGlbWriter: no frames");
-  if (!(fps > 0.0) || !std::isfinite(fps)) throw std::invalid_argument("ShadedGlbWriter: fps must be positive");
+  if (!(fps > 0.0) || !std::isfinite(fps))
+    throw std::invalid_argument("ShadedGlbWriter: fps must be positive");
   for (std::size_t f : m_frames)
     if (f >= sequence.num_frames()) throw std::invalid_argument("ShadedGlbWriter: frame index out of range");
   const MeshTopology& topology = sequence.topology();
@@ -654,12 +718,20 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
   using nlohmann::json;
 
   json accessors = json::array(), buffer_views = json::array(), meshes = json::array(), nodes = json::array();
-  buffer_views.push_back({{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 2 * index_bytes}, {"target", 34963}});
   buffer_views.push_back(
-      {{"buffer", 0}, {"byteOffset", 2 * index_bytes}, {"byteLength", F * frame_bytes}, {"byteStride", 12}, {"target", 34962}});
-  accessors.push_back({{"bufferView", 0}, {"byteOffset", 0}, {"componentType", 5125}, {"count", 3 * T}, {"type", "SCALAR"}});
+      {{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 2 * index_bytes}, {"target", 34963}});
+  buffer_views.push_back({{"buffer", 0},
+                          {"byteOffset", 2 * index_bytes},
+                          {"byteLength", F * frame_bytes},
+                          {"byteStride", 12},
+                          {"target", 34962}});
   accessors.push_back(
-      {{"bufferView", 0}, {"byteOffset", index_bytes}, {"componentType", 5125}, {"count", 3 * T}, {"type", "SCALAR"}});
+      {{"bufferView", 0}, {"byteOffset", 0}, {"componentType", 5125}, {"count", 3 * T}, {"type", "SCALAR"}});
+  accessors.push_back({{"bufferView", 0},
+                       {"byteOffset", index_bytes},
+                       {"componentType", 5125},
+                       {"count", 3 * T},
+                       {"type", "SCALAR"}});
   json children = json::array();
   for (std::size_t j = 0; j < F; ++j) {
     // Exact float bounds of the positions as they will be stored.
@@ -672,12 +744,31 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
     }
     const std::uint64_t offset = j * frame_bytes;
     const std::size_t position = accessors.size();
-    accessors.push_back({{"bufferView", 1}, {"byteOffset", offset}, {"componentType", 5126}, {"count", V}, {"type", "VEC3"},
-                         {"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}});
-    accessors.push_back({{"bufferView", 1}, {"byteOffset", offset + 12 * V}, {"componentType", 5126}, {"count", V}, {"type", "VEC3"}});
-    accessors.push_back({{"bufferView", 1}, {"byteOffset", offset + 24 * V}, {"componentType", 5126}, {"count", V}, {"type", "VEC3"}});
-    json front = {{"attributes", {{"POSITION", position}, {"COLOR_0", position + 1}}}, {"indices", 0}, {"material", 0}, {"mode", 4}};
-    json back = {{"attributes", {{"POSITION", position}, {"COLOR_0", position + 2}}}, {"indices", 1}, {"material", 0}, {"mode", 4},
+    accessors.push_back({{"bufferView", 1},
+                         {"byteOffset", offset},
+                         {"componentType", 5126},
+                         {"count", V},
+                         {"type", "VEC3"},
+                         {"min", {lo.x, lo.y, lo.z}},
+                         {"max", {hi.x, hi.y, hi.z}}});
+    accessors.push_back({{"bufferView", 1},
+                         {"byteOffset", offset + 12 * V},
+                         {"componentType", 5126},
+                         {"count", V},
+                         {"type", "VEC3"}});
+    accessors.push_back({{"bufferView", 1},
+                         {"byteOffset", offset + 24 * V},
+                         {"componentType", 5126},
+                         {"count", V},
+                         {"type", "VEC3"}});
+    json front = {{"attributes", {{"POSITION", position}, {"COLOR_0", position + 1}}},
+                  {"indices", 0},
+                  {"material", 0},
+                  {"mode", 4}};
+    json back = {{"attributes", {{"POSITION", position}, {"COLOR_0", position + 2}}},
+                 {"indices", 1},
+                 {"material", 0},
+                 {"mode", 4},
                  {"extras", {{"pleat_side", "back"}}}};
     meshes.push_back({{"name", frame_name(m_frames[j])}, {"primitives", {front, back}}});
     const double visible = j == 0 ? 1.0 : 0.0;
@@ -685,12 +776,15 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
     children.push_back(j + 1);
   }
   json all_nodes = json::array();
-  all_nodes.push_back({{"name", sequence.name().empty() ? std::string("pleat") : std::filesystem::path(sequence.name()).stem().string()},
-                       {"children", children}});
+  all_nodes.push_back(
+      {{"name", sequence.name().empty() ? std::string("pleat")
+                                        : std::filesystem::path(sequence.name()).stem().string()},
+       {"children", children}});
   for (json& node : nodes) all_nodes.push_back(std::move(node));
 
   json document = {
-      {"asset", {{"version", "2.0"}, {"generator", "pleat (flipbook: one node per frame, STEP scale visibility)"}}},
+      {"asset",
+       {{"version", "2.0"}, {"generator", "pleat (flipbook: one node per frame, STEP scale visibility)"}}},
       {"extensionsUsed", {"KHR_materials_unlit"}},
       {"scene", 0},
       {"scenes", {{{"nodes", {0}}}}},
@@ -698,7 +792,8 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
       {"meshes", meshes},
       {"materials",
        {{{"name", "pleat_shaded"},
-         {"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
+         {"pbrMetallicRoughness",
+          {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
          {"extensions", {{"KHR_materials_unlit", json::object()}}}}}},
   };
 
@@ -711,10 +806,18 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
       flipbook_keys(j, F, fps, times, scales);
       const std::size_t input = accessors.size();
       const std::uint64_t at = m_tail.size();
-      accessors.push_back({{"bufferView", 2}, {"byteOffset", at}, {"componentType", 5126}, {"count", times.size()},
-                           {"type", "SCALAR"}, {"min", {times.front()}}, {"max", {times.back()}}});
-      accessors.push_back({{"bufferView", 2}, {"byteOffset", at + 4 * times.size()}, {"componentType", 5126},
-                           {"count", times.size()}, {"type", "VEC3"}});
+      accessors.push_back({{"bufferView", 2},
+                           {"byteOffset", at},
+                           {"componentType", 5126},
+                           {"count", times.size()},
+                           {"type", "SCALAR"},
+                           {"min", {times.front()}},
+                           {"max", {times.back()}}});
+      accessors.push_back({{"bufferView", 2},
+                           {"byteOffset", at + 4 * times.size()},
+                           {"componentType", 5126},
+                           {"count", times.size()},
+                           {"type", "VEC3"}});
       const auto append = [&](const std::vector<float>& v) {
         const auto* b = reinterpret_cast<const unsigned char*>(v.data());
         m_tail.insert(m_tail.end(), b, b + v.size() * sizeof(float));
@@ -737,7 +840,8 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
   while (json_text.size() % 4 != 0) json_text.push_back(' ');
   const std::uint64_t total = 12 + 8 + json_text.size() + 8 + bin_bytes;
   if (total > std::numeric_limits<std::uint32_t>::max())
-    throw std::runtime_error(path.string() + ": the shaded sequence exceeds the 4 GB GLB limit; write fewer frames");
+    throw std::runtime_error(path.string() +
+                             ": the shaded sequence exceeds the 4 GB GLB limit; write fewer frames");
   std::ostream& out = m_file.stream();
   put_u32(out, kGlbMagic);
   put_u32(out, 2);
@@ -758,20 +862,24 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
 
 ShadedGlbWriter::~ShadedGlbWriter() = default;
 
-void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& front_srgb, const std::vector<glm::vec3>& back_srgb) {
-  if (m_next >= m_frames.size()) throw std::logic_error("ShadedGlbWriter::add_frame: more frames than announced");
+void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& front_srgb,
+                                const std::vector<glm::vec3>& back_srgb) {
+  if (m_next >= m_frames.size())
+    throw std::logic_error("ShadedGlbWriter::add_frame: more frames than announced");
   const Index V = m_sequence.topology().num_vertices;
   if (front_srgb.size() != V || back_srgb.size() != V)
     throw std::invalid_argument("ShadedGlbWriter::add_frame: one colour per welded vertex and side");
   const Frame frame = m_sequence.frame(m_frames[m_next]);
   std::vector<float> values;
   values.reserve(3 * std::size_t(V));
-  for (const glm::dvec3& p : frame.positions) values.insert(values.end(), {float(p.x), float(p.y), float(p.z)});
+  for (const glm::dvec3& p : frame.positions)
+    values.insert(values.end(), {float(p.x), float(p.y), float(p.z)});
   std::ostream& out = m_file.stream();
   put_floats(out, values);
   for (const auto* colours : {&front_srgb, &back_srgb}) {
     values.clear();
-    for (const glm::vec3& c : *colours) values.insert(values.end(), {srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b)});
+    for (const glm::vec3& c : *colours)
+      values.insert(values.end(), {srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b)});
     put_floats(out, values);
   }
   ++m_next;
@@ -779,14 +887,15 @@ void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& front_srgb, const 
 
 void ShadedGlbWriter::finish() {
   if (m_next != m_frames.size())
-    throw std::logic_error("ShadedGlbWriter::finish: " + std::to_string(m_next) + " of " + std::to_string(m_frames.size()) +
-                           " frames added");
+    throw std::logic_error("ShadedGlbWriter::finish: " + std::to_string(m_next) + " of " +
+                           std::to_string(m_frames.size()) + " frames added");
   m_file.stream().write(reinterpret_cast<const char*>(m_tail.data()), std::streamsize(m_tail.size()));
   m_file.commit();
 }
 
 void write_shaded_glb(const std::filesystem::path& path, const MeshSequence& sequence,
-                      const std::vector<std::size_t>& frames, const std::vector<std::vector<glm::vec3>>& front_srgb,
+                      const std::vector<std::size_t>& frames,
+                      const std::vector<std::vector<glm::vec3>>& front_srgb,
                       const std::vector<std::vector<glm::vec3>>& back_srgb, double fps) {
   if (front_srgb.size() != frames.size() || back_srgb.size() != frames.size())
     throw std::invalid_argument("write_shaded_glb: one colour set per frame and side");

@@ -36,14 +36,13 @@
 // and an emission (unlit) material.
 #pragma once
 
-#include "sim_io/atomic_file.hpp"
-#include "sim_io/mesh_sequence.hpp"
-
-#include <glm/vec3.hpp>
-
 #include <cstddef>
 #include <filesystem>
+#include <glm/vec3.hpp>
 #include <vector>
+
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/mesh_sequence.hpp"
 
 namespace pleat {
 
@@ -55,8 +54,8 @@ MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps = kDe
 /// the file atomically. Destroyed before finish(), nothing is left on disk. Frame j plays at time j / fps.
 class ShadedGlbWriter {
  public:
-  ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence, std::vector<std::size_t> frames,
-                  double fps);
+  ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
+                  std::vector<std::size_t> frames, double fps);
   ~ShadedGlbWriter();
   ShadedGlbWriter(const ShadedGlbWriter&) = delete;
   ShadedGlbWriter& operator=(const ShadedGlbWriter&) = delete;
@@ -76,8 +75,8 @@ class ShadedGlbWriter {
 
 /// One-shot form: front_srgb[j] / back_srgb[j] colour frames[j] (per welded vertex).
 void write_shaded_glb(const std::filesystem::path& path, const MeshSequence& sequence,
-                      const std::vector<std::size_t>& frames, const std::vector<std::vector<glm::vec3>>& front_srgb,
+                      const std::vector<std::size_t>& frames,
+                      const std::vector<std::vector<glm::vec3>>& front_srgb,
                       const std::vector<std::vector<glm::vec3>>& back_srgb, double fps);
-
 
 }  // namespace pleat

@@ -2,13 +2,13 @@
 // the whole file (text formats), its size, or a byte range (binary caches read frame by frame).
 #pragma once
 
-#include "sim_io/byte_order.hpp"
-
 #include <cstdint>
 #include <filesystem>
 #include <glm/vec3.hpp>
 #include <string>
 #include <vector>
+
+#include "sim_io/byte_order.hpp"
 
 namespace pleat {
 

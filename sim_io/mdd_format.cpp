@@ -1,13 +1,13 @@
 #include "sim_io/mdd_format.hpp"
 
-#include "sim_io/atomic_file.hpp"
-#include "sim_io/input_file.hpp"
-#include "sim_io/byte_order.hpp"
-#include "sim_io/input_error.hpp"
-
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/byte_order.hpp"
+#include "sim_io/input_error.hpp"
+#include "sim_io/input_file.hpp"
 
 namespace pleat {
 
@@ -17,7 +17,8 @@ std::string at_byte(std::uint64_t offset) { return "byte " + std::to_string(offs
 
 class MddSource : public FrameSource {
  public:
-  MddSource(std::filesystem::path path, MddHeader header) : m_path(std::move(path)), m_header(std::move(header)) {}
+  MddSource(std::filesystem::path path, MddHeader header)
+      : m_path(std::move(path)), m_header(std::move(header)) {}
 
   std::size_t num_frames() const override { return std::size_t(m_header.num_frames); }
   double frame_time(std::size_t i) const override { return m_header.times.at(i); }
@@ -37,32 +38,40 @@ class MddSource : public FrameSource {
 MddHeader read_mdd_header(const std::filesystem::path& path) {
   const std::string file = path.string();
   const std::uint64_t size = file_size_or_throw(path);
-  if (size < 8) throw InputError(file, at_byte(size), "truncated: the MDD header needs 8 bytes, the file has " + std::to_string(size));
+  if (size < 8)
+    throw InputError(file, at_byte(size),
+                     "truncated: the MDD header needs 8 bytes, the file has " + std::to_string(size));
   const std::string head = read_file_bytes(path, 0, 8);
   const auto* p = reinterpret_cast<const unsigned char*>(head.data());
   MddHeader header;
   header.num_frames = bytes::load_i32_be(p);
   header.num_points = bytes::load_i32_be(p + 4);
   if (header.num_frames <= 0)
-    throw InputError(file, at_byte(0), "frameCount is " + std::to_string(header.num_frames) + ", must be positive (is this an MDD file?)");
+    throw InputError(
+        file, at_byte(0),
+        "frameCount is " + std::to_string(header.num_frames) + ", must be positive (is this an MDD file?)");
   if (header.num_points <= 0)
-    throw InputError(file, at_byte(4), "vertCount is " + std::to_string(header.num_points) + ", must be positive");
+    throw InputError(file, at_byte(4),
+                     "vertCount is " + std::to_string(header.num_points) + ", must be positive");
   const auto frames = std::uint64_t(header.num_frames);
   const std::uint64_t expected = 8 + 4 * frames + frames * std::uint64_t(header.num_points) * 12;
   if (size < expected)
     throw InputError(file, at_byte(size),
-                     "truncated: " + std::to_string(frames) + " frames of " + std::to_string(header.num_points) +
-                         " points need " + std::to_string(expected) + " bytes, the file has " + std::to_string(size));
+                     "truncated: " + std::to_string(frames) + " frames of " +
+                         std::to_string(header.num_points) + " points need " + std::to_string(expected) +
+                         " bytes, the file has " + std::to_string(size));
   if (size > expected)
     throw InputError(file, at_byte(expected),
-                     std::to_string(size - expected) + " unexpected bytes after the last frame (header says " +
-                         std::to_string(frames) + " frames of " + std::to_string(header.num_points) + " points)");
+                     std::to_string(size - expected) +
+                         " unexpected bytes after the last frame (header says " + std::to_string(frames) +
+                         " frames of " + std::to_string(header.num_points) + " points)");
   const std::string time_bytes = read_file_bytes(path, 8, 4 * frames);
   const auto* t = reinterpret_cast<const unsigned char*>(time_bytes.data());
   header.times.resize(frames);
   for (std::uint64_t i = 0; i < frames; ++i) {
     const float time = bytes::load_f32_be(t + 4 * i);
-    if (!std::isfinite(time)) throw InputError(file, at_byte(8 + 4 * i), "time of frame " + std::to_string(i) + " is not finite");
+    if (!std::isfinite(time))
+      throw InputError(file, at_byte(8 + 4 * i), "time of frame " + std::to_string(i) + " is not finite");
     if (i > 0 && !(double(time) > header.times[i - 1]))
       throw InputError(file, at_byte(8 + 4 * i), "time of frame " + std::to_string(i) + " does not increase");
     header.times[i] = double(time);

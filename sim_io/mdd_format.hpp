@@ -7,14 +7,13 @@
 // read_frame(i) reads one frame on demand (O(vertCount)).
 #pragma once
 
-#include "sim_io/mesh_sequence.hpp"
-
-#include <glm/vec3.hpp>
-
 #include <cstdint>
 #include <filesystem>
+#include <glm/vec3.hpp>
 #include <memory>
 #include <vector>
+
+#include "sim_io/mesh_sequence.hpp"
 
 namespace pleat {
 

@@ -4,10 +4,9 @@
 // sequence, a Frame holds one instant's positions. Algorithms take (const MeshTopology&, const Frame&).
 #pragma once
 
-#include <glm/vec3.hpp>
-
 #include <array>
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <vector>
 
 namespace pleat {

@@ -1,9 +1,9 @@
 #include "sim_io/mesh_report.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <glm/common.hpp>
 
 #include <algorithm>
+#include <glm/common.hpp>
 #include <limits>
 #include <numeric>
 #include <vector>
@@ -77,8 +77,10 @@ TopologyCounts count_topology(const MeshTopology& topology) {
     i = j;
   }
   for (Index v = 0; v < n; ++v) {
-    if (!used[v]) ++counts.isolated_vertices;
-    else if (faces.find(v) == v) ++counts.components;
+    if (!used[v])
+      ++counts.isolated_vertices;
+    else if (faces.find(v) == v)
+      ++counts.components;
     if (on_boundary[v] && boundary.find(v) == v) ++counts.boundary_loops;
   }
   return counts;
@@ -88,13 +90,15 @@ std::size_t count_degenerate_faces(const MeshTopology& topology, const Frame& fr
   std::size_t count = 0;
   for (const Triangle& t : topology.triangles) {
     const glm::dvec3 &a = frame.positions[t[0]], &b = frame.positions[t[1]], &c = frame.positions[t[2]];
-    if (CGAL::collinear(Kernel::Point_3(a.x, a.y, a.z), Kernel::Point_3(b.x, b.y, b.z), Kernel::Point_3(c.x, c.y, c.z)))
+    if (CGAL::collinear(Kernel::Point_3(a.x, a.y, a.z), Kernel::Point_3(b.x, b.y, b.z),
+                        Kernel::Point_3(c.x, c.y, c.z)))
       ++count;
   }
   return count;
 }
 
-MeshReport report_mesh(const MeshSequence& sequence, const std::function<void(std::size_t, const Frame&)>& per_frame) {
+MeshReport report_mesh(const MeshSequence& sequence,
+                       const std::function<void(std::size_t, const Frame&)>& per_frame) {
   MeshReport r;
   r.input_vertices = sequence.num_input_vertices();
   r.welded_vertices = sequence.topology().num_vertices;

@@ -7,24 +7,25 @@
 // every frame once.
 #pragma once
 
-#include "sim_io/mesh.hpp"
-#include "sim_io/mesh_sequence.hpp"
-
-#include <glm/vec3.hpp>
-
 #include <cstddef>
 #include <functional>
+#include <glm/vec3.hpp>
+
+#include "sim_io/mesh.hpp"
+#include "sim_io/mesh_sequence.hpp"
 
 namespace pleat {
 
 struct TopologyCounts {
-  std::size_t edges = 0;               ///< undirected edges
-  std::size_t boundary_edges = 0;      ///< edges of exactly one face
-  std::size_t boundary_loops = 0;      ///< connected components of the boundary edges (loops touching at a vertex count once)
+  std::size_t edges = 0;           ///< undirected edges
+  std::size_t boundary_edges = 0;  ///< edges of exactly one face
+  std::size_t boundary_loops =
+      0;  ///< connected components of the boundary edges (loops touching at a vertex count once)
   std::size_t non_manifold_edges = 0;  ///< edges of three or more faces
-  std::size_t inconsistent_edges = 0;  ///< edges of two faces that traverse it in the same direction (flipped winding)
-  std::size_t isolated_vertices = 0;   ///< vertices of no face
-  std::size_t components = 0;          ///< connected components of faces (sharing a vertex connects)
+  std::size_t inconsistent_edges =
+      0;  ///< edges of two faces that traverse it in the same direction (flipped winding)
+  std::size_t isolated_vertices = 0;  ///< vertices of no face
+  std::size_t components = 0;         ///< connected components of faces (sharing a vertex connects)
 };
 
 TopologyCounts count_topology(const MeshTopology& topology);
@@ -35,18 +36,18 @@ std::size_t count_degenerate_faces(const MeshTopology& topology, const Frame& fr
 struct MeshReport {
   Index input_vertices = 0;
   Index welded_vertices = 0;
-  std::size_t welded_duplicates = 0;   ///< input vertices merged into another
-  std::size_t input_faces = 0;         ///< input triangles (polygons fan-triangulated)
-  std::size_t faces = 0;               ///< triangles of the welded mesh
-  std::size_t removed_faces = 0;       ///< collapsed or repeated after welding (MeshSequence::removed_faces)
+  std::size_t welded_duplicates = 0;  ///< input vertices merged into another
+  std::size_t input_faces = 0;        ///< input triangles (polygons fan-triangulated)
+  std::size_t faces = 0;              ///< triangles of the welded mesh
+  std::size_t removed_faces = 0;      ///< collapsed or repeated after welding (MeshSequence::removed_faces)
   std::size_t frames = 0;
-  double frame_rate = 0.0;             ///< frames per second (0 for one frame)
-  double start_time = 0.0;             ///< seconds
-  double duration = 0.0;               ///< seconds
+  double frame_rate = 0.0;                  ///< frames per second (0 for one frame)
+  double start_time = 0.0;                  ///< seconds
+  double duration = 0.0;                    ///< seconds
   glm::dvec3 bbox_min{0.0}, bbox_max{0.0};  ///< over all frames
   TopologyCounts topology;
   std::size_t degenerate_faces_first_frame = 0;
-  std::size_t degenerate_faces_max = 0;        ///< over frames
+  std::size_t degenerate_faces_max = 0;  ///< over frames
   std::size_t frames_with_degenerate_faces = 0;
 };
 

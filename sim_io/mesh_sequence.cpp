@@ -1,12 +1,5 @@
 #include "sim_io/mesh_sequence.hpp"
 
-#include "sim_io/gltf_format.hpp"
-#include "sim_io/input_error.hpp"
-#include "sim_io/mdd_format.hpp"
-#include "sim_io/obj_format.hpp"
-#include "sim_io/obj_sequence.hpp"
-#include "sim_io/pc2_format.hpp"
-
 #include <algorithm>
 #include <bit>
 #include <cctype>
@@ -14,6 +7,13 @@
 #include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
+
+#include "sim_io/gltf_format.hpp"
+#include "sim_io/input_error.hpp"
+#include "sim_io/mdd_format.hpp"
+#include "sim_io/obj_format.hpp"
+#include "sim_io/obj_sequence.hpp"
+#include "sim_io/pc2_format.hpp"
 
 namespace pleat {
 
@@ -57,8 +57,8 @@ std::string frame_place(std::size_t i) { return "frame " + std::to_string(i); }
 void check_frame_size(const std::string& name, std::size_t frame, std::size_t got, Index expected) {
   if (got != expected)
     throw InputError(name, frame_place(frame),
-                     "vertex-count mismatch: the frame has " + std::to_string(got) + " vertices, the mesh has " +
-                         std::to_string(expected));
+                     "vertex-count mismatch: the frame has " + std::to_string(got) +
+                         " vertices, the mesh has " + std::to_string(expected));
 }
 
 std::string lower_extension(const std::filesystem::path& p) {
@@ -69,7 +69,8 @@ std::string lower_extension(const std::filesystem::path& p) {
 
 }  // namespace
 
-std::unique_ptr<FrameSource> make_memory_source(std::vector<std::vector<glm::dvec3>> frames, std::vector<double> times) {
+std::unique_ptr<FrameSource> make_memory_source(std::vector<std::vector<glm::dvec3>> frames,
+                                                std::vector<double> times) {
   if (frames.size() != times.size()) throw std::invalid_argument("make_memory_source: one time per frame");
   return std::make_unique<MemorySource>(std::move(frames), std::move(times));
 }
@@ -98,8 +99,8 @@ MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangl
     for (Index v : input_triangles[f])
       if (v >= num_input_vertices)
         throw InputError(n, "face " + std::to_string(f),
-                         "vertex index " + std::to_string(v) + " out of range (" + std::to_string(num_input_vertices) +
-                             " vertices)");
+                         "vertex index " + std::to_string(v) + " out of range (" +
+                             std::to_string(num_input_vertices) + " vertices)");
   const std::size_t num_frames = frames->num_frames();
   if (num_frames == 0) throw InputError(n, "", "no frames");
   impl->times.resize(num_frames);
@@ -154,7 +155,8 @@ MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangl
   std::unordered_set<Triangle, TripleHash> seen;
   seen.reserve(input_triangles.size());
   for (const Triangle& t : input_triangles) {
-    const Triangle w = {impl->welded_of_input[t[0]], impl->welded_of_input[t[1]], impl->welded_of_input[t[2]]};
+    const Triangle w = {impl->welded_of_input[t[0]], impl->welded_of_input[t[1]],
+                        impl->welded_of_input[t[2]]};
     Triangle sorted = w;
     std::sort(sorted.begin(), sorted.end());
     if (sorted[0] == sorted[1] || sorted[1] == sorted[2] || !seen.insert(sorted).second) {
@@ -163,7 +165,8 @@ MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangl
     }
     impl->topology.triangles.push_back(w);
   }
-  if (impl->topology.triangles.empty()) throw InputError(n, "", "empty mesh: every face collapses after welding");
+  if (impl->topology.triangles.empty())
+    throw InputError(n, "", "empty mesh: every face collapses after welding");
   impl->input_triangles = std::move(input_triangles);
   impl->num_input_vertices = num_input_vertices;
   impl->source = std::move(frames);
@@ -176,7 +179,8 @@ MeshSequence::MeshSequence(std::string name, MeshTopology topology, std::vector<
   if (frames.empty()) throw std::invalid_argument("MeshSequence: no frames");
   for (const Triangle& t : topology.triangles)
     for (Index v : t)
-      if (v >= topology.num_vertices) throw std::invalid_argument("MeshSequence: triangle index out of range");
+      if (v >= topology.num_vertices)
+        throw std::invalid_argument("MeshSequence: triangle index out of range");
   std::vector<std::vector<glm::dvec3>> positions;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     if (frames[i].positions.size() != topology.num_vertices)
@@ -210,7 +214,8 @@ double MeshSequence::frame_time(std::size_t i) const { return m_impl->times.at(i
 double MeshSequence::duration() const { return m_impl->times.back() - m_impl->times.front(); }
 
 std::vector<glm::dvec3> MeshSequence::input_positions(std::size_t i) const {
-  if (i >= num_frames()) throw std::out_of_range("MeshSequence: frame " + std::to_string(i) + " out of range");
+  if (i >= num_frames())
+    throw std::out_of_range("MeshSequence: frame " + std::to_string(i) + " out of range");
   std::vector<glm::dvec3> positions = m_impl->source->read_frame(i);
   check_frame_size(m_impl->name, i, positions.size(), m_impl->num_input_vertices);
   return positions;
@@ -247,25 +252,29 @@ MeshSequence load_sequence(const std::filesystem::path& input, const std::filesy
   const std::string extension = lower_extension(input);
 
   if (is_directory || is_frame_pattern(name)) {
-    if (!cache.empty()) throw InputError(cache.string(), "", "a cache goes with a single .obj, not with an OBJ sequence");
+    if (!cache.empty())
+      throw InputError(cache.string(), "", "a cache goes with a single .obj, not with an OBJ sequence");
     const auto files = is_directory ? list_obj_directory(input) : expand_frame_pattern(name);
     return load_obj_sequence(name, files, options.scene_fps);
   }
   if (extension == ".gltf" || extension == ".glb") {
-    if (!cache.empty()) throw InputError(cache.string(), "", "a cache goes with a single .obj, not with glTF");
+    if (!cache.empty())
+      throw InputError(cache.string(), "", "a cache goes with a single .obj, not with glTF");
     return load_gltf(input, options.scene_fps);
   }
   if (extension != ".obj")
-    throw InputError(name, "",
-                     "unknown input format (expected .obj [+ .pc2/.mdd cache], .gltf, .glb, a directory of .obj "
-                     "files or a printf pattern like frames/f_%04d.obj)");
+    throw InputError(
+        name, "",
+        "unknown input format (expected .obj [+ .pc2/.mdd cache], .gltf, .glb, a directory of .obj "
+        "files or a printf pattern like frames/f_%04d.obj)");
 
   ObjMesh mesh = read_obj(input);
   const auto num_vertices = Index(mesh.positions.size());
   if (cache.empty()) {
     std::vector<std::vector<glm::dvec3>> frames;
     frames.push_back(std::move(mesh.positions));
-    return MeshSequence(name, std::move(mesh.triangles), num_vertices, make_memory_source(std::move(frames), {0.0}));
+    return MeshSequence(name, std::move(mesh.triangles), num_vertices,
+                        make_memory_source(std::move(frames), {0.0}));
   }
   const std::string cache_extension = lower_extension(cache);
   std::unique_ptr<FrameSource> source;
@@ -284,8 +293,8 @@ MeshSequence load_sequence(const std::filesystem::path& input, const std::filesy
   }
   if (cache_points != std::int64_t(num_vertices))
     throw InputError(cache.string(), count_place,
-                     "vertex-count mismatch: the cache has " + std::to_string(cache_points) + " points, " + name +
-                         " has " + std::to_string(num_vertices) + " vertices");
+                     "vertex-count mismatch: the cache has " + std::to_string(cache_points) + " points, " +
+                         name + " has " + std::to_string(num_vertices) + " vertices");
   // Name the sequence after the cache: frame-level errors (NaN, truncation) are about its bytes.
   return MeshSequence(cache.string(), std::move(mesh.triangles), num_vertices, std::move(source));
 }

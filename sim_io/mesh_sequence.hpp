@@ -2,12 +2,12 @@
 // on demand (a sequence larger than memory streams), frame times, and the map back to the input's order.
 #pragma once
 
-#include "sim_io/mesh.hpp"
-
 #include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "sim_io/mesh.hpp"
 
 namespace pleat {
 
@@ -26,7 +26,8 @@ class FrameSource {
 };
 
 /// A FrameSource over positions held in memory (static meshes, tests). frames[i] pairs with times[i].
-std::unique_ptr<FrameSource> make_memory_source(std::vector<std::vector<glm::dvec3>> frames, std::vector<double> times);
+std::unique_ptr<FrameSource> make_memory_source(std::vector<std::vector<glm::dvec3>> frames,
+                                                std::vector<double> times);
 
 class MeshSequence {
  public:
@@ -42,8 +43,8 @@ class MeshSequence {
   const std::string& name() const;
   const MeshTopology& topology() const;
   std::size_t num_frames() const;
-  double frame_rate() const;        ///< frames per second; 0 for a single frame
-  Frame frame(std::size_t i) const; ///< welded positions of frame i
+  double frame_rate() const;         ///< frames per second; 0 for a single frame
+  Frame frame(std::size_t i) const;  ///< welded positions of frame i
 
   Index num_input_vertices() const;
   const std::vector<Index>& welded_of_input() const;  ///< input vertex -> welded vertex

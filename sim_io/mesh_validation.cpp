@@ -1,12 +1,12 @@
 #include "sim_io/mesh_validation.hpp"
 
-#include "sim_io/input_error.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
+
+#include "sim_io/input_error.hpp"
 
 namespace pleat {
 namespace {
@@ -55,8 +55,9 @@ void validate_frame(const MeshTopology& topology, const Frame& frame, const char
   const std::size_t count = frame.positions.size();
   if (count != topology.num_vertices)
     throw InputError(who, frame_place(frame),
-                     std::string(count < topology.num_vertices ? "too few" : "too many") + " positions: " +
-                         std::to_string(count) + " for " + std::to_string(topology.num_vertices) + " vertices");
+                     std::string(count < topology.num_vertices ? "too few" : "too many") +
+                         " positions: " + std::to_string(count) + " for " +
+                         std::to_string(topology.num_vertices) + " vertices");
   if (all_finite(frame.positions)) return;
   for (std::size_t v = 0; v < count; ++v) {
     const glm::dvec3& p = frame.positions[v];

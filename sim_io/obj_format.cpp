@@ -1,15 +1,15 @@
 #include "sim_io/obj_format.hpp"
 
-#include "sim_io/atomic_file.hpp"
-#include "sim_io/input_error.hpp"
-#include "sim_io/input_file.hpp"
-
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/input_error.hpp"
+#include "sim_io/input_file.hpp"
 
 namespace pleat {
 
@@ -85,12 +85,15 @@ ObjMesh read_obj(const std::filesystem::path& path) {
       glm::dvec3 p;
       for (int k = 0; k < 3; ++k) {
         std::string_view token;
-        if (!tokens.next(token)) throw InputError(file, at_line(line_number), "vertex has fewer than 3 coordinates");
+        if (!tokens.next(token))
+          throw InputError(file, at_line(line_number), "vertex has fewer than 3 coordinates");
         if (!parse_double(token, p[k]))
-          throw InputError(file, at_line(line_number), "vertex coordinate '" + std::string(token) + "' is not a number");
-        if (!std::isfinite(p[k]))
           throw InputError(file, at_line(line_number),
-                           "vertex " + std::to_string(mesh.positions.size()) + " has a non-finite coordinate");
+                           "vertex coordinate '" + std::string(token) + "' is not a number");
+        if (!std::isfinite(p[k]))
+          throw InputError(
+              file, at_line(line_number),
+              "vertex " + std::to_string(mesh.positions.size()) + " has a non-finite coordinate");
       }
       mesh.positions.push_back(p);  // extra values (w, or r g b vertex colours) are ignored
     } else if (keyword == "f") {
@@ -100,9 +103,11 @@ ObjMesh read_obj(const std::filesystem::path& path) {
         const std::string_view index_text = token.substr(0, token.find('/'));
         std::int64_t index = 0;
         if (!parse_index(index_text, index))
-          throw InputError(file, at_line(line_number), "face corner '" + std::string(token) + "' is not an index");
+          throw InputError(file, at_line(line_number),
+                           "face corner '" + std::string(token) + "' is not an index");
         const auto count = std::int64_t(mesh.positions.size());
-        if (index == 0) throw InputError(file, at_line(line_number), "vertex index 0 (OBJ indices start at 1)");
+        if (index == 0)
+          throw InputError(file, at_line(line_number), "vertex index 0 (OBJ indices start at 1)");
         if (index < 0) {
           if (-index > count)
             throw InputError(file, at_line(line_number),
@@ -118,7 +123,8 @@ ObjMesh read_obj(const std::filesystem::path& path) {
         }
       }
       if (corners.size() < 3)
-        throw InputError(file, at_line(line_number), "face has " + std::to_string(corners.size()) + " corners, needs 3");
+        throw InputError(file, at_line(line_number),
+                         "face has " + std::to_string(corners.size()) + " corners, needs 3");
       for (std::size_t k = 1; k + 1 < corners.size(); ++k)
         mesh.triangles.push_back({Index(corners[0]), Index(corners[k]), Index(corners[k + 1])});
       ++mesh.num_polygons;
@@ -135,7 +141,8 @@ ObjMesh read_obj(const std::filesystem::path& path) {
   return mesh;
 }
 
-void write_obj(const std::filesystem::path& path, const MeshTopology& topology, const std::vector<glm::dvec3>& positions) {
+void write_obj(const std::filesystem::path& path, const MeshTopology& topology,
+               const std::vector<glm::dvec3>& positions) {
   if (positions.size() != topology.num_vertices)
     throw std::invalid_argument("write_obj: " + std::to_string(positions.size()) + " positions for " +
                                 std::to_string(topology.num_vertices) + " vertices");
@@ -161,7 +168,8 @@ void write_obj(const std::filesystem::path& path, const MeshTopology& topology, 
       flush_if_large();
     }
     for (const Triangle& t : topology.triangles) {
-      chunk += "f " + std::to_string(t[0] + 1) + ' ' + std::to_string(t[1] + 1) + ' ' + std::to_string(t[2] + 1) + '\n';
+      chunk += "f " + std::to_string(t[0] + 1) + ' ' + std::to_string(t[1] + 1) + ' ' +
+               std::to_string(t[2] + 1) + '\n';
       flush_if_large();
     }
     out.write(chunk.data(), std::streamsize(chunk.size()));

@@ -8,13 +8,12 @@
 // three corners, an empty mesh (no vertices or no faces).
 #pragma once
 
-#include "sim_io/mesh.hpp"
-
-#include <glm/vec3.hpp>
-
 #include <cstddef>
 #include <filesystem>
+#include <glm/vec3.hpp>
 #include <vector>
+
+#include "sim_io/mesh.hpp"
 
 namespace pleat {
 
@@ -32,6 +31,7 @@ ObjMesh read_obj(const std::filesystem::path& path);
 /// Writes `v` lines (shortest decimal form that reads back to the same double) and 1-based `f` lines,
 /// atomically (temporary file + rename). Throws std::invalid_argument when positions.size() differs from
 /// topology.num_vertices or a triangle index is out of range, std::runtime_error on I/O failure.
-void write_obj(const std::filesystem::path& path, const MeshTopology& topology, const std::vector<glm::dvec3>& positions);
+void write_obj(const std::filesystem::path& path, const MeshTopology& topology,
+               const std::vector<glm::dvec3>& positions);
 
 }  // namespace pleat

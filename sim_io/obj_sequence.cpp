@@ -1,13 +1,13 @@
 #include "sim_io/obj_sequence.hpp"
 
-#include "sim_io/input_error.hpp"
-#include "sim_io/obj_format.hpp"
-
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <map>
 #include <optional>
+
+#include "sim_io/input_error.hpp"
+#include "sim_io/obj_format.hpp"
 
 namespace pleat {
 
@@ -23,7 +23,8 @@ struct FramePattern {
 
   std::string format(long long n) const {
     std::string digits = std::to_string(n);
-    if (int(digits.size()) < width) digits.insert(0, std::size_t(width) - digits.size(), zero_pad ? '0' : ' ');
+    if (int(digits.size()) < width)
+      digits.insert(0, std::size_t(width) - digits.size(), zero_pad ? '0' : ' ');
     return prefix + digits + suffix;
   }
 };
@@ -59,7 +60,8 @@ std::optional<FramePattern> parse_pattern(const std::string& s) {
       p.zero_pad = true;
       ++j;
     }
-    while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) p.width = p.width * 10 + (s[j++] - '0');
+    while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j])))
+      p.width = p.width * 10 + (s[j++] - '0');
     if (j >= s.size() || (s[j] != 'd' && s[j] != 'i') || p.width > 32) return std::nullopt;
     auto prefix = unescape(s.substr(0, i));
     auto suffix = unescape(s.substr(j + 1));
@@ -76,7 +78,8 @@ std::optional<FramePattern> parse_pattern(const std::string& s) {
 bool natural_less(const std::string& a, const std::string& b) {
   std::size_t i = 0, j = 0;
   while (i < a.size() && j < b.size()) {
-    const bool da = std::isdigit(static_cast<unsigned char>(a[i])), db = std::isdigit(static_cast<unsigned char>(b[j]));
+    const bool da = std::isdigit(static_cast<unsigned char>(a[i])),
+               db = std::isdigit(static_cast<unsigned char>(b[j]));
     if (da && db) {
       std::size_t ie = i, je = j;
       while (ie < a.size() && std::isdigit(static_cast<unsigned char>(a[ie]))) ++ie;
@@ -99,9 +102,12 @@ bool natural_less(const std::string& a, const std::string& b) {
 
 class ObjSequenceSource : public FrameSource {
  public:
-  ObjSequenceSource(std::vector<std::filesystem::path> files, std::vector<Triangle> triangles, std::size_t num_vertices,
-                    double scene_fps)
-      : m_files(std::move(files)), m_triangles(std::move(triangles)), m_num_vertices(num_vertices), m_scene_fps(scene_fps) {}
+  ObjSequenceSource(std::vector<std::filesystem::path> files, std::vector<Triangle> triangles,
+                    std::size_t num_vertices, double scene_fps)
+      : m_files(std::move(files)),
+        m_triangles(std::move(triangles)),
+        m_num_vertices(num_vertices),
+        m_scene_fps(scene_fps) {}
 
   std::size_t num_frames() const override { return m_files.size(); }
   double frame_time(std::size_t i) const override { return double(i) / m_scene_fps; }
@@ -111,12 +117,13 @@ class ObjSequenceSource : public FrameSource {
     const std::string first = m_files.front().string();
     if (mesh.positions.size() != m_num_vertices)
       throw InputError(file, "frame " + std::to_string(i),
-                       "vertex-count mismatch: " + std::to_string(mesh.positions.size()) + " vertices, the first frame (" +
-                           first + ") has " + std::to_string(m_num_vertices));
+                       "vertex-count mismatch: " + std::to_string(mesh.positions.size()) +
+                           " vertices, the first frame (" + first + ") has " +
+                           std::to_string(m_num_vertices));
     if (mesh.triangles.size() != m_triangles.size())
       throw InputError(file, "frame " + std::to_string(i),
-                       "connectivity differs from the first frame (" + first + "): " +
-                           std::to_string(mesh.triangles.size()) + " triangles instead of " +
+                       "connectivity differs from the first frame (" + first +
+                           "): " + std::to_string(mesh.triangles.size()) + " triangles instead of " +
                            std::to_string(m_triangles.size()));
     const auto mismatch = std::mismatch(mesh.triangles.begin(), mesh.triangles.end(), m_triangles.begin());
     if (mismatch.first != mesh.triangles.end())
@@ -142,17 +149,22 @@ std::vector<std::filesystem::path> expand_frame_pattern(const std::string& patte
   const std::string filename = as_path.filename().string();
   const auto parsed = parse_pattern(filename);
   if (!parsed || as_path.parent_path().string().find('%') != std::string::npos)
-    throw InputError(pattern, "", "a frame pattern needs exactly one %d (or %0Nd) conversion, in the file name");
-  const std::filesystem::path dir = as_path.has_parent_path() ? as_path.parent_path() : std::filesystem::path(".");
+    throw InputError(pattern, "",
+                     "a frame pattern needs exactly one %d (or %0Nd) conversion, in the file name");
+  const std::filesystem::path dir =
+      as_path.has_parent_path() ? as_path.parent_path() : std::filesystem::path(".");
   std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec)) throw InputError(pattern, "", "no such directory: " + dir.string());
+  if (!std::filesystem::is_directory(dir, ec))
+    throw InputError(pattern, "", "no such directory: " + dir.string());
   std::map<long long, std::filesystem::path> numbered;
   for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
     if (name.size() <= parsed->prefix.size() + parsed->suffix.size()) continue;
     if (name.compare(0, parsed->prefix.size(), parsed->prefix) != 0) continue;
-    if (name.compare(name.size() - parsed->suffix.size(), parsed->suffix.size(), parsed->suffix) != 0) continue;
-    std::string middle = name.substr(parsed->prefix.size(), name.size() - parsed->prefix.size() - parsed->suffix.size());
+    if (name.compare(name.size() - parsed->suffix.size(), parsed->suffix.size(), parsed->suffix) != 0)
+      continue;
+    std::string middle =
+        name.substr(parsed->prefix.size(), name.size() - parsed->prefix.size() - parsed->suffix.size());
     const auto first_digit = middle.find_first_not_of(' ');
     if (first_digit == std::string::npos) continue;
     long long n = 0;
@@ -194,12 +206,14 @@ std::vector<std::filesystem::path> list_obj_directory(const std::filesystem::pat
   return files;
 }
 
-MeshSequence load_obj_sequence(const std::string& name, const std::vector<std::filesystem::path>& files, double scene_fps) {
+MeshSequence load_obj_sequence(const std::string& name, const std::vector<std::filesystem::path>& files,
+                               double scene_fps) {
   if (files.empty()) throw InputError(name, "", "no frames");
   ObjMesh first = read_obj(files.front());
   const auto num_vertices = Index(first.positions.size());
   std::vector<Triangle> triangles = first.triangles;
-  auto source = std::make_unique<ObjSequenceSource>(files, std::move(first.triangles), num_vertices, scene_fps);
+  auto source =
+      std::make_unique<ObjSequenceSource>(files, std::move(first.triangles), num_vertices, scene_fps);
   return MeshSequence(name, std::move(triangles), num_vertices, std::move(source));
 }
 

@@ -7,11 +7,11 @@
 // parses file i and checks its connectivity against the first, so a long sequence streams.
 #pragma once
 
-#include "sim_io/mesh_sequence.hpp"
-
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "sim_io/mesh_sequence.hpp"
 
 namespace pleat {
 

@@ -1,16 +1,16 @@
 #include "sim_io/pc2_format.hpp"
 
-#include "sim_io/atomic_file.hpp"
-#include "sim_io/byte_order.hpp"
-#include "sim_io/input_file.hpp"
-#include "sim_io/input_error.hpp"
-
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
 #include <string>
+
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/byte_order.hpp"
+#include "sim_io/input_error.hpp"
+#include "sim_io/input_file.hpp"
 
 namespace pleat {
 
@@ -48,7 +48,8 @@ Pc2Header read_pc2_header(const std::filesystem::path& path) {
   const std::string file = path.string();
   const std::uint64_t size = file_size_or_throw(path);
   if (size < kHeaderBytes)
-    throw InputError(file, at_byte(size), "truncated: the PC2 header needs 32 bytes, the file has " + std::to_string(size));
+    throw InputError(file, at_byte(size),
+                     "truncated: the PC2 header needs 32 bytes, the file has " + std::to_string(size));
   const std::string head = read_file_bytes(path, 0, kHeaderBytes);
   const auto* p = reinterpret_cast<const unsigned char*>(head.data());
   if (std::memcmp(head.data(), kMagic, sizeof kMagic) != 0)
@@ -61,12 +62,14 @@ Pc2Header read_pc2_header(const std::filesystem::path& path) {
   header.sample_rate = bytes::load_f32_le(p + 24);
   header.num_samples = bytes::load_i32_le(p + 28);
   if (header.num_points <= 0)
-    throw InputError(file, at_byte(16), "numPoints is " + std::to_string(header.num_points) + ", must be positive");
+    throw InputError(file, at_byte(16),
+                     "numPoints is " + std::to_string(header.num_points) + ", must be positive");
   if (!std::isfinite(header.start_frame)) throw InputError(file, at_byte(20), "startFrame is not finite");
   if (!std::isfinite(header.sample_rate) || header.sample_rate <= 0.0f)
     throw InputError(file, at_byte(24), "sampleRate must be positive and finite");
   if (header.num_samples <= 0)
-    throw InputError(file, at_byte(28), "numSamples is " + std::to_string(header.num_samples) + ", must be positive");
+    throw InputError(file, at_byte(28),
+                     "numSamples is " + std::to_string(header.num_samples) + ", must be positive");
   const std::uint64_t expected =
       kHeaderBytes + std::uint64_t(header.num_samples) * std::uint64_t(header.num_points) * 12;
   if (size < expected)
@@ -76,18 +79,21 @@ Pc2Header read_pc2_header(const std::filesystem::path& path) {
                          " bytes, the file has " + std::to_string(size));
   if (size > expected)
     throw InputError(file, at_byte(expected),
-                     std::to_string(size - expected) + " unexpected bytes after the last sample (header says " +
-                         std::to_string(header.num_samples) + " samples of " + std::to_string(header.num_points) +
-                         " points)");
+                     std::to_string(size - expected) +
+                         " unexpected bytes after the last sample (header says " +
+                         std::to_string(header.num_samples) + " samples of " +
+                         std::to_string(header.num_points) + " points)");
   return header;
 }
 
 std::unique_ptr<FrameSource> open_pc2(const std::filesystem::path& path, double scene_fps) {
-  if (!(scene_fps > 0.0) || !std::isfinite(scene_fps)) throw std::invalid_argument("open_pc2: scene_fps must be positive");
+  if (!(scene_fps > 0.0) || !std::isfinite(scene_fps))
+    throw std::invalid_argument("open_pc2: scene_fps must be positive");
   return std::make_unique<Pc2Source>(path, read_pc2_header(path), scene_fps);
 }
 
-void write_pc2(const std::filesystem::path& path, const std::vector<std::vector<glm::dvec3>>& frames, double start_frame, double sample_rate) {
+void write_pc2(const std::filesystem::path& path, const std::vector<std::vector<glm::dvec3>>& frames,
+               double start_frame, double sample_rate) {
   if (frames.empty()) throw std::invalid_argument("write_pc2: no frames");
   const std::size_t points = frames.front().size();
   if (points == 0) throw std::invalid_argument("write_pc2: no points");

@@ -12,14 +12,13 @@
 // on demand (O(numPoints) per frame), so long caches stream.
 #pragma once
 
-#include "sim_io/mesh_sequence.hpp"
-
-#include <glm/vec3.hpp>
-
 #include <cstdint>
 #include <filesystem>
+#include <glm/vec3.hpp>
 #include <memory>
 #include <vector>
+
+#include "sim_io/mesh_sequence.hpp"
 
 namespace pleat {
 
@@ -40,7 +39,9 @@ Pc2Header read_pc2_header(const std::filesystem::path& path);
 std::unique_ptr<FrameSource> open_pc2(const std::filesystem::path& path, double scene_fps = kDefaultSceneFps);
 
 /// Writes frames (each the same number of points) as float32 samples, atomically. Throws
-/// std::invalid_argument when frames is empty or the frames differ in size, std::runtime_error on I/O failure.
-void write_pc2(const std::filesystem::path& path, const std::vector<std::vector<glm::dvec3>>& frames, double start_frame, double sample_rate);
+/// std::invalid_argument when frames is empty or the frames differ in size, std::runtime_error on I/O
+/// failure.
+void write_pc2(const std::filesystem::path& path, const std::vector<std::vector<glm::dvec3>>& frames,
+               double start_frame, double sample_rate);
 
 }  // namespace pleat

@@ -1,14 +1,14 @@
 #include "sim_io/visibility_csv.hpp"
 
-#include "sim_io/input_error.hpp"
-#include "sim_io/input_file.hpp"
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+
+#include "sim_io/input_error.hpp"
+#include "sim_io/input_file.hpp"
 
 namespace pleat {
 
@@ -28,13 +28,15 @@ void append_number(std::string& out, std::size_t v) {
 
 }  // namespace
 
-VisibilityCsvWriter::VisibilityCsvWriter(const std::filesystem::path& path, std::vector<Index> welded_of_input)
+VisibilityCsvWriter::VisibilityCsvWriter(const std::filesystem::path& path,
+                                         std::vector<Index> welded_of_input)
     : m_welded_of_input(std::move(welded_of_input)), m_file(path) {
   for (Index w : m_welded_of_input) m_num_welded = std::max(m_num_welded, Index(w + 1));
   m_file.stream() << "frame,vertex,front,back\n";
 }
 
-void VisibilityCsvWriter::add_frame(std::size_t frame, const std::vector<double>& front, const std::vector<double>& back) {
+void VisibilityCsvWriter::add_frame(std::size_t frame, const std::vector<double>& front,
+                                    const std::vector<double>& back) {
   if (front.size() < m_num_welded || back.size() < m_num_welded)
     throw std::invalid_argument("VisibilityCsvWriter::add_frame: one value per welded vertex and side");
   std::string chunk;
@@ -91,13 +93,15 @@ std::vector<VisibilityRow> read_visibility_csv(const std::filesystem::path& path
     VisibilityRow r;
     const auto parse = [&](std::string_view f, auto& value) {
       const auto [p, ec] = std::from_chars(f.data(), f.data() + f.size(), value);
-      if (ec != std::errc() || p != f.data() + f.size()) throw InputError(file, place, "'" + std::string(f) + "' is not a number");
+      if (ec != std::errc() || p != f.data() + f.size())
+        throw InputError(file, place, "'" + std::string(f) + "' is not a number");
     };
     parse(fields[0], r.frame);
     parse(fields[1], r.vertex);
     parse(fields[2], r.front);
     parse(fields[3], r.back);
-    if (!std::isfinite(r.front) || !std::isfinite(r.back)) throw InputError(file, place, "non-finite visibility");
+    if (!std::isfinite(r.front) || !std::isfinite(r.back))
+      throw InputError(file, place, "non-finite visibility");
     rows.push_back(r);
   }
   if (line == 0) throw InputError(file, "", "empty file (expected the header frame,vertex,front,back)");

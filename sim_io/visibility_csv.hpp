@@ -7,12 +7,12 @@
 // nothing is left on disk unless commit() is reached.
 #pragma once
 
-#include "sim_io/atomic_file.hpp"
-#include "sim_io/mesh.hpp"
-
 #include <cstddef>
 #include <filesystem>
 #include <vector>
+
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/mesh.hpp"
 
 namespace pleat {
 

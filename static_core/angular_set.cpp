@@ -1,9 +1,8 @@
 #include "static_core/angular_set.hpp"
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 
 namespace pleat {
 
@@ -69,7 +68,8 @@ void merge_into_wedges(std::vector<std::pair<double, double>>& iv, std::vector<W
     out.push_back({0.0, kTwoPi});
     return;
   }
-  const bool wraps = m > 1 && iv.front().first <= kAngleTolerance && iv.back().second >= kTwoPi - kAngleTolerance;
+  const bool wraps =
+      m > 1 && iv.front().first <= kAngleTolerance && iv.back().second >= kTwoPi - kAngleTolerance;
   for (std::size_t i = wraps ? 1 : 0; i < m; ++i) {
     auto [a, b] = iv[i];
     if (wraps && i + 1 == m) b = kTwoPi + iv.front().second;
@@ -86,7 +86,8 @@ void unite_wedges(std::span<const Wedge> wedges, std::vector<std::pair<double, d
   merge_into_wedges(scratch, out);
 }
 
-void intersect_wedges(std::span<const Wedge> a, std::span<const Wedge> b, WedgeScratch& s, std::vector<Wedge>& out) {
+void intersect_wedges(std::span<const Wedge> a, std::span<const Wedge> b, WedgeScratch& s,
+                      std::vector<Wedge>& out) {
   // Normalize each side (union), split both into sorted intervals of [0, 2pi], intersect pairwise.
   s.a.clear();
   unite_wedges(a, s.intervals, s.a);
@@ -141,7 +142,9 @@ AngularSet AngularSet::from_intervals(std::vector<std::pair<double, double>> iv)
   return set;
 }
 
-AngularSet AngularSet::from_wedges(const std::vector<Wedge>& wedges) { return from_intervals(to_intervals(wedges)); }
+AngularSet AngularSet::from_wedges(const std::vector<Wedge>& wedges) {
+  return from_intervals(to_intervals(wedges));
+}
 
 AngularSet AngularSet::full() {
   AngularSet set;

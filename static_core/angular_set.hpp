@@ -8,7 +8,6 @@
 #pragma once
 
 #include <glm/vec2.hpp>
-
 #include <span>
 #include <utility>
 #include <vector>

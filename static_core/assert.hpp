@@ -13,11 +13,11 @@ class InvariantError : public std::logic_error {
 }  // namespace pleat
 
 #if !defined(NDEBUG) || defined(PLEAT_CHECK_INVARIANTS)
-#define PLEAT_ASSERT(cond, msg)                                                                    \
-  do {                                                                                             \
-    if (!(cond))                                                                                   \
-      throw ::pleat::InvariantError(std::string(__FILE__) + ":" + std::to_string(__LINE__) + ": " + \
-                                    #cond + ": " + (msg));                                         \
+#define PLEAT_ASSERT(cond, msg)                                                                             \
+  do {                                                                                                      \
+    if (!(cond))                                                                                            \
+      throw ::pleat::InvariantError(std::string(__FILE__) + ":" + std::to_string(__LINE__) + ": " + #cond + \
+                                    ": " + (msg));                                                          \
   } while (false)
 #else
 #define PLEAT_ASSERT(cond, msg) \

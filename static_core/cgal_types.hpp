@@ -13,10 +13,9 @@
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
-#include <glm/vec2.hpp>
-
 #include <array>
 #include <cstdint>
+#include <glm/vec2.hpp>
 
 namespace pleat::cgal {
 

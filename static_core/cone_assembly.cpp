@@ -1,11 +1,10 @@
 #include "static_core/cone_assembly.hpp"
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <array>
-#include <memory>
 #include <cmath>
+#include <glm/geometric.hpp>
+#include <memory>
 #include <numeric>
 
 namespace pleat {
@@ -20,8 +19,8 @@ constexpr double kContainTolerance = 1e-9;
 constexpr double kLinkTolerance = 0.25;
 /// Half-width (radians) of the band given to a wedge that no other wedge of the vertex joins: half the
 /// angle between neighbouring orientations of the paper's six (45 degrees), i.e. the part of the sphere this
-/// sample stands for. Measured (4096 rays): drape frame 60 mean |dA| 0.0399 -> 0.0388, sleeve 0.0393 -> 0.0363, the
-/// other generated kinds unchanged; none worse.
+/// sample stands for. Measured (4096 rays): drape frame 60 mean |dA| 0.0399 -> 0.0388, sleeve 0.0393 ->
+/// 0.0363, the other generated kinds unchanged; none worse.
 constexpr double kLoneWedgeHalfWidth = kTwoPi / 16;
 
 /// cos and sin of kLinkTolerance and tan of kLoneWedgeHalfWidth: the distance tests compare cosines and
@@ -51,8 +50,8 @@ struct SpatialWedge {
     sample[3] = glm::normalize(sample[2] + sample[4]);
   }
   const SlicingPlane* plane;
-  bool reflex;                ///< wider than a half-turn (only unclipped wedges are)
-  glm::dvec2 start2, end2;    ///< the ends in the plane's (u, w) frame
+  bool reflex;                       ///< wider than a half-turn (only unclipped wedges are)
+  glm::dvec2 start2, end2;           ///< the ends in the plane's (u, w) frame
   std::array<glm::dvec3, 5> sample;  ///< start, quarter, middle, three quarters, end
   const glm::dvec3& start_direction() const { return sample[0]; }
   const glm::dvec3& end_direction() const { return sample[4]; }
@@ -75,7 +74,8 @@ struct SpatialWedge {
 /// Whether a unit direction lies within kLinkTolerance of a wedge's arc, counting as 0 any direction whose
 /// projection onto the wedge's plane lies within the arc (see same_region).
 bool near_arc(const glm::dvec3& d, const SpatialWedge& w) {
-  return w.contains(d) || glm::dot(d, w.start_direction()) > kCosLink || glm::dot(d, w.end_direction()) > kCosLink;
+  return w.contains(d) || glm::dot(d, w.start_direction()) > kCosLink ||
+         glm::dot(d, w.end_direction()) > kCosLink;
 }
 
 /// True when two wedges belong to one visible region: their arcs cross (the paper's test: the cones share
@@ -99,8 +99,8 @@ bool same_region(const SpatialWedge& a, const SpatialWedge& b) {
 /// A monotone stand-in for atan2(y, x) in (-2, 2] (the "diamond angle"): same order, no trigonometry.
 double pseudo_angle(double x, double y) {
   const double r = y / (std::abs(x) + std::abs(y));  // in [-1, 1]
-  if (x >= 0) return r;                               // (-pi/2, pi/2) -> (-1, 1)
-  return y >= 0 ? 2 - r : -2 - r;                     // the left half-plane -> (1, 2] and (-2, -1)
+  if (x >= 0) return r;                              // (-pi/2, pi/2) -> (-1, 1)
+  return y >= 0 ? 2 - r : -2 - r;                    // the left half-plane -> (1, 2] and (-2, -1)
 }
 
 int find_root(std::vector<int>& parent, int i) {
@@ -172,7 +172,8 @@ glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm:
   }
   for (std::size_t i = 0; i < kept; ++i) {
     bridged.push_back(order[i].second);
-    if (glm::dot(order[i].second, order[(i + 1) % kept].second) < -1 + 1e-9 && glm::dot(centre, side_normal) > 0)
+    if (glm::dot(order[i].second, order[(i + 1) % kept].second) < -1 + 1e-9 &&
+        glm::dot(centre, side_normal) > 0)
       bridged.push_back(centre);
   }
   return orient();
@@ -199,7 +200,8 @@ struct MeasureSums {
 };
 
 /// True when one piece holds a vertex of the other strictly inside (the pieces' solid angles given).
-bool pieces_overlap(const SphericalPolygon& a, double a_solid_angle, const SphericalPolygon& b, double b_solid_angle) {
+bool pieces_overlap(const SphericalPolygon& a, double a_solid_angle, const SphericalPolygon& b,
+                    double b_solid_angle) {
   if (a.size() < 3 || b.size() < 3) return false;
   for (const auto& p : a)
     if (contains_direction(b, p, b_solid_angle)) return true;
@@ -225,8 +227,8 @@ struct ConeAssemblyScratch::Buffers {
 ConeAssemblyScratch::ConeAssemblyScratch() : m_buffers(std::make_unique<Buffers>()) {}
 ConeAssemblyScratch::~ConeAssemblyScratch() = default;
 
-void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal, ConeAssemblyScratch& scratch,
-                   VisibilityCone& result) {
+void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
+                   ConeAssemblyScratch& scratch, VisibilityCone& result) {
   assemble_and_measure_cone(cones, side_normal, scratch, result, nullptr);
 }
 

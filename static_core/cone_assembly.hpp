@@ -5,20 +5,20 @@
 // linked when they share more than the apex (the paper's test: the planes' common line lies in both) or
 // when a point of one arc lies over the other or near its ends (slices sample a visible region sparsely,
 // so arcs of one narrow opening rarely cross exactly; a wedge that joins no other becomes a thin band
-// about its plane, half the angle between neighbouring orientations wide); each connected group becomes one piece: its wedges' bounding directions are sorted
-// radially about the group's mean direction (azimuthal projection about it) — a polygonal cone, not
-// necessarily convex, counter-clockwise. (The paper sorts about the centroid of the points projected onto
-// the tangent plane; that fails on the slot-shaped cones of deep folds — see cone_assembly.cpp.)
-// Cost: O(k^2) for k wedges at the vertex (k is a few dozen).
+// about its plane, half the angle between neighbouring orientations wide); each connected group becomes one
+// piece: its wedges' bounding directions are sorted radially about the group's mean direction (azimuthal
+// projection about it) — a polygonal cone, not necessarily convex, counter-clockwise. (The paper sorts about
+// the centroid of the points projected onto the tangent plane; that fails on the slot-shaped cones of deep
+// folds — see cone_assembly.cpp.) Cost: O(k^2) for k wedges at the vertex (k is a few dozen).
 #pragma once
-
-#include "static_core/angular_set.hpp"
-#include "static_core/slicing_plan.hpp"
-#include "static_core/visibility_cone.hpp"
 
 #include <memory>
 #include <span>
 #include <vector>
+
+#include "static_core/angular_set.hpp"
+#include "static_core/slicing_plan.hpp"
+#include "static_core/visibility_cone.hpp"
 
 namespace pleat {
 
@@ -39,8 +39,8 @@ class ConeAssemblyScratch {
 
 /// The 3D visibility cone of a vertex on one side from its 2D cones. `side_normal` = side * n(v), unit.
 /// Writes into `result`, reusing its memory.
-void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal, ConeAssemblyScratch& scratch,
-                   VisibilityCone& result);
+void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
+                   ConeAssemblyScratch& scratch, VisibilityCone& result);
 /// The same, and the cone's measures (as measure_cone gives them) from the integrals the assembly computes
 /// anyway (each piece's vector irradiance and solid angle): what the engines call.
 void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,

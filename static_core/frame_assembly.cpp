@@ -1,14 +1,14 @@
 #include "static_core/frame_assembly.hpp"
 
-#include "static_core/assert.hpp"
-#include "static_core/cone_assembly.hpp"
-
-#include <glm/geometric.hpp>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
+
+#include "static_core/assert.hpp"
+#include "static_core/cone_assembly.hpp"
 
 namespace pleat {
 
@@ -115,7 +115,8 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
       refs[cursor[key_of(c.side, plan.planes[p].orientation, c.vertex)]++] = {p, s};
     }
   if (plan.storage == ConeStorage::NearestOnFan) {
-    // Keep only the nearest offer of each key (ties: the first, i.e. the lower plane): compact the CSR in place.
+    // Keep only the nearest offer of each key (ties: the first, i.e. the lower plane): compact the CSR in
+    // place.
     std::uint32_t out = 0;
     for (std::size_t k = 0; k < keys; ++k) {
       const std::uint32_t begin = first[k], end = first[k + 1];
@@ -123,7 +124,8 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
       if (begin == end) continue;
       std::uint32_t best = begin;
       for (std::uint32_t i = begin + 1; i < end; ++i)
-        if (stored(refs[i].plane)[refs[i].stored].distance < stored(refs[best].plane)[refs[best].stored].distance)
+        if (stored(refs[i].plane)[refs[i].stored].distance <
+            stored(refs[best].plane)[refs[best].stored].distance)
           best = i;
       refs[out++] = refs[best];
     }
@@ -199,12 +201,13 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         const std::size_t k = key_of(side, o, static_cast<Index>(from));
         for (std::uint32_t i = first[k]; i < first[k + 1]; ++i) {
           const StoredCone& s = stored(refs[i].plane)[refs[i].stored];
-          ws.cones.push_back(
-              {&plan.planes[refs[i].plane], planes[refs[i].plane]->cones.cone(s.slice_vertex, static_cast<Side>(side))});
+          ws.cones.push_back({&plan.planes[refs[i].plane],
+                              planes[refs[i].plane]->cones.cone(s.slice_vertex, static_cast<Side>(side))});
         }
       }
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];
-      assemble_and_measure_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v], &result.measures[side][v]);
+      assemble_and_measure_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v],
+                                &result.measures[side][v]);
     }
   };
   if (params.parallel)
@@ -218,7 +221,8 @@ FrameAssembler::FrameAssembler(const MeshTopology& topology, const MeshEdges& ed
     : m_impl(std::make_unique<Impl>(topology, edges, plan, params)) {}
 FrameAssembler::~FrameAssembler() = default;
 
-void FrameAssembler::assemble(const Frame& frame, std::span<const PlaneCones* const> planes, FrameVisibility& result) {
+void FrameAssembler::assemble(const Frame& frame, std::span<const PlaneCones* const> planes,
+                              FrameVisibility& result) {
   m_impl->assemble(frame, planes, result);
 }
 

@@ -1,13 +1,17 @@
 // From per-plane 2D cones to a frame's 3D cones: the part of Stewart's algorithm after the slices
 // (Stewart 1999 §2.4; DESIGN.md §2.7–2.8), shared by the static engine and the kinetic one.
 //
-// Each plane's slice vertices hand their 2D cones to mesh vertices by the plan's ConeStorage rule (the paper's:
-// to the nearer endpoint of their edge, nearest per plane; the default: to both endpoints, nearest per
-// orientation). A vertex with no cone in an orientation borrows those of its nearest vertex along mesh edges
-// that has one (multi-source Dijkstra per orientation and side). Then every vertex's 2D cones are merged into
-// 3D cones per side and measured. Both engines hand this stage PlaneCones that are equal, so they produce the
-// same output. Internal header: static_core and kinetic only.
+// Each plane's slice vertices hand their 2D cones to mesh vertices by the plan's ConeStorage rule (the
+// paper's: to the nearer endpoint of their edge, nearest per plane; the default: to both endpoints, nearest
+// per orientation). A vertex with no cone in an orientation borrows those of its nearest vertex along mesh
+// edges that has one (multi-source Dijkstra per orientation and side). Then every vertex's 2D cones are
+// merged into 3D cones per side and measured. Both engines hand this stage PlaneCones that are equal, so they
+// produce the same output. Internal header: static_core and kinetic only.
 #pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
 
 #include "sim_io/mesh.hpp"
 #include "static_core/mesh_slicer.hpp"
@@ -16,10 +20,6 @@
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
 #include "static_core/visibility_cone.hpp"
-
-#include <memory>
-#include <span>
-#include <vector>
 
 namespace pleat {
 

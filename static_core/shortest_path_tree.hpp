@@ -9,9 +9,9 @@
 // trees: the walk is O(funnel depth), small in practice. Precondition: the region has no holes.
 #pragma once
 
-#include "static_core/slice_triangulation.hpp"
-
 #include <vector>
+
+#include "static_core/slice_triangulation.hpp"
 
 namespace pleat {
 

@@ -190,7 +190,8 @@ void prepare_scratch(std::size_t corners, SliceConeScratch& s) {
 /// vertices and every split is an exact orientation test, so the visible set is exact; only the wedges'
 /// angles are rounded. Cost: the triangles seen from x (each once per range piece that reaches it), not the
 /// region's size — no angular sweep over all its chain edges.
-void cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion& region, SliceConeScratch& s) {
+void cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion& region,
+                                SliceConeScratch& s) {
   const Cdt& cdt = st.cdt();
   for (const FaceHandle f : region.faces)
     for (int k = 0; k < 3; ++k) {
@@ -208,15 +209,18 @@ void cones_of_region_with_holes(const SliceTriangulation& st, const SliceRegion&
         while (!task.face->is_constrained(task.index)) {
           const FaceHandle g = task.face->neighbor(task.index);
           if (cdt.is_infinite(g)) {
-            out.push_back(thin_wedge_between(direction(px, task.right->point()), direction(px, task.left->point())));
+            out.push_back(
+                thin_wedge_between(direction(px, task.right->point()), direction(px, task.left->point())));
             break;
           }
-          // Seen from x, g's vertices are a (right end of the crossed edge), b (left end) and c beyond it; edge
-          // (a, c) is opposite b = vertex(ccw(j)), edge (c, b) opposite a = vertex(cw(j)).
+          // Seen from x, g's vertices are a (right end of the crossed edge), b (left end) and c beyond it;
+          // edge (a, c) is opposite b = vertex(ccw(j)), edge (c, b) opposite a = vertex(cw(j)).
           const int j = g->index(task.face);
           const VertexHandle c = g->vertex(j);
-          const bool c_left_of_right = CGAL::orientation(px, task.right->point(), c->point()) == CGAL::LEFT_TURN;
-          const bool c_right_of_left = CGAL::orientation(px, c->point(), task.left->point()) == CGAL::LEFT_TURN;
+          const bool c_left_of_right =
+              CGAL::orientation(px, task.right->point(), c->point()) == CGAL::LEFT_TURN;
+          const bool c_right_of_left =
+              CGAL::orientation(px, c->point(), task.left->point()) == CGAL::LEFT_TURN;
           if (c_left_of_right && c_right_of_left) {
             s.expansion.push_back({g, cdt.cw(j), c, task.left});
             task = {g, cdt.ccw(j), task.right, c};

@@ -16,14 +16,14 @@
 // the triangles seen from it (output-sensitive; O(n) each at worst).
 #pragma once
 
+#include <cstdint>
+#include <span>
+#include <vector>
+
 #include "static_core/angular_set.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/shortest_path_tree.hpp"
 #include "static_core/slice_triangulation.hpp"
-
-#include <cstdint>
-#include <span>
-#include <vector>
 
 namespace pleat {
 
@@ -60,12 +60,13 @@ struct SliceConeScratch {
   std::vector<Wedge> range_wedges;
   std::vector<std::pair<double, double>> intervals;
   std::vector<ExpansionTask> expansion;
-  std::vector<char> vertex_needed;  ///< per slice vertex that represents a CDT vertex (VertexInfo::slice_vertex)
+  std::vector<char>
+      vertex_needed;  ///< per slice vertex that represents a CDT vertex (VertexInfo::slice_vertex)
 };
 
 /// The cones of every slice vertex, or, given `needed` (one flag per slice vertex), of the flagged ones only:
 /// the others get empty cones and their corners no wedges (funnel trees still grow where a needed corner is).
-void compute_slice_cones(const Slice& slice, const SliceTriangulation& triangulation, SliceConeScratch& scratch,
-                         SliceCones& out, std::span<const char> needed = {});
+void compute_slice_cones(const Slice& slice, const SliceTriangulation& triangulation,
+                         SliceConeScratch& scratch, SliceCones& out, std::span<const char> needed = {});
 
 }  // namespace pleat

@@ -3,9 +3,9 @@
 #include <CGAL/spatial_sort.h>
 
 #include <numeric>
+#include <string>
 
 #include "static_core/assert.hpp"
-#include <string>
 
 namespace pleat {
 
@@ -49,7 +49,8 @@ void SliceTriangulation::adopt_edits(const Slice& slice, bool structure_changed)
   for (auto v = m_cdt.finite_vertices_begin(); v != m_cdt.finite_vertices_end(); ++v) {
     const int x = v->info().slice_vertex;
     PLEAT_ASSERT(x >= 0 && std::size_t(x) < slice.vertices.size(), "a CDT vertex without a slice vertex");
-    PLEAT_ASSERT(m_vertex_of_slice_vertex[x] == cgal::VertexHandle(), "two CDT vertices for one slice vertex");
+    PLEAT_ASSERT(m_vertex_of_slice_vertex[x] == cgal::VertexHandle(),
+                 "two CDT vertices for one slice vertex");
     m_vertex_of_slice_vertex[x] = v;
   }
   PLEAT_ASSERT(m_cdt.number_of_vertices() == slice.vertices.size(), "a slice vertex without a CDT vertex");
@@ -66,7 +67,8 @@ void SliceTriangulation::adopt_edits(const Slice& slice, bool structure_changed)
 void SliceTriangulation::assign_corners() {
   // A corner is a maximal run of finite faces around a vertex between separators. From each (face, vertex)
   // not yet in a corner: turn clockwise to the run's first face, then number the run counter-clockwise.
-  for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f) f->info().corner = {-1, -1, -1};
+  for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f)
+    f->info().corner = {-1, -1, -1};
   for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f)
     for (int i = 0; i < 3; ++i) {
       if (f->info().corner[i] >= 0) continue;

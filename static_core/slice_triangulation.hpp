@@ -12,10 +12,10 @@
 // Cost: O(n log n) expected for n slice vertices.
 #pragma once
 
+#include <vector>
+
 #include "static_core/cgal_types.hpp"
 #include "static_core/mesh_slicer.hpp"
-
-#include <vector>
 
 namespace pleat {
 

@@ -1,14 +1,13 @@
 #include "static_core/slicing_plan.hpp"
 
-#include "sim_io/mesh_validation.hpp"
-#include "static_core/mesh_slicer.hpp"
-
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <numeric>
 #include <stdexcept>
+
+#include "sim_io/mesh_validation.hpp"
+#include "static_core/mesh_slicer.hpp"
 
 namespace pleat {
 namespace {
@@ -90,7 +89,8 @@ double average_edge_length(const MeshTopology& topology, const Frame& frame) {
   return mean_edge_length(topology, frame);
 }
 
-SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame, const DiffusePlanParams& params) {
+SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame,
+                              const DiffusePlanParams& params) {
   validate_mesh(topology, frame, "make_diffuse_plan");
   SlicingPlan plan;
   plan.orientations = diffuse_orientations(params.orientations);
@@ -109,7 +109,8 @@ SlicingPlan make_paper_plan(const MeshTopology& topology, const Frame& frame) {
   return plan;
 }
 
-SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame, const AdaptivePlanParams& params) {
+SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame,
+                               const AdaptivePlanParams& params) {
   validate_mesh(topology, frame, "make_adaptive_plan");
   SlicingPlan plan;
   plan.orientations = diffuse_orientations(params.orientations);

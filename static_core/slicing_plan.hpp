@@ -5,11 +5,10 @@
 // (topology, frame) validates them (sim_io/mesh_validation.hpp: InputError).
 #pragma once
 
-#include "sim_io/mesh.hpp"
-
 #include <glm/vec3.hpp>
-
 #include <vector>
+
+#include "sim_io/mesh.hpp"
 
 namespace pleat {
 
@@ -20,13 +19,15 @@ struct SlicingPlane {
   double offset = 0.0;
   glm::dvec3 u{1, 0, 0};
   glm::dvec3 w{0, 1, 0};
-  int orientation = 0;  ///< index into SlicingPlan::orientations (cones are grouped and filled per orientation)
+  int orientation =
+      0;  ///< index into SlicingPlan::orientations (cones are grouped and filled per orientation)
 };
 
-/// How a plane's 2D cones reach mesh vertices (DESIGN.md §2.7). A slice vertex lies on a mesh edge; its cone is
-/// offered to the edge's endpoints, at their 3D distances from it.
+/// How a plane's 2D cones reach mesh vertices (DESIGN.md §2.7). A slice vertex lies on a mesh edge; its cone
+/// is offered to the edge's endpoints, at their 3D distances from it.
 enum class ConeStorage {
-  /// The paper's rule: to the nearer endpoint only; per plane, side and vertex the nearest offer is kept, and a
+  /// The paper's rule: to the nearer endpoint only; per plane, side and vertex the nearest offer is kept, and
+  /// a
   /// vertex keeps one cone from every plane that offered it one.
   NearerEndpoint,
   /// To both endpoints; per orientation, side and vertex only the nearest offer over all planes of the
@@ -50,13 +51,15 @@ SlicingPlane make_plane(const glm::dvec3& normal, double offset, int orientation
 struct DiffusePlanParams {
   /// 6: the paper's (1,0,0),(0,1,0),(0,0,1),(1,1,0),(1,0,1),(0,1,1); other counts spread over the hemisphere.
   /// Default 8 spread: measured more accurate per unit cost than the paper's six, whose axis-aligned planes
-  /// cut cloth lying parallel to an axis plane (a pile on the ground) badly (bench/results/accuracy_budget.md).
+  /// cut cloth lying parallel to an axis plane (a pile on the ground) badly
+  /// (bench/results/accuracy_budget.md).
   int orientations = 8;
-  double spacing = 0.0;        ///< distance between parallel planes; 0: the average edge length
+  double spacing = 0.0;            ///< distance between parallel planes; 0: the average edge length
   int planes_per_orientation = 0;  ///< if > 0, overrides spacing
 };
 /// Uniform diffuse light: parallel families of planes over the frame's extent.
-SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame, const DiffusePlanParams& params);
+SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame,
+                              const DiffusePlanParams& params);
 /// The paper's plan: its 6 axis-aligned orientations, planes one average edge length apart, nearer-endpoint
 /// storage (the baseline pleat's defaults are measured against).
 SlicingPlan make_paper_plan(const MeshTopology& topology, const Frame& frame);
@@ -67,7 +70,8 @@ struct AdaptivePlanParams {
 };
 /// The paper's §2.3.3 placement: per orientation, a plane through the median vertex, then recursively
 /// through the medians of the vertices above and below that still lack a cone.
-SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame, const AdaptivePlanParams& params);
+SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame,
+                               const AdaptivePlanParams& params);
 
 /// Point light: a pencil of planes through one line through the light (spacing ~ average edge length at
 /// the cloth's distance).

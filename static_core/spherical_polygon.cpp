@@ -17,10 +17,9 @@
 //    the same identity with apex -w gives an exact point-in-polygon test for w.
 #include "static_core/spherical_polygon.hpp"
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 
 namespace pleat {
 
@@ -59,7 +58,7 @@ double fan_solid_angle(const SphericalPolygon& poly, const glm::dvec3& apex) {
 
 /// An orthonormal pair (e1, e2) with e1 x e2 = n.
 void horizon_frame(const glm::dvec3& n, glm::dvec3& e1, glm::dvec3& e2) {
-  const glm::dvec3 helper = std::abs(n.x) < 0.6 ? glm::dvec3(1, 0, 0)
+  const glm::dvec3 helper = std::abs(n.x) < 0.6   ? glm::dvec3(1, 0, 0)
                             : std::abs(n.y) < 0.6 ? glm::dvec3(0, 1, 0)
                                                   : glm::dvec3(0, 0, 1);
   e1 = glm::normalize(glm::cross(helper, n));
@@ -86,7 +85,8 @@ void append_horizon_arc(const glm::dvec3& x, const glm::dvec3& n, double angle, 
 
 /// The point where the minor arc a -> b meets the horizon of n (da = n.a and db = n.b of opposite signs),
 /// projected exactly onto the horizon.
-glm::dvec3 horizon_crossing(const glm::dvec3& a, const glm::dvec3& b, double da, double db, const glm::dvec3& n) {
+glm::dvec3 horizon_crossing(const glm::dvec3& a, const glm::dvec3& b, double da, double db,
+                            const glm::dvec3& n) {
   glm::dvec3 p = std::abs(db) * a + std::abs(da) * b;
   p -= glm::dot(p, n) * n;
   const double len = glm::length(p);
@@ -148,7 +148,8 @@ SphericalPolygon hemisphere_polygon(const glm::dvec3& n) {
   return {e1, e2, -e1, -e2};
 }
 
-std::size_t HemisphereClipper::clip(const SphericalPolygon& poly, const glm::dvec3& n, SphericalPolygonList& out) {
+std::size_t HemisphereClipper::clip(const SphericalPolygon& poly, const glm::dvec3& n,
+                                    SphericalPolygonList& out) {
   const std::size_t count = poly.size();
   if (count < 3) return 0;
   m_dots.resize(count);
@@ -319,7 +320,8 @@ glm::dvec3 cosine_weighted_moment(const SphericalPolygon& poly, const glm::dvec3
   return cosine_weighted_moment(poly, n, solid_angle(poly));
 }
 
-glm::dvec3 cosine_weighted_moment(const SphericalPolygon& poly, const glm::dvec3& n, double poly_solid_angle) {
+glm::dvec3 cosine_weighted_moment(const SphericalPolygon& poly, const glm::dvec3& n,
+                                  double poly_solid_angle) {
   const std::size_t count = poly.size();
   if (count < 3) return glm::dvec3(0.0);
   glm::dvec3 edges(0.0);

@@ -6,9 +6,8 @@
 // Gamma_i = normalize(v_i x v_i+1). Octant: pi/4; hemisphere: pi. Everything here is O(#vertices).
 #pragma once
 
-#include <glm/vec3.hpp>
-
 #include <cstddef>
+#include <glm/vec3.hpp>
 #include <vector>
 
 namespace pleat {
@@ -55,12 +54,12 @@ class HemisphereClipper {
  private:
   struct Node {
     glm::dvec3 p;
-    int kind;        // 0 vertex, 1 entry crossing, 2 exit crossing
-    double azimuth;  // about n, for crossings
-    int partner;     // exit -> index of its entry node
-    double arc;      // exit -> counter-clockwise angle along the horizon to its entry
-    glm::dvec3 a, b; // crossing: on the arc a -> b, proportional to wa * a + wb * b (kept unrounded for
-    double wa, wb;   //   the exact ordering of nearly coincident crossings)
+    int kind;         // 0 vertex, 1 entry crossing, 2 exit crossing
+    double azimuth;   // about n, for crossings
+    int partner;      // exit -> index of its entry node
+    double arc;       // exit -> counter-clockwise angle along the horizon to its entry
+    glm::dvec3 a, b;  // crossing: on the arc a -> b, proportional to wa * a + wb * b (kept unrounded for
+    double wa, wb;    //   the exact ordering of nearly coincident crossings)
   };
   static double crossing_ccw_angle(const Node& x, const Node& e, const glm::dvec3& n);
 

@@ -1,16 +1,16 @@
 #include "static_core/visibility.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <glm/geometric.hpp>
+#include <memory>
+
 #include "sim_io/mesh_validation.hpp"
 #include "static_core/frame_assembly.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/slice_cones.hpp"
 #include "static_core/slice_triangulation.hpp"
-
-#include <glm/geometric.hpp>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
-#include <memory>
 
 namespace pleat {
 namespace {
@@ -22,8 +22,8 @@ struct Workspace {
 };
 
 void process_plane(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
-                   const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces, Workspace& ws,
-                   PlaneCones& out) {
+                   const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
+                   Workspace& ws, PlaneCones& out) {
   slice_mesh(topology, edges, frame, plane, faces, ws.slicer, out.slice);
   ws.triangulation.build(out.slice);
   out.crossings = ws.triangulation.crossings();
@@ -71,7 +71,7 @@ struct StaticVisibility::Impl {
   MeshEdges edges;
   std::vector<PlaneCones> planes;
   std::vector<const PlaneCones*> plane_views;  // the assembler's view of `planes`
-  std::vector<std::vector<Index>> faces;  // candidate faces per plane
+  std::vector<std::vector<Index>> faces;       // candidate faces per plane
   tbb::enumerable_thread_specific<Workspace> workspaces;
   FrameAssembler assembler;
   FrameVisibility result;
@@ -81,7 +81,8 @@ void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result
   candidate_faces_per_plane(topology, frame, plan, faces);
   // Every plane on its own: slice, triangulate, shortest-path trees, 2D cones.
   auto run = [&](std::size_t p) {
-    process_plane(topology, edges, frame, plan.planes[p], plan.storage, faces[p], workspaces.local(), planes[p]);
+    process_plane(topology, edges, frame, plan.planes[p], plan.storage, faces[p], workspaces.local(),
+                  planes[p]);
   };
   if (params.parallel)
     tbb::parallel_for(std::size_t(0), planes.size(), run);
@@ -91,7 +92,8 @@ void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result
   assembler.assemble(frame, plane_views, result);
 }
 
-StaticVisibility::StaticVisibility(const MeshTopology& topology, SlicingPlan plan, const VisibilityParams& params) {
+StaticVisibility::StaticVisibility(const MeshTopology& topology, SlicingPlan plan,
+                                   const VisibilityParams& params) {
   validate_topology(topology, "StaticVisibility");
   m_impl = std::make_unique<Impl>(topology, std::move(plan), params);
 }

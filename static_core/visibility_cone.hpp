@@ -1,12 +1,12 @@
 // Per-vertex results of the visibility computation: the 3D visibility cones and what is derived from them.
 #pragma once
 
-#include "sim_io/mesh.hpp"
-#include "static_core/spherical_polygon.hpp"
-
 #include <array>
 #include <cstddef>
 #include <vector>
+
+#include "sim_io/mesh.hpp"
+#include "static_core/spherical_polygon.hpp"
 
 namespace pleat {
 
@@ -18,9 +18,9 @@ struct VisibilityCone {
 
 /// What shading needs of a cone, per vertex and side.
 struct ConeMeasures {
-  double sky_visibility = 0.0;   ///< A in [0,1]: cosine-weighted visible fraction (DESIGN.md §1)
-  glm::dvec3 bent_normal{0.0};   ///< cosine-weighted mean visible direction (unit; side normal if empty)
-  double solid_angle = 0.0;      ///< steradians of the cone
+  double sky_visibility = 0.0;  ///< A in [0,1]: cosine-weighted visible fraction (DESIGN.md §1)
+  glm::dvec3 bent_normal{0.0};  ///< cosine-weighted mean visible direction (unit; side normal if empty)
+  double solid_angle = 0.0;     ///< steradians of the cone
 };
 
 /// Counters of one frame's static computation (reported by --stats).
@@ -37,9 +37,9 @@ struct VisibilityStats {
 
 /// Everything computed for one frame, indexed by welded vertex.
 struct FrameVisibility {
-  std::vector<glm::dvec3> normals;                      ///< n(v), area-weighted, unit
-  std::array<std::vector<VisibilityCone>, 2> cones;     ///< [side][vertex]
-  std::array<std::vector<ConeMeasures>, 2> measures;    ///< [side][vertex]
+  std::vector<glm::dvec3> normals;                    ///< n(v), area-weighted, unit
+  std::array<std::vector<VisibilityCone>, 2> cones;   ///< [side][vertex]
+  std::array<std::vector<ConeMeasures>, 2> measures;  ///< [side][vertex]
   VisibilityStats stats;
 
   const ConeMeasures& measure(Side s, Index v) const { return measures[static_cast<int>(s)][v]; }

@@ -1,6 +1,6 @@
 // Angular sets (static_core/angular_set.hpp): the O(k) half-turn clip of the 3D assembly against the general
-// intersection (intersect_wedges) on random united sets, including wedges that wrap past 2pi, full turns, ends
-// exactly on the half-turn's ends, and half-turns that wrap.
+// intersection (intersect_wedges) on random united sets, including wedges that wrap past 2pi, full turns,
+// ends exactly on the half-turn's ends, and half-turns that wrap.
 #include "static_core/angular_set.hpp"
 
 #include <gtest/gtest.h>
@@ -34,10 +34,10 @@ TEST(AngularSet, HalfTurnClipOfAFullTurnIsTheHalfTurn) {
 
 TEST(AngularSet, UnitedFormIsRecognised) {
   EXPECT_TRUE(is_united(std::vector<Wedge>{{0.5, 1.0}, {2.0, 1.0}, {6.0, 0.5}}));
-  EXPECT_FALSE(is_united(std::vector<Wedge>{{2.0, 1.0}, {0.5, 1.0}}));     // unsorted
-  EXPECT_FALSE(is_united(std::vector<Wedge>{{0.5, 1.6}, {2.0, 1.0}}));     // overlapping
-  EXPECT_FALSE(is_united(std::vector<Wedge>{{0.5, 1.0}, {6.0, 1.0}}));     // the last wraps onto the first
-  EXPECT_FALSE(is_united(std::vector<Wedge>{{-0.1, 1.0}}));                // start outside [0, 2pi)
+  EXPECT_FALSE(is_united(std::vector<Wedge>{{2.0, 1.0}, {0.5, 1.0}}));  // unsorted
+  EXPECT_FALSE(is_united(std::vector<Wedge>{{0.5, 1.6}, {2.0, 1.0}}));  // overlapping
+  EXPECT_FALSE(is_united(std::vector<Wedge>{{0.5, 1.0}, {6.0, 1.0}}));  // the last wraps onto the first
+  EXPECT_FALSE(is_united(std::vector<Wedge>{{-0.1, 1.0}}));             // start outside [0, 2pi)
 }
 
 RC_GTEST_PROP(AngularSet, HalfTurnClipEqualsTheIntersection, ()) {
@@ -58,7 +58,8 @@ RC_GTEST_PROP(AngularSet, HalfTurnClipEqualsTheIntersection, ()) {
   const Wedge half[1] = {{h, kTwoPi / 2}};
   intersect_wedges(united, half, ws, expected);
   RC_ASSERT(difference(clipped, expected) < 1e-12);
-  for (const Wedge& w : clipped) RC_ASSERT(w.start >= 0 && w.start < kTwoPi && w.width > 0 && w.width <= kTwoPi / 2);
+  for (const Wedge& w : clipped)
+    RC_ASSERT(w.start >= 0 && w.start < kTwoPi && w.width > 0 && w.width <= kTwoPi / 2);
 }
 
 }  // namespace

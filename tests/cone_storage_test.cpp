@@ -1,6 +1,16 @@
 // How 2D cones reach mesh vertices (SlicingPlan::storage, static_core/frame_assembly): store_cones against a
-// brute-force choice per plane, and the engine's 3D cones under NearestOnFan against 3D cones assembled from a
-// brute-force choice over all planes of each orientation, on generated cloth of every kind and random frames.
+// brute-force choice per plane, and the engine's 3D cones under NearestOnFan against 3D cones assembled from
+// a brute-force choice over all planes of each orientation, on generated cloth of every kind and random
+// frames.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <map>
+#include <vector>
+
 #include "sim_io/cloth_generators.hpp"
 #include "static_core/cone_assembly.hpp"
 #include "static_core/frame_assembly.hpp"
@@ -8,15 +18,6 @@
 #include "static_core/slice_cones.hpp"
 #include "static_core/slice_triangulation.hpp"
 #include "static_core/visibility.hpp"
-
-#include <glm/geometric.hpp>
-#include <gtest/gtest.h>
-#include <rapidcheck/gtest.h>
-
-#include <cmath>
-#include <limits>
-#include <map>
-#include <vector>
 
 namespace pleat {
 namespace {
@@ -51,7 +52,8 @@ Planes slice_all(const MeshTopology& topology, const Frame& frame, const Slicing
 }
 
 RC_GTEST_PROP(ConeStorage, StoreConesPicksTheNearestOffer, ()) {
-  const ClothKind kind = *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
+  const ClothKind kind =
+      *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
   const ClothGenerator cloth(kind, {*rc::gen::inRange(6, 16), 12, 24.0, 0});
   const Frame frame = cloth.frame(*rc::gen::inRange<std::size_t>(0, 12));
   const MeshTopology& topology = cloth.topology();
@@ -85,7 +87,8 @@ RC_GTEST_PROP(ConeStorage, StoreConesPicksTheNearestOffer, ()) {
 }
 
 RC_GTEST_PROP(ConeStorage, NearestOnFanAssemblesTheNearestCutPerOrientation, ()) {
-  const ClothKind kind = *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
+  const ClothKind kind =
+      *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
   const ClothGenerator cloth(kind, {*rc::gen::inRange(6, 14), 12, 24.0, 0});
   const Frame frame = cloth.frame(*rc::gen::inRange<std::size_t>(0, 12));
   const MeshTopology& topology = cloth.topology();
@@ -117,7 +120,8 @@ RC_GTEST_PROP(ConeStorage, NearestOnFanAssemblesTheNearestCutPerOrientation, ())
   std::size_t checked = 0;
   for (Index v = 0; v < n; ++v) {
     bool complete = true;  // vertices that borrow in some orientation are the fill's business
-    for (std::size_t o = 0; o < orientations; ++o) complete &= std::isfinite(choice[v * orientations + o].distance);
+    for (std::size_t o = 0; o < orientations; ++o)
+      complete &= std::isfinite(choice[v * orientations + o].distance);
     if (!complete) continue;
     for (Side side : kBothSides) {
       std::vector<PlanarCone> cones;

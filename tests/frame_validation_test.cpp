@@ -2,6 +2,14 @@
 // too many positions, a NaN or an infinite coordinate, and a triangle naming a vertex out of range each throw
 // InputError naming the entry, the place (frame and vertex, or triangle) and the problem, before any position
 // is read. A valid frame still gives the same result, also right after a rejected one.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
 #include "kinetic/kinetic_visibility.hpp"
 #include "oracles/test_meshes.hpp"
 #include "shading/path_trace.hpp"
@@ -12,14 +20,6 @@
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
 #include "test_support.hpp"
-
-#include <gtest/gtest.h>
-
-#include <cmath>
-#include <functional>
-#include <limits>
-#include <string>
-#include <vector>
 
 namespace pleat {
 namespace {
@@ -54,17 +54,19 @@ std::vector<BadInput> bad_inputs(const Mesh& good) {
   const Index n = good.topology.num_vertices;
   const std::string at = "frame at t=0.5";
   return {
-      {"too few positions", false, [](MeshTopology&, Frame& f) { f.positions.resize(f.positions.size() / 2); }, at,
+      {"too few positions", false,
+       [](MeshTopology&, Frame& f) { f.positions.resize(f.positions.size() / 2); }, at,
        "too few positions: " + std::to_string(n / 2) + " for " + std::to_string(n) + " vertices"},
-      {"too many positions", false, [](MeshTopology&, Frame& f) { f.positions.push_back(glm::dvec3(0.0)); }, at,
-       "too many positions: " + std::to_string(n + 1) + " for " + std::to_string(n) + " vertices"},
+      {"too many positions", false, [](MeshTopology&, Frame& f) { f.positions.push_back(glm::dvec3(0.0)); },
+       at, "too many positions: " + std::to_string(n + 1) + " for " + std::to_string(n) + " vertices"},
       {"a NaN", false, [](MeshTopology&, Frame& f) { f.positions[5].y = std::nan(""); }, at + ", vertex 5",
        "non-finite position ("},
       {"an inf", false,
        [](MeshTopology&, Frame& f) { f.positions[7].z = -std::numeric_limits<double>::infinity(); },
        at + ", vertex 7", "non-finite position ("},
       {"a triangle index out of range", true, [n](MeshTopology& t, Frame&) { t.triangles[3][1] = n + 4; },
-       "triangle 3", "vertex index " + std::to_string(n + 4) + " out of range (" + std::to_string(n) + " vertices)"},
+       "triangle 3",
+       "vertex index " + std::to_string(n + 4) + " out of range (" + std::to_string(n) + " vertices)"},
   };
 }
 
@@ -132,9 +134,10 @@ TEST(MeshValidation, MessagesNameTheEntryThePlaceAndTheProblem) {
     validate_topology(topology, "StaticVisibility");
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "StaticVisibility:triangle " + std::to_string(topology.triangles.size() - 1) +
-                                         ": vertex index " + std::to_string(n) + " out of range (" +
-                                         std::to_string(n) + " vertices)");
+    EXPECT_EQ(std::string(e.what()), "StaticVisibility:triangle " +
+                                         std::to_string(topology.triangles.size() - 1) + ": vertex index " +
+                                         std::to_string(n) + " out of range (" + std::to_string(n) +
+                                         " vertices)");
   }
   // The first offender is named; an empty cloth is valid.
   frame = good.frame;
@@ -155,9 +158,8 @@ TEST(MeshValidation, MessagesNameTheEntryThePlaceAndTheProblem) {
 TEST(FrameValidation, ComputeVisibility) {
   const Mesh good = fold();
   const SlicingPlan plan = make_diffuse_plan(good.topology, good.frame, {});
-  expect_validates("compute_visibility", true, true, [&](const MeshTopology& t, const Frame& f) {
-    compute_visibility(t, f, plan, {false});
-  });
+  expect_validates("compute_visibility", true, true,
+                   [&](const MeshTopology& t, const Frame& f) { compute_visibility(t, f, plan, {false}); });
   FrameVisibility reused;
   expect_validates("compute_visibility", true, true, [&](const MeshTopology& t, const Frame& f) {
     compute_visibility(t, f, plan, {false}, reused);
@@ -182,10 +184,12 @@ TEST(FrameValidation, SlicingPlansNormalsAndEdgeLength) {
                    [](const MeshTopology& t, const Frame& f) { make_diffuse_plan(t, f, {}); });
   // Every vertex allowed to miss a cone: no planes, only the validation (with the default 5%, the median
   // split does not terminate on this fold: a known issue outside this test's subject).
-  expect_validates("make_adaptive_plan", true, true,
-                   [](const MeshTopology& t, const Frame& f) { make_adaptive_plan(t, f, {6, 1.0}); });
-  expect_validates("make_point_light_plan", true, true,
-                   [](const MeshTopology& t, const Frame& f) { make_point_light_plan(t, f, {0.0, 0.0, 3.0}); });
+  expect_validates("make_adaptive_plan", true, true, [](const MeshTopology& t, const Frame& f) {
+    make_adaptive_plan(t, f, {6, 1.0});
+  });
+  expect_validates("make_point_light_plan", true, true, [](const MeshTopology& t, const Frame& f) {
+    make_point_light_plan(t, f, {0.0, 0.0, 3.0});
+  });
   expect_validates("make_area_light_plan", true, true, [](const MeshTopology& t, const Frame& f) {
     make_area_light_plan(t, f, {{-1.0, -1.0, 3.0}, {1.0, -1.0, 3.0}, {1.0, 1.0, 3.0}, {-1.0, 1.0, 3.0}});
   });
@@ -203,8 +207,9 @@ TEST(FrameValidation, KineticVisibilityConstructorAndAdvance) {
   KineticParams params;
   params.parallel = false;
   params.check_invariants = true;
-  expect_validates("KineticVisibility", true, true,
-                   [&](const MeshTopology& t, const Frame& f) { KineticVisibility engine(t, plan, f, params); });
+  expect_validates("KineticVisibility", true, true, [&](const MeshTopology& t, const Frame& f) {
+    KineticVisibility engine(t, plan, f, params);
+  });
   KineticVisibility engine(good.topology, plan, good.frame, params);
   // A rejected frame leaves the engine at its last frame; the good frame of expect_validates is that frame.
   expect_validates("KineticVisibility::advance", false, true,
@@ -217,15 +222,14 @@ TEST(FrameValidation, KineticVisibilityConstructorAndAdvance) {
 
 TEST(FrameValidation, ShadeFrame) {
   const Mesh good = fold();
-  const FrameVisibility visibility =
-      compute_visibility(good.topology, good.frame, make_diffuse_plan(good.topology, good.frame, {}), {false});
+  const FrameVisibility visibility = compute_visibility(
+      good.topology, good.frame, make_diffuse_plan(good.topology, good.frame, {}), {false});
   Lighting lighting;
   add_light_spec(lighting, "sky:1");
   add_light_spec(lighting, "point:0,0.5,2,I=3");
   // Shading reads no triangle: only the frame is checked (the triangle case is not run).
-  expect_validates("shade_frame", false, true, [&](const MeshTopology& t, const Frame& f) {
-    shade_frame(t, f, visibility, lighting);
-  });
+  expect_validates("shade_frame", false, true,
+                   [&](const MeshTopology& t, const Frame& f) { shade_frame(t, f, visibility, lighting); });
   ShadedFrame reused;
   expect_validates("shade_frame", false, true, [&](const MeshTopology& t, const Frame& f) {
     shade_frame(t, f, visibility, lighting, {}, reused);

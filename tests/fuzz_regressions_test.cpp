@@ -2,13 +2,13 @@
 // suite: the engines' cloths through check_engines (both engines with the kinetic invariant checks on, the
 // kinetic A equal to the static A, the shading), the readers' files through load_sequence (InputError or a
 // valid sequence, nothing else).
-#include "fuzz/fuzz_cloth.hpp"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+
+#include "fuzz/fuzz_cloth.hpp"
 
 namespace pleat {
 namespace {
@@ -27,7 +27,8 @@ TEST(FuzzRegressions, EngineInputsRunCleanAndTheEnginesAgree) {
   ASSERT_FALSE(files.empty());
   for (const auto& file : files) {
     std::ifstream in(file, std::ios::binary);
-    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                          std::istreambuf_iterator<char>());
     const auto cloth = fuzz::decode_cloth(bytes.data(), bytes.size());
     ASSERT_TRUE(cloth.has_value()) << file;
     std::string mismatch;

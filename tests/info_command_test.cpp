@@ -1,5 +1,9 @@
 // `pleat info`: the same counts for one motion stored as OBJ+PC2, OBJ+MDD, an OBJ sequence and a glb, and
 // one clean error (exit code 2, file and place named) per bad-input case.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
 #include "sim_io/gltf_format.hpp"
 #include "sim_io/mdd_format.hpp"
 #include "sim_io/obj_format.hpp"
@@ -7,9 +11,6 @@
 #include "sim_io/pc2_format.hpp"
 #include "sim_io_fixtures.hpp"
 #include "test_support.hpp"
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 namespace pleat {
 namespace {
@@ -41,7 +42,8 @@ TEST(InfoCommand, SameCountsForEveryFormatOfOneMotion) {
   write_mdd(dir / "sheet.mdd", positions, times);
   std::filesystem::create_directories(dir / "seq");
   write_obj_sequence((dir / "seq/sheet_%03d.obj").string(), sheet, 1);
-  std::vector<std::vector<glm::vec3>> colours(sheet.num_frames(), std::vector<glm::vec3>(sheet.topology().num_vertices, glm::vec3(0.8f)));
+  std::vector<std::vector<glm::vec3>> colours(
+      sheet.num_frames(), std::vector<glm::vec3>(sheet.topology().num_vertices, glm::vec3(0.8f)));
   std::vector<std::size_t> all(sheet.num_frames());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
   write_shaded_glb(dir / "sheet.glb", sheet, all, colours, colours, 24.0);
@@ -76,10 +78,12 @@ TEST(InfoCommand, HumanReadableReportAndIntersectionCheck) {
   const MeshSequence sheet = test::folding_sheet(3, 3, 3);
   write_obj(dir / "s.obj", sheet.topology(), sheet.frame(0).positions);
   write_pc2(dir / "s.pc2", test::all_positions(sheet), 0.0, 1.0);
-  const auto result = run_pleat("info " + quoted(dir / "s.obj") + " --cache " + quoted(dir / "s.pc2") + " --check-intersections");
+  const auto result = run_pleat("info " + quoted(dir / "s.obj") + " --cache " + quoted(dir / "s.pc2") +
+                                " --check-intersections");
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  for (const char* words : {"16 welded, 16 input (0 welded duplicates)", "18 triangles", "3 at 24 fps", "boundary loops      1",
-                            "non-manifold edges  0", "self-intersections  0 of 3 frames intersect"})
+  for (const char* words :
+       {"16 welded, 16 input (0 welded duplicates)", "18 triangles", "3 at 24 fps", "boundary loops      1",
+        "non-manifold edges  0", "self-intersections  0 of 3 frames intersect"})
     EXPECT_NE(result.output.find(words), std::string::npos) << words << "\n" << result.output;
   const auto json = info_json(quoted(dir / "s.obj") + " --check-intersections");
   EXPECT_EQ(json["self_intersections"]["frames_with_intersections"], 0);
@@ -89,12 +93,14 @@ TEST(InfoCommand, ReportsSelfIntersectingFrames) {
   // Two triangles piercing each other in frame 1 only.
   TempDir dir;
   const MeshTopology t{6, {{0, 1, 2}, {3, 4, 5}}};
-  const std::vector<glm::dvec3> apart = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0.5, 0.5, 1}, {0.5, 0.5, 2}, {1, 0.5, 1}};
+  const std::vector<glm::dvec3> apart = {{0, 0, 0},     {2, 0, 0},     {0, 2, 0},
+                                         {0.5, 0.5, 1}, {0.5, 0.5, 2}, {1, 0.5, 1}};
   std::vector<glm::dvec3> pierced = apart;
   pierced[3].z = -1;
   write_obj(dir / "x.obj", t, apart);
   write_pc2(dir / "x.pc2", {apart, pierced}, 0.0, 1.0);
-  const auto json = info_json(quoted(dir / "x.obj") + " --cache " + quoted(dir / "x.pc2") + " --check-intersections");
+  const auto json =
+      info_json(quoted(dir / "x.obj") + " --cache " + quoted(dir / "x.pc2") + " --check-intersections");
   EXPECT_EQ(json["self_intersections"]["frames_with_intersections"], 1);
   EXPECT_EQ(json["self_intersections"]["max_pairs"], 1);
   EXPECT_EQ(json["self_intersections"]["pairs_per_frame"], nlohmann::json({0, 1}));
@@ -119,13 +125,16 @@ class BadInput : public ::testing::Test {
   }
   std::filesystem::path path(const std::string& name) const { return m_dir / name; }
   std::string bytes(const std::string& name) const { return test::file_bytes(m_dir / name); }
-  void write(const std::string& name, const std::string& content) const { test::write_bytes(m_dir / name, content); }
+  void write(const std::string& name, const std::string& content) const {
+    test::write_bytes(m_dir / name, content);
+  }
   void expect_error(const std::string& args, const std::filesystem::path& file, const std::string& place,
                     const std::string& words) const {
     const auto result = run_pleat("info " + args);
     EXPECT_EQ(result.exit_code, 2) << result.output;
-    EXPECT_NE(result.output.find("pleat: error: " + file.string() + (place.empty() ? ": " : ":" + place + ": ")),
-              std::string::npos)
+    EXPECT_NE(
+        result.output.find("pleat: error: " + file.string() + (place.empty() ? ": " : ":" + place + ": ")),
+        std::string::npos)
         << result.output;
     EXPECT_NE(result.output.find(words), std::string::npos) << result.output;
     EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
@@ -134,11 +143,14 @@ class BadInput : public ::testing::Test {
   TempDir m_dir;
 };
 
-TEST_F(BadInput, MissingFile) { expect_error(quoted(path("nope.obj")), path("nope.obj"), "", "no such file"); }
+TEST_F(BadInput, MissingFile) {
+  expect_error(quoted(path("nope.obj")), path("nope.obj"), "", "no such file");
+}
 
 TEST_F(BadInput, UnreadableFile) {
   std::filesystem::create_directories(path("dir.pc2"));  // a directory where a cache should be
-  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("dir.pc2")), path("dir.pc2"), "", "not a regular file");
+  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("dir.pc2")), path("dir.pc2"), "",
+               "not a regular file");
 }
 
 TEST_F(BadInput, WrongMagicPc2) {
@@ -146,7 +158,8 @@ TEST_F(BadInput, WrongMagicPc2) {
   b.replace(0, 5, "POINT");
   b[5] = 'Z';
   write("bad.pc2", b);
-  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("bad.pc2")), path("bad.pc2"), "byte 0", "wrong magic");
+  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("bad.pc2")), path("bad.pc2"), "byte 0",
+               "wrong magic");
 }
 
 TEST_F(BadInput, WrongMagicGlb) {
@@ -166,23 +179,27 @@ TEST_F(BadInput, TruncatedPc2) {
 TEST_F(BadInput, TruncatedMdd) {
   const std::string b = bytes("s.mdd");
   write("short.mdd", b.substr(0, 30));
-  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("short.mdd")), path("short.mdd"), "byte 30", "truncated");
+  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("short.mdd")), path("short.mdd"), "byte 30",
+               "truncated");
 }
 
 TEST_F(BadInput, TruncatedGlb) {
   const std::string b = bytes("s.glb");
   write("short.glb", b.substr(0, b.size() / 2));
-  expect_error(quoted(path("short.glb")), path("short.glb"), "byte " + std::to_string(b.size() / 2), "truncated");
+  expect_error(quoted(path("short.glb")), path("short.glb"), "byte " + std::to_string(b.size() / 2),
+               "truncated");
 }
 
 TEST_F(BadInput, VertexCountMismatchPc2) {
   write_pc2(path("four.pc2"), {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}}, 0.0, 1.0);
-  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("four.pc2")), path("four.pc2"), "byte 16", "mismatch");
+  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("four.pc2")), path("four.pc2"), "byte 16",
+               "mismatch");
 }
 
 TEST_F(BadInput, VertexCountMismatchMdd) {
   write_mdd(path("four.mdd"), {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}}, {0.0});
-  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("four.mdd")), path("four.mdd"), "byte 4", "mismatch");
+  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("four.mdd")), path("four.mdd"), "byte 4",
+               "mismatch");
 }
 
 TEST_F(BadInput, NanInCache) {
@@ -190,8 +207,8 @@ TEST_F(BadInput, NanInCache) {
   const std::size_t at = 32 + 6 * 12 + 2 * 12 + 8;  // frame 1, vertex 2, z
   b[at] = 0, b[at + 1] = 0, b[at + 2] = char(0xc0), b[at + 3] = char(0x7f);
   write("nan.pc2", b);
-  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("nan.pc2")), path("nan.pc2"), "frame 1, vertex 2",
-               "non-finite");
+  expect_error(quoted(path("s.obj")) + " --cache " + quoted(path("nan.pc2")), path("nan.pc2"),
+               "frame 1, vertex 2", "non-finite");
 }
 
 TEST_F(BadInput, InfInObj) {
@@ -210,12 +227,14 @@ TEST_F(BadInput, EmptyMesh) {
 }
 
 TEST_F(BadInput, UnsupportedGltfFeature) {
-  write("lines.gltf",
-        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":24,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAA"}],)"
-        R"("bufferViews":[{"buffer":0,"byteLength":24}],)"
-        R"("accessors":[{"bufferView":0,"componentType":5126,"count":2,"type":"VEC3","min":[0,0,0],"max":[1,0,0]}],)"
-        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"mode":1}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})");
-  expect_error(quoted(path("lines.gltf")), path("lines.gltf"), "mesh 0 primitive 0", "unsupported glTF feature");
+  write(
+      "lines.gltf",
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":24,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAA"}],)"
+      R"("bufferViews":[{"buffer":0,"byteLength":24}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":2,"type":"VEC3","min":[0,0,0],"max":[1,0,0]}],)"
+      R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"mode":1}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})");
+  expect_error(quoted(path("lines.gltf")), path("lines.gltf"), "mesh 0 primitive 0",
+               "unsupported glTF feature");
 }
 
 }  // namespace

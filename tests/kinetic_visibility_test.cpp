@@ -4,22 +4,23 @@
 // coherent motions (every generated kind, random parameters, smooth perturbations, random frame steps,
 // planes through vertices at frame times) and on stress cases: a flat sheet, a fold closing and reopening,
 // a vertex on a plane at a frame time, events exactly at t = 1, simultaneous events; then 1000 frames.
-#include "kinetic/kinetic_slice.hpp"
 #include "kinetic/kinetic_visibility.hpp"
-#include "oracles/test_meshes.hpp"
-#include "sim_io/cloth_generators.hpp"
-#include "static_core/shortest_path_tree.hpp"
-#include "static_core/visibility.hpp"
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
+#include <glm/geometric.hpp>
 #include <numeric>
+#include <sstream>
 #include <tuple>
+
+#include "kinetic/kinetic_slice.hpp"
+#include "oracles/test_meshes.hpp"
+#include "sim_io/cloth_generators.hpp"
+#include "static_core/shortest_path_tree.hpp"
+#include "static_core/visibility.hpp"
 
 namespace pleat {
 namespace {
@@ -28,8 +29,8 @@ constexpr double kTolerance = 1e-9;
 
 /// A slice's structure in terms of mesh edges (slice vertices are numbered per frame, corners per build).
 struct SliceSignature {
-  std::vector<Index> hull;                                          // mesh edges of hull vertices
-  std::vector<std::pair<Index, Index>> windows;                     // (edge at a, edge at b)
+  std::vector<Index> hull;                                           // mesh edges of hull vertices
+  std::vector<std::pair<Index, Index>> windows;                      // (edge at a, edge at b)
   std::vector<std::tuple<Index, Index, int, Index, Index>> parents;  // (window, from_b, corner, parent)
   std::vector<std::tuple<Index, int, std::vector<Wedge>>> cones;     // (edge, side, wedges)
 };
@@ -48,13 +49,15 @@ SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const
   if (st.dimension() < 2) return s;
   const cgal::Cdt& cdt = st.cdt();
   auto vc = cdt.incident_vertices(cdt.infinite_vertex()), done = vc;
-  do s.hull.push_back(edge_of(vc)); while (++vc != done);
+  do s.hull.push_back(edge_of(vc));
+  while (++vc != done);
   std::sort(s.hull.begin(), s.hull.end());
   std::vector<int> parent(st.num_corners(), -1);
   std::vector<FunnelTask> stack;
   for (const SliceRegion& region : st.regions())
     for (const SliceWindow& w : region.windows) {
-      const auto key = std::make_pair(edge_of(st.corner_vertex(w.corner_a)), edge_of(st.corner_vertex(w.corner_b)));
+      const auto key =
+          std::make_pair(edge_of(st.corner_vertex(w.corner_a)), edge_of(st.corner_vertex(w.corner_b)));
       s.windows.push_back(key);
       if (region.has_holes) continue;  // cones there come from the outer polygon and the holes' spans
       for (int from_b = 0; from_b < 2; ++from_b) {
@@ -100,7 +103,8 @@ std::string compare_slice(const KineticVisibility& kinetic, std::size_t p, const
     const auto& [eb, sb, wb] = b.cones[i];
     if (ea != eb || sa != sb || wa.size() != wb.size()) return "2D cone of edge " + std::to_string(ea);
     for (std::size_t k = 0; k < wa.size(); ++k)
-      if (std::abs(wa[k].start - wb[k].start) > kTolerance || std::abs(wa[k].width - wb[k].width) > kTolerance)
+      if (std::abs(wa[k].start - wb[k].start) > kTolerance ||
+          std::abs(wa[k].width - wb[k].width) > kTolerance)
         return "2D cone wedge of edge " + std::to_string(ea);
   }
   return {};
@@ -129,8 +133,9 @@ std::string compare_frames(const FrameVisibility& k, const FrameVisibility& s) {
 
 /// Runs the kinetic engine over `frames` and compares it with the static engine at every frame (and every
 /// slice when `slices`). Returns the first difference; accumulates the kinetic counters into `total`.
-std::string run_and_compare(const MeshTopology& topology, const std::vector<Frame>& frames, const SlicingPlan& plan,
-                            bool slices, KineticFrameStats* total = nullptr, const KineticParams& params = {false, {}, true}) {
+std::string run_and_compare(const MeshTopology& topology, const std::vector<Frame>& frames,
+                            const SlicingPlan& plan, bool slices, KineticFrameStats* total = nullptr,
+                            const KineticParams& params = {false, {}, true}) {
   KineticVisibility kinetic(topology, plan, frames[0], params);
   StaticVisibility reference(topology, plan, {false});
   const MeshEdges edges(topology);
@@ -148,8 +153,8 @@ std::string run_and_compare(const MeshTopology& topology, const std::vector<Fram
 }
 
 /// A plan of a few orientations plus planes exactly through chosen vertices at chosen frames.
-SlicingPlan plan_for(const MeshTopology& topology, const std::vector<Frame>& frames, int planes_per_orientation,
-                     const std::vector<std::pair<std::size_t, Index>>& through) {
+SlicingPlan plan_for(const MeshTopology& topology, const std::vector<Frame>& frames,
+                     int planes_per_orientation, const std::vector<std::pair<std::size_t, Index>>& through) {
   SlicingPlan plan = make_diffuse_plan(topology, frames[0], {6, 0.0, planes_per_orientation});
   for (std::size_t i = 0; i < through.size(); ++i) {
     const int o = static_cast<int>(i % plan.orientations.size());
@@ -160,9 +165,9 @@ SlicingPlan plan_for(const MeshTopology& topology, const std::vector<Frame>& fra
   return plan;
 }
 
-
 RC_GTEST_PROP(KineticVisibility, EqualsAFullRecomputeAtEveryFrameOnRandomCoherentMotions, ()) {
-  const auto kind = *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
+  const auto kind =
+      *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
   const int resolution = *rc::gen::inRange(6, 14);
   const int step = *rc::gen::inRange(1, 4);
   const int count = *rc::gen::inRange(8, 20);
@@ -174,7 +179,8 @@ RC_GTEST_PROP(KineticVisibility, EqualsAFullRecomputeAtEveryFrameOnRandomCoheren
   for (int f = 0; f < count * step; f += step) {
     Frame frame = cloth.frame(f);
     for (glm::dvec3& p : frame.positions)  // a smooth travelling perturbation
-      p += amplitude * glm::dvec3(std::sin(k * p.y + 0.7 * f), std::sin(k * p.z + 1.3 * f), std::sin(k * p.x + 0.4 * f));
+      p += amplitude *
+           glm::dvec3(std::sin(k * p.y + 0.7 * f), std::sin(k * p.z + 1.3 * f), std::sin(k * p.x + 0.4 * f));
     frames.push_back(std::move(frame));
   }
   std::vector<std::pair<std::size_t, Index>> through;
@@ -192,8 +198,8 @@ RC_GTEST_PROP(KineticVisibility, EqualsAFullRecomputeAtEveryFrameOnRandomCoheren
 }
 
 /// The property above must exercise the kinetic paths, not only compare the static engine with itself:
-/// coherent motions of every kind, with a policy that repairs far more than the default, give flips, hull events,
-/// regular and critical crossings, and more slices repaired than rebuilt (and equal a recompute).
+/// coherent motions of every kind, with a policy that repairs far more than the default, give flips, hull
+/// events, regular and critical crossings, and more slices repaired than rebuilt (and equal a recompute).
 TEST(KineticVisibility, CoherentMotionsExerciseEveryRepair) {
   KineticFrameStats totals;
   for (ClothKind kind : {ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve}) {
@@ -203,10 +209,11 @@ TEST(KineticVisibility, CoherentMotionsExerciseEveryRepair) {
     const SlicingPlan plan = plan_for(cloth.topology(), frames, 5, {{3, 40}});
     EXPECT_EQ(run_and_compare(cloth.topology(), frames, plan, true, &totals, {false, {4.0, 1.0}, true}), "");
   }
-  std::cout << "flips " << totals.flips << ", hull enter/leave " << totals.hull_enter << "/" << totals.hull_leave
-            << ", regular/critical crossings " << totals.side_changes_regular << "/" << totals.side_changes_critical
-            << ", slices unchanged/repaired/rebuilt " << totals.slices_unchanged << "/" << totals.slices_repaired << "/"
-            << totals.slices_rebuilt << "\n";
+  std::cout << "flips " << totals.flips << ", hull enter/leave " << totals.hull_enter << "/"
+            << totals.hull_leave << ", regular/critical crossings " << totals.side_changes_regular << "/"
+            << totals.side_changes_critical << ", slices unchanged/repaired/rebuilt "
+            << totals.slices_unchanged << "/" << totals.slices_repaired << "/" << totals.slices_rebuilt
+            << "\n";
   EXPECT_GT(totals.flips, 0u);
   EXPECT_GT(totals.hull_enter, 0u);
   EXPECT_GT(totals.hull_leave, 0u);

@@ -81,14 +81,16 @@ RC_GTEST_PROP(MatchedError, KStarLiesInTheBruteForceBracket, ()) {
   double k = 4;
   for (int i = 0; i < n; ++i) {
     k *= 1.2 + *rc::gen::inRange(0, 100) / 50.0;
-    ladder.push_back({k, 0.01 * k * (1 + *rc::gen::inRange(0, 10) / 100.0), *rc::gen::inRange(1, 1000) / 1000.0, 0.01});
+    ladder.push_back(
+        {k, 0.01 * k * (1 + *rc::gen::inRange(0, 10) / 100.0), *rc::gen::inRange(1, 1000) / 1000.0, 0.01});
   }
   const double target = *rc::gen::inRange(1, 1000) / 1000.0;
   const MatchedRays m = matched_rays(ladder, target);
   std::size_t first = 0;
   while (first < ladder.size() && ladder[first].error > target) ++first;
   if (first == 0) {
-    RC_ASSERT(m.bound == (ladder[0].error == target ? MatchedRays::Bound::Inside : MatchedRays::Bound::Below));
+    RC_ASSERT(m.bound ==
+              (ladder[0].error == target ? MatchedRays::Bound::Inside : MatchedRays::Bound::Below));
     RC_ASSERT(m.rays == ladder[0].rays);
   } else if (first == ladder.size()) {
     RC_ASSERT(m.bound == MatchedRays::Bound::Above);

@@ -1,10 +1,10 @@
-// The kinetic layer's orientation certificates of linearly moving slice points (kinetic/moving_orientation.hpp)
-// against exact oracles: the certificate's exact polynomial equals the orientation of the interpolated points
-// (Gmpq) at rational times; its interval enclosure holds the exact Bernstein coefficients; bernstein_signs are
-// their exact signs; and first_failure — the cheap staged decision the engine uses (filter, exact signs,
-// intervals, rationals) — gives exactly the event the all-rational decision gives, on random and degenerate
-// motions (points on a small integer grid: collinear, coincident, touching zero at the ends) and from start
-// times 0, 1, rationals and an algebraic time.
+// The kinetic layer's orientation certificates of linearly moving slice points
+// (kinetic/moving_orientation.hpp) against exact oracles: the certificate's exact polynomial equals the
+// orientation of the interpolated points (Gmpq) at rational times; its interval enclosure holds the exact
+// Bernstein coefficients; bernstein_signs are their exact signs; and first_failure — the cheap staged
+// decision the engine uses (filter, exact signs, intervals, rationals) — gives exactly the event the
+// all-rational decision gives, on random and degenerate motions (points on a small integer grid: collinear,
+// coincident, touching zero at the ends) and from start times 0, 1, rationals and an algebraic time.
 #include "kinetic/moving_orientation.hpp"
 
 #include <CGAL/FPU.h>
@@ -68,9 +68,12 @@ RootTime gen_start() {
         if (t && stage == IsolationStage::subdivision) return *t;
       }
       return RootTime::zero();
-    case 0: return RootTime::zero();
-    case 1: return RootTime::one();
-    case 2: return RootTime::rational(Rational(*rc::gen::inRange(1, 64), 64));
+    case 0:
+      return RootTime::zero();
+    case 1:
+      return RootTime::one();
+    case 2:
+      return RootTime::rational(Rational(*rc::gen::inRange(1, 64), 64));
     default: {
       const Rational c(*rc::gen::inRange(1, 98) * 2 + 1, 199);
       return *first_root_after(ExactPolynomial({-c, Rational(0), Rational(1)}), RootTime::zero());
@@ -80,7 +83,10 @@ RootTime gen_start() {
 
 std::string text(const std::optional<RootTime>& t) {
   std::ostringstream out;
-  if (t) out << *t; else out << "none";
+  if (t)
+    out << *t;
+  else
+    out << "none";
   return out.str();
 }
 
@@ -125,7 +131,9 @@ RC_GTEST_PROP(MovingOrientation, FirstFailureEqualsTheAllRationalDecision, ()) {
     expected = first_root_after(poly, t0);
   }
   const CertificateFailure got = first_failure(p, t0, triangle);
-  RC_TAG(static_cast<int>(got.decided_by), !got.time ? "holds" : *got.time == t0 ? "fails now" : "event later");
+  RC_TAG(static_cast<int>(got.decided_by), !got.time         ? "holds"
+                                           : *got.time == t0 ? "fails now"
+                                                             : "event later");
   RC_LOG() << "t0 " << t0 << ", triangle " << triangle << ": expected " << text(expected) << ", got "
            << text(got.time) << "\n";
   RC_ASSERT(got.time.has_value() == expected.has_value());

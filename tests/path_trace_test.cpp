@@ -2,16 +2,16 @@
 // light, the inside of a closed sphere), bounds at the bottom of a V-fold against the Stewart–Langer model,
 // and determinism.
 #include "shading/path_trace.hpp"
-#include "static_core/visibility.hpp"
 
-#include <glm/glm.hpp>
 #include <gtest/gtest.h>
 
-#include "oracles/test_meshes.hpp"
-
 #include <cmath>
+#include <glm/glm.hpp>
 #include <map>
 #include <numbers>
+
+#include "oracles/test_meshes.hpp"
+#include "static_core/visibility.hpp"
 
 namespace pleat {
 namespace {
@@ -23,7 +23,8 @@ Mesh flat_sheet(int n, double size) { return test::flat_sheet(n, n, size / (n - 
 /// Unit octahedron subdivided `levels` times and pushed onto the sphere, outward winding.
 Mesh sphere(int levels) {
   std::vector<glm::dvec3> p = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  std::vector<Triangle> f = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  std::vector<Triangle> f = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                             {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
   for (int level = 0; level < levels; ++level) {
     std::map<std::pair<Index, Index>, Index> mid;
     auto midpoint = [&](Index a, Index b) {
@@ -35,7 +36,8 @@ Mesh sphere(int levels) {
     std::vector<Triangle> g;
     for (const Triangle& t : f) {
       const Index a = midpoint(t[0], t[1]), b = midpoint(t[1], t[2]), c = midpoint(t[2], t[0]);
-      g.insert(g.end(), {Triangle{t[0], a, c}, Triangle{t[1], b, a}, Triangle{t[2], c, b}, Triangle{a, b, c}});
+      g.insert(g.end(),
+               {Triangle{t[0], a, c}, Triangle{t[1], b, a}, Triangle{t[2], c, b}, Triangle{a, b, c}});
     }
     f = std::move(g);
   }
@@ -72,7 +74,8 @@ Mesh v_fold(double alpha, const std::vector<double>& offsets, const std::vector<
 
 PathTracedFrame trace(const Mesh& m, const Lighting& lighting, const PathTraceParams& params) {
   EmbreeScene scene(m.topology, m.frame);
-  return path_trace_vertices(scene, m.topology, m.frame, vertex_normals(m.topology, m.frame), lighting, params);
+  return path_trace_vertices(scene, m.topology, m.frame, vertex_normals(m.topology, m.frame), lighting,
+                             params);
 }
 
 TEST(PathTrace, FlatSheetUnderAUniformSkyIsRhoL) {
@@ -125,8 +128,8 @@ TEST(PathTrace, InsideAClosedSphereIsDark) {
 TEST(PathTrace, VFoldBottomLiesBetweenStewartLangerAndFlat) {
   int columns = 0;
   const double alpha = 30.0 * std::numbers::pi / 180.0;
-  const Mesh fold = v_fold(alpha, {0.0, 0.5, 1.0, 3.0, 10.0, 100.0}, {-100.0, -10.0, -1.0, 0.0, 1.0, 10.0, 100.0},
-                           columns);
+  const Mesh fold =
+      v_fold(alpha, {0.0, 0.5, 1.0, 3.0, 10.0, 100.0}, {-100.0, -10.0, -1.0, 0.0, 1.0, 10.0, 100.0}, columns);
   Lighting lighting;
   lighting.skies.push_back({glm::dvec3(1.0)});
   PathTraceParams params;

@@ -1,18 +1,18 @@
 // Ray-cast sky visibility (shading/ray_visibility) against closed forms: a flat sheet (A = 1 on both sides),
 // a closed sphere (inside 0, outside ≈ 1), and a V-fold (A = sin α at the bottom of the fold, sin² α on its
 // faces); determinism for a fixed seed; refit vs rebuild; the EmbreeScene queries themselves.
-#include "shading/embree_scene.hpp"
 #include "shading/ray_visibility.hpp"
-#include "static_core/visibility.hpp"
 
-#include <glm/glm.hpp>
 #include <gtest/gtest.h>
 
-#include "oracles/test_meshes.hpp"
-
 #include <cmath>
+#include <glm/glm.hpp>
 #include <map>
 #include <numbers>
+
+#include "oracles/test_meshes.hpp"
+#include "shading/embree_scene.hpp"
+#include "static_core/visibility.hpp"
 
 namespace pleat {
 namespace {
@@ -91,14 +91,16 @@ TEST(RayVisibility, FlatSheetFarFromTheOriginAndTurnedStaysOpen) {
   const glm::dvec3 axis = glm::normalize(glm::dvec3(0.3, -0.5, 0.8));
   const double angle = 0.7;
   for (glm::dvec3& p : sheet.frame.positions) {
-    p = p * std::cos(angle) + glm::cross(axis, p) * std::sin(angle) + axis * glm::dot(axis, p) * (1 - std::cos(angle));
+    p = p * std::cos(angle) + glm::cross(axis, p) * std::sin(angle) +
+        axis * glm::dot(axis, p) * (1 - std::cos(angle));
     p += glm::dvec3(1000.0, -500.0, 250.0);
   }
   RayVisibilityParams params;
   params.rays_per_vertex = 512;
   const RayVisibility r = run(sheet, params);
   for (int s = 0; s < 2; ++s)
-    for (Index v = 0; v < sheet.topology.num_vertices; ++v) EXPECT_EQ(r.sky_visibility[s][v], 1.0) << s << " " << v;
+    for (Index v = 0; v < sheet.topology.num_vertices; ++v)
+      EXPECT_EQ(r.sky_visibility[s][v], 1.0) << s << " " << v;
 }
 
 TEST(RayVisibility, ClosedSphereIsDarkInsideAndOpenOutside) {
@@ -175,7 +177,7 @@ TEST(RayVisibility, VertexFanTellsTheSideAtACrease) {
     EXPECT_EQ(fan.side_of(direction(0.0, z)), 1);
     EXPECT_EQ(fan.side_of(direction(29.0, z)), 1);
     EXPECT_EQ(fan.side_of(direction(-29.0, z)), 1);
-    EXPECT_EQ(fan.side_of(direction(31.0, z)), -1);   // past the right face: inside the cloth's back
+    EXPECT_EQ(fan.side_of(direction(31.0, z)), -1);  // past the right face: inside the cloth's back
     EXPECT_EQ(fan.side_of(direction(-80.0, z)), -1);
     EXPECT_EQ(fan.side_of(direction(180.0, z)), -1);  // straight down, outside the V
     EXPECT_TRUE(fan.enters_cloth(direction(45.0, z), Side::Front));
@@ -247,7 +249,8 @@ TEST(RayVisibility, EveryRayCallGivesTheSameAnswers) {
         scene_params.coherent = coherent;
         scene_params.mode = mode;
         const RayVisibility r = run(fold.mesh, params, scene_params);
-        for (int s = 0; s < 2; ++s) EXPECT_EQ(r.sky_visibility[s], reference.sky_visibility[s]) << ray_call_name(call);
+        for (int s = 0; s < 2; ++s)
+          EXPECT_EQ(r.sky_visibility[s], reference.sky_visibility[s]) << ray_call_name(call);
         EXPECT_EQ(r.rays_cast, reference.rays_cast);
       }
 }
@@ -283,8 +286,8 @@ TEST(RayVisibility, CosineSamplesAreUnitAndCosineDistributed) {
     mean_z += w.z / d.size();
     mean_z2 += w.z * w.z / d.size();
   }
-  EXPECT_NEAR(mean_z, 2.0 / 3.0, 2e-3);   // E[cos θ] under cos θ / π
-  EXPECT_NEAR(mean_z2, 0.5, 2e-3);        // E[cos² θ]
+  EXPECT_NEAR(mean_z, 2.0 / 3.0, 2e-3);  // E[cos θ] under cos θ / π
+  EXPECT_NEAR(mean_z2, 0.5, 2e-3);       // E[cos² θ]
 }
 
 TEST(RayVisibility, RejectsBadInput) {
@@ -293,7 +296,8 @@ TEST(RayVisibility, RejectsBadInput) {
   const auto normals = vertex_normals(sheet.topology, sheet.frame);
   RayVisibilityParams params;
   params.rays_per_vertex = 0;
-  EXPECT_THROW(ray_cast_visibility(scene, sheet.topology, sheet.frame, normals, params), std::invalid_argument);
+  EXPECT_THROW(ray_cast_visibility(scene, sheet.topology, sheet.frame, normals, params),
+               std::invalid_argument);
   params.rays_per_vertex = 8;
   EXPECT_THROW(ray_cast_visibility(scene, sheet.topology, sheet.frame, {}, params), std::invalid_argument);
   Frame bad = sheet.frame;
@@ -314,8 +318,8 @@ TEST(EmbreeScene, IntersectReportsTriangleDistanceAndBarycentrics) {
   ASSERT_TRUE(hit.hit);
   EXPECT_NEAR(hit.t, 2.0, 1e-6);
   const Triangle& t = sheet.topology.triangles[hit.triangle];
-  const glm::dvec3 p = (1 - hit.u - hit.v) * sheet.frame.positions[t[0]] + hit.u * sheet.frame.positions[t[1]] +
-                       hit.v * sheet.frame.positions[t[2]];
+  const glm::dvec3 p = (1 - hit.u - hit.v) * sheet.frame.positions[t[0]] +
+                       hit.u * sheet.frame.positions[t[1]] + hit.v * sheet.frame.positions[t[2]];
   EXPECT_NEAR(p.x, 0.75, 1e-6);
   EXPECT_NEAR(p.y, 0.25, 1e-6);
   EXPECT_TRUE(scene.occluded(ray));

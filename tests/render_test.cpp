@@ -1,15 +1,16 @@
 // PNG rendering (shading/render): uniform colour of a flat sheet facing the camera, back colours from behind,
 // background on misses, camera parsing and auto-framing, atomic PNG output, turntables, labelled panels.
-#include "oracles/test_meshes.hpp"
 #include "shading/render.hpp"
-#include "test_support.hpp"
 
-#include <glm/glm.hpp>
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>
 
 #include <cmath>
 #include <cstdlib>
+#include <glm/glm.hpp>
+
+#include "oracles/test_meshes.hpp"
+#include "test_support.hpp"
 
 namespace pleat {
 namespace {
@@ -20,18 +21,21 @@ using Mesh = test::TestMesh;
 Mesh square_sheet(int n) { return test::flat_sheet(n, n, 2.0 / (n - 1), {-1.0, -1.0}); }
 
 glm::u8vec3 expected_byte(glm::vec3 srgb) {
-  return {static_cast<std::uint8_t>(std::lround(srgb.x * 255.0f)), static_cast<std::uint8_t>(std::lround(srgb.y * 255.0f)),
+  return {static_cast<std::uint8_t>(std::lround(srgb.x * 255.0f)),
+          static_cast<std::uint8_t>(std::lround(srgb.y * 255.0f)),
           static_cast<std::uint8_t>(std::lround(srgb.z * 255.0f))};
 }
 
 void expect_close(glm::u8vec3 got, glm::u8vec3 want, int x, int y) {
-  for (int k = 0; k < 3; ++k) EXPECT_LE(std::abs(int(got[k]) - int(want[k])), 1) << "pixel " << x << "," << y << " channel " << k;
+  for (int k = 0; k < 3; ++k)
+    EXPECT_LE(std::abs(int(got[k]) - int(want[k])), 1) << "pixel " << x << "," << y << " channel " << k;
 }
 
 TEST(Render, FlatSheetFacingTheCameraShowsItsColourInTheCentre) {
   const Mesh sheet = square_sheet(8);
   const glm::vec3 front(0.8f, 0.35f, 0.2f), back(0.1f, 0.3f, 0.9f);
-  const std::vector<glm::vec3> fronts(sheet.topology.num_vertices, front), backs(sheet.topology.num_vertices, back);
+  const std::vector<glm::vec3> fronts(sheet.topology.num_vertices, front),
+      backs(sheet.topology.num_vertices, back);
   Camera camera;
   camera.eye = {0.0, 0.0, 4.0};
   camera.target = {0.0, 0.0, 0.0};
@@ -50,7 +54,8 @@ TEST(Render, FlatSheetFacingTheCameraShowsItsColourInTheCentre) {
 TEST(Render, BackColoursAreSeenFromBehind) {
   const Mesh sheet = square_sheet(8);
   const glm::vec3 front(0.8f, 0.35f, 0.2f), back(0.1f, 0.3f, 0.9f);
-  const std::vector<glm::vec3> fronts(sheet.topology.num_vertices, front), backs(sheet.topology.num_vertices, back);
+  const std::vector<glm::vec3> fronts(sheet.topology.num_vertices, front),
+      backs(sheet.topology.num_vertices, back);
   Camera camera;
   camera.eye = {0.3, 0.2, -4.0};
   camera.target = {0.0, 0.0, 0.0};
@@ -84,8 +89,8 @@ TEST(Render, ParseCamera) {
   EXPECT_EQ(parse_camera("1,2,3,0,0,0,0,1,0").fov_y_degrees, Camera{}.fov_y_degrees);
   EXPECT_THROW(parse_camera("1,2,3"), std::invalid_argument);
   EXPECT_THROW(parse_camera("1,2,x,0,0,0,0,1,0"), std::invalid_argument);
-  EXPECT_THROW(parse_camera("0,0,0,0,0,0,0,1,0"), std::invalid_argument);   // eye == target
-  EXPECT_THROW(parse_camera("0,5,0,0,0,0,0,1,0"), std::invalid_argument);   // up parallel to view
+  EXPECT_THROW(parse_camera("0,0,0,0,0,0,0,1,0"), std::invalid_argument);  // eye == target
+  EXPECT_THROW(parse_camera("0,5,0,0,0,0,0,1,0"), std::invalid_argument);  // up parallel to view
   EXPECT_THROW(parse_camera("0,0,5,0,0,0,0,1,0,190"), std::invalid_argument);
 }
 
@@ -98,7 +103,8 @@ TEST(Render, AutoFrameKeepsEveryVertexInView) {
   const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
   const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
   const glm::dvec3 up = glm::cross(right, forward);
-  const double tan_y = std::tan(camera.fov_y_degrees * std::acos(-1.0) / 360.0), tan_x = tan_y * params.aspect;
+  const double tan_y = std::tan(camera.fov_y_degrees * std::acos(-1.0) / 360.0),
+               tan_x = tan_y * params.aspect;
   for (const glm::dvec3& p : sheet.frame.positions) {
     const glm::dvec3 d = p - camera.eye;
     const double z = glm::dot(d, forward);
@@ -130,8 +136,9 @@ TEST(Render, WritesPngAtomicallyAndItReadsBack) {
   int files = 0;
   for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir.path())) ++files;
   EXPECT_EQ(files, 1) << "no temporary file left behind";
-  EXPECT_THROW(render_png(dir / "missing" / "x.png", sheet.topology, sheet.frame, colours, colours, camera, 8, 8),
-               std::runtime_error);
+  EXPECT_THROW(
+      render_png(dir / "missing" / "x.png", sheet.topology, sheet.frame, colours, colours, camera, 8, 8),
+      std::runtime_error);
 }
 
 TEST(Render, TurntableWritesOneImagePerStep) {
@@ -141,7 +148,8 @@ TEST(Render, TurntableWritesOneImagePerStep) {
   const std::vector<glm::vec3> backs(sheet.topology.num_vertices, glm::vec3(0.1f, 0.1f, 0.9f));
   Camera camera;
   camera.eye = {0.0, 0.0, 4.0};
-  const auto paths = render_turntable(dir.path(), "spin", sheet.topology, sheet.frame, fronts, backs, camera, 4, 32, 24);
+  const auto paths =
+      render_turntable(dir.path(), "spin", sheet.topology, sheet.frame, fronts, backs, camera, 4, 32, 24);
   ASSERT_EQ(paths.size(), 4u);
   for (const auto& p : paths) EXPECT_TRUE(std::filesystem::exists(p)) << p;
   EXPECT_EQ(paths[2].filename(), "spin_002.png");

@@ -1,6 +1,16 @@
 // Shading from visibility cones: every light type against closed forms or brute-force sampling of the same
 // cone, the Stewart–Langer limits, the flat sheet, tone mapping, and the light spec / JSON parsers.
 // Seeds are fixed; no timing assertions.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <glm/geometric.hpp>
+#include <random>
+#include <vector>
+
 #include "shading/cone_lighting.hpp"
 #include "shading/environment_map.hpp"
 #include "shading/lights.hpp"
@@ -10,16 +20,6 @@
 #include "static_core/spherical_polygon.hpp"
 #include "static_core/visibility.hpp"
 #include "test_support.hpp"
-
-#include <gtest/gtest.h>
-#include <glm/geometric.hpp>
-
-#include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <random>
-#include <vector>
 
 namespace pleat {
 namespace {
@@ -82,9 +82,10 @@ EnvironmentMap procedural_map(int width, int height, const EnvironmentOrientatio
   for (int r = 0; r < height; ++r)
     for (int c = 0; c < width; ++c) {
       const double u = (c + 0.5) / width, v = (r + 0.5) / height;
-      glm::vec3 t(float(1.0 + 0.8 * std::sin(6 * kPi * u) * std::cos(3 * kPi * v)),
-                  float(0.5 + 0.5 * v * v), float(0.3 + 0.6 * u));
-      if (std::abs(u - 0.3) < 0.03 && std::abs(v - 0.35) < 0.04) t += glm::vec3(40.0f, 35.0f, 30.0f);  // a "sun"
+      glm::vec3 t(float(1.0 + 0.8 * std::sin(6 * kPi * u) * std::cos(3 * kPi * v)), float(0.5 + 0.5 * v * v),
+                  float(0.3 + 0.6 * u));
+      if (std::abs(u - 0.3) < 0.03 && std::abs(v - 0.35) < 0.04)
+        t += glm::vec3(40.0f, 35.0f, 30.0f);    // a "sun"
       if ((c / 4 + r / 4) % 2 == 0) t *= 0.6f;  // texel-scale checker: sharp detail
       texels[static_cast<std::size_t>(r) * width + c] = t;
     }
@@ -194,8 +195,9 @@ TEST(ShadeFrame, FastPathsEqualClippingEveryPiece) {
     const Frame frame = generator.frame(2);
     const FrameVisibility vis =
         compute_visibility(generator.topology(), frame, make_diffuse_plan(generator.topology(), frame, {}));
-    for (const char* spec : {"sky:1.5", "cloudy:1,up=0,1,0", "cloudy:1,up=0,0,1", "dir:0.3,-0.5,-1,E=3",
-                             "point:0.3,-0.8,1.2,I=3", "area:-0.5,-1.5,2;0.5,-1.5,2;0.5,-0.5,2;-0.5,-0.5,2,L=4"}) {
+    for (const char* spec :
+         {"sky:1.5", "cloudy:1,up=0,1,0", "cloudy:1,up=0,0,1", "dir:0.3,-0.5,-1,E=3",
+          "point:0.3,-0.8,1.2,I=3", "area:-0.5,-1.5,2;0.5,-1.5,2;0.5,-0.5,2;-0.5,-0.5,2,L=4"}) {
       Lighting lighting;
       add_light_spec(lighting, spec);
       ShadeParams params;
@@ -263,7 +265,8 @@ TEST(ConeLighting, PointAndDirectionalInsideOutsideKnownCone) {
   const glm::dvec3 notch = std::cos(0.5) * n + std::sin(0.5) * (std::cos(psi) * t1 + std::sin(psi) * t2);
   EXPECT_EQ(cl.directional({-notch, glm::dvec3(1.0)}).x, 0.0);
   const double psi_long = 0.0;
-  const glm::dvec3 arm = std::cos(0.5) * n + std::sin(0.5) * (std::cos(psi_long) * t1 + std::sin(psi_long) * t2);
+  const glm::dvec3 arm =
+      std::cos(0.5) * n + std::sin(0.5) * (std::cos(psi_long) * t1 + std::sin(psi_long) * t2);
   EXPECT_NEAR(cl.directional({-arm, glm::dvec3(1.0)}).x, std::cos(0.5), 1e-12);
 }
 
@@ -275,7 +278,8 @@ TEST(ConeLighting, InsideConeTestAgreesWithWindingFan) {
   int inside = 0;
   for (int trial = 0; trial < 200; ++trial) {
     const glm::dvec3 m = random_unit(rng);
-    const SphericalPolygon piece = star(glm::normalize(m + 0.8 * random_unit(rng)), 6 + trial % 7, 1.4, 0.6, trial);
+    const SphericalPolygon piece =
+        star(glm::normalize(m + 0.8 * random_unit(rng)), 6 + trial % 7, 1.4, 0.6, trial);
     cl.set_cone(cone_of({piece}), m);
     for (int k = 0; k < 20; ++k) {
       glm::dvec3 l = random_unit(rng);
@@ -329,16 +333,19 @@ TEST(ConeLighting, AreaLightPartialOverlapAgainstBruteForce) {
   add_light_spec(lighting, "area:0.3,-0.5,1.255;1.5,-0.2,1.36;1.2,0.9,1.275;0.2,0.6,1.19,L=1");
   ConeLighting cl(lighting);
   for (int trial = 0; trial < 3; ++trial) {
-    const VisibilityCone cone = cone_of({star(glm::normalize(n + 0.4 * random_unit(rng)), 10, 1.0, 0.45, trial)});
+    const VisibilityCone cone =
+        cone_of({star(glm::normalize(n + 0.4 * random_unit(rng)), 10, 1.0, 0.45, trial)});
     cl.set_cone(cone, n);
     const glm::dvec3 e = cl.area(lighting.areas[0], glm::dvec3(0.0));
     // Brute force: in the cone and in the light polygon (ray-plane hit inside the quad).
     const AreaLight& light = lighting.areas[0];
     SphericalPolygon seen;
-    for (auto it = light.polygon.rbegin(); it != light.polygon.rend(); ++it) seen.push_back(glm::normalize(*it));
+    for (auto it = light.polygon.rbegin(); it != light.polygon.rend(); ++it)
+      seen.push_back(glm::normalize(*it));
     if (solid_angle(seen) > 2 * kPi) std::reverse(seen.begin(), seen.end());
     const glm::dvec3 ref = brute_force(
-        cone.pieces, n, [&](const glm::dvec3& w) { return contains_direction(seen, w) ? glm::dvec3(1.0) : glm::dvec3(0.0); },
+        cone.pieces, n,
+        [&](const glm::dvec3& w) { return contains_direction(seen, w) ? glm::dvec3(1.0) : glm::dvec3(0.0); },
         600, 7 + trial);
     SCOPED_TRACE(trial);
     EXPECT_GT(e.x, 0.0);
@@ -358,8 +365,9 @@ TEST(EnvironmentMap, ConstantMapEqualsUniformSky) {
   ConeLighting cl(lighting);
   for (int trial = 0; trial < 20; ++trial) {
     const glm::dvec3 m = random_unit(rng);
-    VisibilityCone cone = trial == 0 ? cone_of({hemisphere_polygon(m)})
-                                     : cone_of({star(glm::normalize(m + 0.7 * random_unit(rng)), 12, 1.3, 0.5, trial)});
+    VisibilityCone cone =
+        trial == 0 ? cone_of({hemisphere_polygon(m)})
+                   : cone_of({star(glm::normalize(m + 0.7 * random_unit(rng)), 12, 1.3, 0.5, trial)});
     cl.set_cone(cone, m);
     const glm::dvec3 env = cl.environment(lighting.environments[0]);
     const glm::dvec3 sky = cl.uniform_sky(lighting.skies[0]);
@@ -400,7 +408,8 @@ TEST(EnvironmentMap, TexturedMapAgainstBruteForceBelowOnePercent) {
     }
     glm::dvec3 fast(0.0);
     for (const auto& p : pieces) fast += map.integrate_cosine(p, m);
-    const glm::dvec3 slow = brute_force(pieces, m, [&](const glm::dvec3& w) { return map.radiance(w); }, 700, trial);
+    const glm::dvec3 slow = brute_force(
+        pieces, m, [&](const glm::dvec3& w) { return map.radiance(w); }, 700, trial);
     SCOPED_TRACE(trial);
     for (int k = 0; k < 3; ++k) {
       ASSERT_GT(slow[k], 0.0);
@@ -470,9 +479,10 @@ TEST(Lights, SpecStrings) {
   EXPECT_NEAR(l.areas[0].normal.z, 1.0, 1e-15);
   EXPECT_FALSE(l.describe().empty());
 
-  for (const char* bad : {"lamp:1", "sky:abc", "dir:0,0,0", "dir:0,0,-1,E=-1", "point:1,2", "point:0,0,1,Q=3",
-                          "area:0,0,0;1,0,0,L=1", "area:0,0,0;1,0,0;1,1,0;0.6,0.5,0,L=1", "area:0,0,0;2,1,0;0,1,0;2,0,0,L=1",
-                          "area:0,0,0;1,0,0;1,1,1;0,1,0,L=1", "env:/nonexistent/x.hdr", "sky:1,L=2,L=3"}) {
+  for (const char* bad :
+       {"lamp:1", "sky:abc", "dir:0,0,0", "dir:0,0,-1,E=-1", "point:1,2", "point:0,0,1,Q=3",
+        "area:0,0,0;1,0,0,L=1", "area:0,0,0;1,0,0;1,1,0;0.6,0.5,0,L=1", "area:0,0,0;2,1,0;0,1,0;2,0,0,L=1",
+        "area:0,0,0;1,0,0;1,1,1;0,1,0,L=1", "env:/nonexistent/x.hdr", "sky:1,L=2,L=3"}) {
     Lighting x;
     EXPECT_THROW(add_light_spec(x, bad), InputError) << bad;
   }
@@ -506,7 +516,8 @@ TEST(Lights, JsonFilesAndSetups) {
   ASSERT_EQ(setups.size(), 2u);
   EXPECT_EQ(setups[0].name, "overcast");
   EXPECT_EQ(setups[1].size(), 2u);
-  EXPECT_THROW(parse_lighting_setups_json(R"({"setups": [{"name": "a/b", "lights": []}]})", "s.json"), InputError);
+  EXPECT_THROW(parse_lighting_setups_json(R"({"setups": [{"name": "a/b", "lights": []}]})", "s.json"),
+               InputError);
   EXPECT_THROW(parse_lighting_setups_json(
                    R"({"setups": [{"name": "a", "lights": []}, {"name": "a", "lights": []}]})", "s.json"),
                InputError);
@@ -535,8 +546,8 @@ TEST(ShadeCommand, RelightWritesOneOutputPerSetupAndRejectsBadLights) {
   ASSERT_EQ(single.exit_code, 0) << single.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "one.glb"));
 
-  const auto bad = test::run_pleat("shade " + d + "/c.obj --cache " + d + "/c.pc2 -o " + d +
-                                   "/bad.glb --light lamp:3");
+  const auto bad =
+      test::run_pleat("shade " + d + "/c.obj --cache " + d + "/c.pc2 -o " + d + "/bad.glb --light lamp:3");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("lamp:3"), std::string::npos) << bad.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "bad.glb"));

@@ -1,13 +1,13 @@
 // Small in-memory cloth sequences and file helpers shared by the sim_io and `pleat info` tests.
 #pragma once
 
-#include "sim_io/mesh_sequence.hpp"
-
 #include <cmath>
 #include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
+
+#include "sim_io/mesh_sequence.hpp"
 
 namespace pleat::test {
 

@@ -1,19 +1,19 @@
 // glTF: seam welding, morph-target animations (LINEAR, STEP, CUBICSPLINE), node transforms, the flipbook glb
 // written by write_shaded_glb read back, unsupported features, and corruptions of a small glb.
-#include "sim_io/srgb.hpp"
-#include "sim_io/gltf_format.hpp"
-#include "sim_io/input_error.hpp"
-#include "sim_io/mesh_report.hpp"
-#include "sim_io_fixtures.hpp"
-#include "test_support.hpp"
-
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <rapidcheck/gtest.h>
 #include <tiny_gltf.h>
 
 #include <cstdlib>
 #include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "sim_io/gltf_format.hpp"
+#include "sim_io/input_error.hpp"
+#include "sim_io/mesh_report.hpp"
+#include "sim_io/srgb.hpp"
+#include "sim_io_fixtures.hpp"
+#include "test_support.hpp"
 
 namespace pleat {
 namespace {
@@ -21,7 +21,9 @@ namespace {
 using nlohmann::json;
 using test::TempDir;
 
-const bool kRapidcheckParams = [] { return ::setenv("RC_PARAMS", "seed=20240612 max_success=300", 0) == 0; }();
+const bool kRapidcheckParams = [] {
+  return ::setenv("RC_PARAMS", "seed=20240612 max_success=300", 0) == 0;
+}();
 
 // Builds a .gltf + .bin by hand: one bufferView per accessor.
 class GltfBuilder {
@@ -31,7 +33,8 @@ class GltfBuilder {
   }
   int floats(const std::vector<float>& values, const std::string& type, bool bounds = false) {
     const int components = type == "VEC3" ? 3 : 1;
-    json accessor = {{"componentType", 5126}, {"count", values.size() / std::size_t(components)}, {"type", type}};
+    json accessor = {
+        {"componentType", 5126}, {"count", values.size() / std::size_t(components)}, {"type", type}};
     if (bounds) {
       std::vector<float> lo(values.begin(), values.begin() + components), hi = lo;
       for (std::size_t i = 0; i < values.size(); ++i) {
@@ -44,7 +47,8 @@ class GltfBuilder {
     return add(values.data(), values.size() * 4, accessor);
   }
   int indices(const std::vector<std::uint32_t>& values) {
-    return add(values.data(), values.size() * 4, {{"componentType", 5125}, {"count", values.size()}, {"type", "SCALAR"}});
+    return add(values.data(), values.size() * 4,
+               {{"componentType", 5125}, {"count", values.size()}, {"type", "SCALAR"}});
   }
   json& doc() { return m_doc; }
   std::filesystem::path write(const TempDir& dir, const std::string& name) {
@@ -79,8 +83,9 @@ TEST(SimIoGltf, SeamSplitVerticesAreWelded) {
   const int left = b.floats({0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1}, "VEC3", true);
   const int right = b.floats({1, 0, 0, 2, 0, 0, 2, 0, 1, 1, 0, 1}, "VEC3", true);
   const int idx = b.indices(kQuadIndices);
-  b.doc()["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", left}}}, {"indices", idx}},
-                                        {{"attributes", {{"POSITION", right}}}, {"indices", idx}}}}}};
+  b.doc()["meshes"] = {{{"primitives",
+                         {{{"attributes", {{"POSITION", left}}}, {"indices", idx}},
+                          {{"attributes", {{"POSITION", right}}}, {"indices", idx}}}}}};
   b.doc()["nodes"] = {{{"mesh", 0}}};
   b.doc()["scenes"] = {{{"nodes", {0}}}};
   const MeshSequence s = load_gltf(b.write(dir, "seam"));
@@ -100,27 +105,31 @@ TEST(SimIoGltf, SeamSplitVerticesAreWelded) {
 }
 
 // A quad with one morph target lifting vertex 2 by 1 in y, driven by a weights channel.
-std::filesystem::path morph_quad(const TempDir& dir, const std::string& name, const std::string& interpolation,
-                                 const std::vector<float>& times, const std::vector<float>& weights) {
+std::filesystem::path morph_quad(const TempDir& dir, const std::string& name,
+                                 const std::string& interpolation, const std::vector<float>& times,
+                                 const std::vector<float>& weights) {
   GltfBuilder b;
   const int base = b.floats(kQuad, "VEC3", true);
   const int target = b.floats({0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0}, "VEC3", true);
   const int idx = b.indices(kQuadIndices);
   const int input = b.floats(times, "SCALAR", true);
   const int output = b.floats(weights, "SCALAR");
-  b.doc()["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", base}}}, {"indices", idx},
-                                         {"targets", {{{"POSITION", target}}}}}}},
-                        {"weights", {0.0}}}};
+  b.doc()["meshes"] = {
+      {{"primitives",
+        {{{"attributes", {{"POSITION", base}}}, {"indices", idx}, {"targets", {{{"POSITION", target}}}}}}},
+       {"weights", {0.0}}}};
   b.doc()["nodes"] = {{{"mesh", 0}, {"translation", {10.0, 0.0, 0.0}}}};
   b.doc()["scenes"] = {{{"nodes", {0}}}};
-  b.doc()["animations"] = {{{"samplers", {{{"input", input}, {"output", output}, {"interpolation", interpolation}}}},
-                            {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}}}}};
+  b.doc()["animations"] = {
+      {{"samplers", {{{"input", input}, {"output", output}, {"interpolation", interpolation}}}},
+       {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}}}}};
   return b.write(dir, name);
 }
 
 TEST(SimIoGltf, MorphTargetsLinearSampledAtKeyframes) {
   TempDir dir;
-  const MeshSequence s = load_gltf(morph_quad(dir, "linear", "LINEAR", {0.0f, 0.5f, 1.0f}, {0.0f, 0.5f, 1.0f}));
+  const MeshSequence s =
+      load_gltf(morph_quad(dir, "linear", "LINEAR", {0.0f, 0.5f, 1.0f}, {0.0f, 0.5f, 1.0f}));
   ASSERT_EQ(s.num_frames(), 3u);
   EXPECT_DOUBLE_EQ(s.frame_rate(), 2.0);
   EXPECT_EQ(s.frame(0).positions[2], glm::dvec3(11, 0, 1));  // node translation applied
@@ -150,12 +159,14 @@ TEST(SimIoGltf, CoincidentInOneFrameOnlyIsNotWelded) {
   const int idx = b.indices(kQuadIndices);
   const int input = b.floats({0.0f, 1.0f}, "SCALAR", true);
   const int output = b.floats({0.0f, 1.0f}, "SCALAR");
-  b.doc()["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", base}}}, {"indices", idx},
-                                         {"targets", {{{"POSITION", target}}}}}}}}};
+  b.doc()["meshes"] = {
+      {{"primitives",
+        {{{"attributes", {{"POSITION", base}}}, {"indices", idx}, {"targets", {{{"POSITION", target}}}}}}}}};
   b.doc()["nodes"] = {{{"mesh", 0}}};
   b.doc()["scenes"] = {{{"nodes", {0}}}};
-  b.doc()["animations"] = {{{"samplers", {{{"input", input}, {"output", output}}}},
-                            {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}}}}};
+  b.doc()["animations"] = {
+      {{"samplers", {{{"input", input}, {"output", output}}}},
+       {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}}}}};
   const MeshSequence s = load_gltf(b.write(dir, "moving"));
   EXPECT_EQ(s.frame(1).positions[2], s.frame(1).positions[1]);
   EXPECT_EQ(s.welded_duplicates(), 0u);
@@ -165,7 +176,8 @@ TEST(SimIoGltf, CoincidentInOneFrameOnlyIsNotWelded) {
 
 std::vector<glm::vec3> grey_ramp(std::size_t n, float offset) {
   std::vector<glm::vec3> c(n);
-  for (std::size_t i = 0; i < n; ++i) c[i] = glm::vec3(std::fmod(offset + 0.01f * float(i), 1.0f), 0.5f, 0.25f);
+  for (std::size_t i = 0; i < n; ++i)
+    c[i] = glm::vec3(std::fmod(offset + 0.01f * float(i), 1.0f), 0.5f, 0.25f);
   return c;
 }
 
@@ -260,7 +272,8 @@ TEST(SimIoGltf, UnsupportedFeaturesNameThePlace) {
     GltfBuilder b;
     const int base = b.floats(kQuad, "VEC3", true);
     const int idx = b.indices({0, 1, 1, 2});
-    b.doc()["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", base}}}, {"indices", idx}, {"mode", 1}}}}}};
+    b.doc()["meshes"] = {
+        {{"primitives", {{{"attributes", {{"POSITION", base}}}, {"indices", idx}, {"mode", 1}}}}}};
     b.doc()["nodes"] = {{{"mesh", 0}}};
     EXPECT_EQ(error_place(b.write(dir, "lines"), "LINES"), "mesh 0 primitive 0");
   }
@@ -272,7 +285,9 @@ TEST(SimIoGltf, UnsupportedFeaturesNameThePlace) {
     const int sparse_values = b.floats({0, 1, 0}, "VEC3");
     b.doc()["accessors"][std::size_t(base)]["sparse"] = {
         {"count", 1},
-        {"indices", {{"bufferView", b.doc()["accessors"][std::size_t(sparse_indices)]["bufferView"]}, {"componentType", 5125}}},
+        {"indices",
+         {{"bufferView", b.doc()["accessors"][std::size_t(sparse_indices)]["bufferView"]},
+          {"componentType", 5125}}},
         {"values", {{"bufferView", b.doc()["accessors"][std::size_t(sparse_values)]["bufferView"]}}}};
     b.doc()["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", base}}}, {"indices", idx}}}}}};
     b.doc()["nodes"] = {{{"mesh", 0}}};
@@ -361,7 +376,8 @@ RC_GTEST_PROP(SimIoGltf, GlbOverwritesLoadOrFailCleanly, ()) {
   static GlbCorruption fixture;
   std::string bytes = fixture.bytes();
   const auto at = *rc::gen::inRange<std::size_t>(0, bytes.size());
-  const auto junk = *rc::gen::container<std::string>(*rc::gen::inRange<std::size_t>(1, 9), rc::gen::arbitrary<char>());
+  const auto junk =
+      *rc::gen::container<std::string>(*rc::gen::inRange<std::size_t>(1, 9), rc::gen::arbitrary<char>());
   for (std::size_t k = 0; k < junk.size() && at + k < bytes.size(); ++k) bytes[at + k] = junk[k];
   fixture.check(bytes);
 }

@@ -1,11 +1,11 @@
 // MDD point caches (big-endian, times in seconds): round trip, byte layout, bad input.
+#include <gtest/gtest.h>
+
 #include "sim_io/input_error.hpp"
 #include "sim_io/mdd_format.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io_fixtures.hpp"
 #include "test_support.hpp"
-
-#include <gtest/gtest.h>
 
 namespace pleat {
 namespace {
@@ -26,7 +26,8 @@ TEST(SimIoMdd, RoundTripWithObjKeepsTimes) {
 TEST(SimIoMdd, BigEndianLayout) {
   TempDir dir;
   write_mdd(dir / "t.mdd", {{{1.0, 2.0, -2.0}}}, {0.25});
-  const std::string expected = std::string("\x00\x00\x00\x01\x00\x00\x00\x01", 8) + std::string("\x3e\x80\x00\x00", 4) +
+  const std::string expected = std::string("\x00\x00\x00\x01\x00\x00\x00\x01", 8) +
+                               std::string("\x3e\x80\x00\x00", 4) +
                                std::string("\x3f\x80\x00\x00\x40\x00\x00\x00\xc0\x00\x00\x00", 12);
   EXPECT_EQ(test::file_bytes(dir / "t.mdd"), expected);
   const MddHeader h = read_mdd_header(dir / "t.mdd");

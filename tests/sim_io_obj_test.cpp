@@ -1,12 +1,12 @@
 // OBJ reader/writer: the golden quad+pentagon, corner forms, negative indices, round trip, bad input.
+#include <gtest/gtest.h>
+
+#include <limits>
+
 #include "sim_io/input_error.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io_fixtures.hpp"
 #include "test_support.hpp"
-
-#include <gtest/gtest.h>
-
-#include <limits>
 
 namespace pleat {
 namespace {
@@ -25,9 +25,10 @@ TEST(SimIoObj, GoldenQuadAndPentagonAreFanTriangulated) {
 TEST(SimIoObj, RoundTripIsExactInDoubles) {
   TempDir dir;
   MeshTopology topology{4, {{0, 1, 2}, {0, 2, 3}}};
-  const std::vector<glm::dvec3> positions = {
-      {0.1, 0.2, 0.3}, {1.0 / 3.0, -2.5e-300, 1e300}, {std::nextafter(1.0, 2.0), -0.0, 123456789.123456789},
-      {std::numeric_limits<double>::denorm_min(), 7.0, -7.25}};
+  const std::vector<glm::dvec3> positions = {{0.1, 0.2, 0.3},
+                                             {1.0 / 3.0, -2.5e-300, 1e300},
+                                             {std::nextafter(1.0, 2.0), -0.0, 123456789.123456789},
+                                             {std::numeric_limits<double>::denorm_min(), 7.0, -7.25}};
   write_obj(dir / "a.obj", topology, positions);
   const ObjMesh mesh = read_obj(dir / "a.obj");
   EXPECT_EQ(mesh.positions, positions);
@@ -45,8 +46,8 @@ TEST(SimIoObj, CornerFormsAndRelativeIndices) {
   EXPECT_EQ(mesh.triangles[1], (Triangle{0, 2, 1}));
 }
 
-void expect_input_error(const std::filesystem::path& file, const std::string& content, const std::string& place,
-                        const std::string& words) {
+void expect_input_error(const std::filesystem::path& file, const std::string& content,
+                        const std::string& place, const std::string& words) {
   test::write_bytes(file, content);
   try {
     read_obj(file);

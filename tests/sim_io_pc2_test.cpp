@@ -1,5 +1,10 @@
 // PC2 point caches: the hand-written golden file, round trips, header validation, and a property that
 // random corruptions either load or throw InputError.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <cstdlib>
+
 #include "sim_io/input_error.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/obj_format.hpp"
@@ -7,18 +12,15 @@
 #include "sim_io_fixtures.hpp"
 #include "test_support.hpp"
 
-#include <gtest/gtest.h>
-#include <rapidcheck/gtest.h>
-
-#include <cstdlib>
-
 namespace pleat {
 namespace {
 
 using test::TempDir;
 
 // Fixed rapidcheck seed and a few hundred cases per property, unless RC_PARAMS is set by the caller.
-const bool kRapidcheckParams = [] { return ::setenv("RC_PARAMS", "seed=20240611 max_success=300", 0) == 0; }();
+const bool kRapidcheckParams = [] {
+  return ::setenv("RC_PARAMS", "seed=20240611 max_success=300", 0) == 0;
+}();
 
 TEST(SimIoPc2, GoldenFileReadsAsWrittenByHand) {
   const auto path = test::source_dir() / "tests/golden/tiny.pc2";
@@ -141,7 +143,8 @@ class Pc2Corruption {
   const std::string& bytes() const { return m_bytes; }
   void check(const std::string& corrupted) {
     test::write_bytes(m_dir / "c.pc2", corrupted);
-    load_or_input_error(m_dir / "s.obj", m_dir / "c.pc2");  // any other exception or a crash fails the property
+    load_or_input_error(m_dir / "s.obj",
+                        m_dir / "c.pc2");  // any other exception or a crash fails the property
   }
 
  private:
@@ -164,7 +167,8 @@ RC_GTEST_PROP(SimIoPc2, OverwritesLoadOrFailCleanly, ()) {
   static Pc2Corruption fixture;
   std::string bytes = fixture.bytes();
   const auto at = *rc::gen::inRange<std::size_t>(0, bytes.size());
-  const auto junk = *rc::gen::container<std::string>(*rc::gen::inRange<std::size_t>(1, 9), rc::gen::arbitrary<char>());
+  const auto junk =
+      *rc::gen::container<std::string>(*rc::gen::inRange<std::size_t>(1, 9), rc::gen::arbitrary<char>());
   for (std::size_t k = 0; k < junk.size() && at + k < bytes.size(); ++k) bytes[at + k] = junk[k];
   fixture.check(bytes);
 }

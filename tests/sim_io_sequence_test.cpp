@@ -1,5 +1,11 @@
 // The in-memory model: welding over all frames, removed faces, frame rate, OBJ sequences (pattern and
 // directory), load_sequence dispatch, the atomic writer and the visibility CSV.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/input_error.hpp"
 #include "sim_io/mesh_report.hpp"
@@ -9,12 +15,6 @@
 #include "sim_io/visibility_csv.hpp"
 #include "sim_io_fixtures.hpp"
 #include "test_support.hpp"
-
-#include <gtest/gtest.h>
-
-#include <cstdio>
-#include <limits>
-#include <stdexcept>
 
 namespace pleat {
 namespace {
@@ -54,7 +54,8 @@ TEST(SimIoSequence, DoesNotWeldWhatSeparatesInALaterFrame) {
 
 TEST(SimIoSequence, CollapsedAndRepeatedFacesAreRemovedAndCounted) {
   std::vector<std::vector<glm::dvec3>> frames = {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}}};
-  const MeshSequence s("x", {{0, 1, 2}, {0, 3, 1}, {2, 1, 0}, {1, 2, 0}}, 4, make_memory_source(frames, {0.0}));
+  const MeshSequence s("x", {{0, 1, 2}, {0, 3, 1}, {2, 1, 0}, {1, 2, 0}}, 4,
+                       make_memory_source(frames, {0.0}));
   EXPECT_EQ(s.topology().triangles.size(), 1u);
   EXPECT_EQ(s.removed_faces(), 3u);
   EXPECT_EQ(s.frame_rate(), 0.0);
@@ -72,7 +73,8 @@ TEST(SimIoSequence, FrameErrorsNameTheFrame) {
   const std::vector<glm::dvec3> ok = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   EXPECT_EQ(bad({ok, {{0, 0, 0}}}, {0, 1}), "frame 1");
   EXPECT_EQ(bad({ok, ok}, {0, 0}), "frame 1");
-  EXPECT_EQ(bad({ok, {{0, 0, 0}, {1, std::numeric_limits<double>::quiet_NaN(), 0}, {0, 1, 0}}}, {0, 1}), "frame 1, vertex 1");
+  EXPECT_EQ(bad({ok, {{0, 0, 0}, {1, std::numeric_limits<double>::quiet_NaN(), 0}, {0, 1, 0}}}, {0, 1}),
+            "frame 1, vertex 1");
   EXPECT_THROW(MeshSequence("seq", {{0, 1, 5}}, 3, make_memory_source({ok}, {0.0})), InputError);
   EXPECT_THROW(MeshSequence("seq", {}, 3, make_memory_source({ok}, {0.0})), InputError);
 }
@@ -125,7 +127,8 @@ TEST(SimIoSequence, ObjSequenceByPatternAndDirectory) {
   std::filesystem::create_directories(dir / "plain");
   write_obj_sequence((dir / "plain/f_%d.obj").string(), sheet, 0);
   EXPECT_EQ(test::all_positions(load_sequence(dir / "plain")), test::all_positions(sheet));
-  EXPECT_EQ(test::all_positions(load_sequence((dir / "plain/f_%d.obj").string())), test::all_positions(sheet));
+  EXPECT_EQ(test::all_positions(load_sequence((dir / "plain/f_%d.obj").string())),
+            test::all_positions(sheet));
 }
 
 TEST(SimIoSequence, ObjSequenceErrors) {
@@ -180,12 +183,16 @@ TEST(SimIoAtomicFile, FailedWriteLeavesNoFile) {
 TEST(SimIoAtomicFile, FailedWriteKeepsThePreviousFile) {
   TempDir dir;
   write_file_atomically(dir / "out.txt", std::string("old"));
-  EXPECT_THROW(write_file_atomically(dir / "out.txt", [](std::ostream& out) {
-    out << "new but broken";
-    throw std::runtime_error("boom");
-  }), std::runtime_error);
+  EXPECT_THROW(write_file_atomically(dir / "out.txt",
+                                     [](std::ostream& out) {
+                                       out << "new but broken";
+                                       throw std::runtime_error("boom");
+                                     }),
+               std::runtime_error);
   EXPECT_EQ(test::file_bytes(dir / "out.txt"), "old");
-  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()), 1);
+  EXPECT_EQ(
+      std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()),
+      1);
 }
 
 TEST(SimIoAtomicFile, UnfinishedStreamingWritersLeaveNothing) {
@@ -199,8 +206,9 @@ TEST(SimIoAtomicFile, UnfinishedStreamingWritersLeaveNothing) {
     file.stream() << "partial";
   }
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
-  EXPECT_THROW(write_obj(dir / "missing_dir/a.obj", MeshTopology{3, {{0, 1, 2}}}, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}),
-               std::runtime_error);
+  EXPECT_THROW(
+      write_obj(dir / "missing_dir/a.obj", MeshTopology{3, {{0, 1, 2}}}, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}),
+      std::runtime_error);
 }
 
 TEST(SimIoVisibilityCsv, RowsPerInputVertexInInputOrderRoundTrip) {

@@ -1,10 +1,7 @@
 // The funnel-tree 2D cones of static_core against the brute-force angular-sweep oracle, on random chains
 // (holes, dangling chains, several windows, collinear and duplicate points) and on slices of random folded
 // height fields by random planes (some exactly through vertices).
-#include "oracles/random_slices.hpp"
-#include "oracles/visibility_2d_oracle.hpp"
 #include "static_core/slice_cones.hpp"
-#include "static_core/slice_triangulation.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
@@ -12,6 +9,10 @@
 #include <cstdio>
 #include <numeric>
 #include <sstream>
+
+#include "oracles/random_slices.hpp"
+#include "oracles/visibility_2d_oracle.hpp"
+#include "static_core/slice_triangulation.hpp"
 
 namespace pleat {
 namespace {
@@ -49,9 +50,10 @@ std::string compare_with_oracle(const Slice& slice) {
       const AngularSet& slow = expected[x][static_cast<int>(side)];
       if (difference(fast, slow) > 1e-9) {
         std::ostringstream out;
-        out << "slice vertex " << x << " at (" << slice.vertices[x].point.x << ", " << slice.vertices[x].point.y
-            << ") side " << static_cast<int>(side) << ": funnel " << describe(fast) << " oracle " << describe(slow)
-            << " (" << slice.vertices.size() << " vertices, " << slice.edges.size() << " edges)";
+        out << "slice vertex " << x << " at (" << slice.vertices[x].point.x << ", "
+            << slice.vertices[x].point.y << ") side " << static_cast<int>(side) << ": funnel "
+            << describe(fast) << " oracle " << describe(slow) << " (" << slice.vertices.size()
+            << " vertices, " << slice.edges.size() << " edges)";
         return out.str();
       }
     }
@@ -166,7 +168,8 @@ RC_GTEST_PROP(SliceCones, OnlyTheNeededConesAreComputedAndTheyAreUnchanged, ()) 
         continue;
       }
       RC_ASSERT(a.size() == b.size());
-      for (std::size_t k = 0; k < a.size(); ++k) RC_ASSERT(a[k].start == b[k].start && a[k].width == b[k].width);
+      for (std::size_t k = 0; k < a.size(); ++k)
+        RC_ASSERT(a[k].start == b[k].start && a[k].width == b[k].width);
     }
 }
 
@@ -176,7 +179,8 @@ TEST(SliceCones, RegressionSeeds) {
   // 43: a sliver corner on the hull whose rounded centroid fell outside its triangle (hole method).
   // 54752160500098: a chain's spike whose two arms leave X 3e-16 apart; the oracle took them for one
   //   direction (an angle tolerance) where the engine's exact orientation tells them apart.
-  for (std::uint64_t seed : {882443ull, 1286436799262ull, 43ull, 54752160500098ull}) EXPECT_EQ(check_sliced_surface(seed), "") << seed;
+  for (std::uint64_t seed : {882443ull, 1286436799262ull, 43ull, 54752160500098ull})
+    EXPECT_EQ(check_sliced_surface(seed), "") << seed;
 }
 
 }  // namespace

@@ -1,15 +1,16 @@
 // Slicing plans: the paper's diffuse families, the adaptive median split, point- and area-light pencils.
-#include "oracles/test_meshes.hpp"
-#include "sim_io/cloth_generators.hpp"
-#include "static_core/mesh_slicer.hpp"
 #include "static_core/slicing_plan.hpp"
 
 #include <gtest/gtest.h>
-#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <set>
+
+#include "oracles/test_meshes.hpp"
+#include "sim_io/cloth_generators.hpp"
+#include "static_core/mesh_slicer.hpp"
 
 namespace pleat {
 namespace {

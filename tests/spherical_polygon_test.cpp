@@ -5,11 +5,11 @@
 #include "static_core/spherical_polygon.hpp"
 
 #include <gtest/gtest.h>
-#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <glm/geometric.hpp>
 #include <random>
 #include <vector>
 
@@ -116,7 +116,8 @@ void frame_about(const glm::dvec3& c, glm::dvec3& t1, glm::dvec3& t2) {
   t2 = glm::cross(c, t1);
 }
 
-StarPolygon make_star(const glm::dvec3& centre, const std::vector<double>& azimuth, const std::vector<double>& radius) {
+StarPolygon make_star(const glm::dvec3& centre, const std::vector<double>& azimuth,
+                      const std::vector<double>& radius) {
   StarPolygon s;
   s.centre = centre;
   frame_about(centre, s.t1, s.t2);
@@ -178,7 +179,8 @@ TEST(SphericalPolygon, OctantClosedForms) {
   const SphericalPolygon o = octant();
   EXPECT_NEAR(projected_solid_angle(o, {0, 0, 1}), kPi / 4, 1e-14);
   EXPECT_NEAR(projected_solid_angle(o, {1, 0, 0}), kPi / 4, 1e-14);
-  EXPECT_NEAR(projected_solid_angle(o, glm::normalize(glm::dvec3(1, 1, 1))), 3 * kPi / 4 / std::sqrt(3.0), 1e-14);
+  EXPECT_NEAR(projected_solid_angle(o, glm::normalize(glm::dvec3(1, 1, 1))), 3 * kPi / 4 / std::sqrt(3.0),
+              1e-14);
   EXPECT_NEAR(solid_angle(o), kPi / 2, 1e-14);
   expect_near_vec(vector_irradiance(o), glm::dvec3(kPi / 4), 1e-14);
   // integral over the octant of w w_z: (1/3, 1/3, pi/6)
@@ -254,10 +256,12 @@ TEST(SphericalPolygon, RandomPolygonsAgainstQuadrature) {
 void check_clip(const StarPolygon& s, const glm::dvec3& n, int expected_pieces = -1) {
   static const GaussLegendre gl(4);
   const double cells = 48;  // the integrand has a kink along the horizon: many small cells
-  const double lambert = s.integrate([&](const glm::dvec3& w) { return std::max(0.0, glm::dot(n, w)); }, cells, gl);
+  const double lambert =
+      s.integrate([&](const glm::dvec3& w) { return std::max(0.0, glm::dot(n, w)); }, cells, gl);
   const glm::dvec3 moment =
       s.integrate([&](const glm::dvec3& w) { return w * std::max(0.0, glm::dot(n, w)); }, cells, gl);
-  const double area = s.integrate([&](const glm::dvec3& w) { return glm::dot(n, w) >= 0.0 ? 1.0 : 0.0; }, cells, gl);
+  const double area =
+      s.integrate([&](const glm::dvec3& w) { return glm::dot(n, w) >= 0.0 ? 1.0 : 0.0; }, cells, gl);
 
   const SphericalPolygon joined = clip_to_hemisphere(s.vertices, n);
   EXPECT_NEAR(projected_solid_angle(joined, n), lambert, 2e-4);
@@ -345,21 +349,20 @@ TEST(SphericalPolygon, ClipVertexJustBelowOrAboveTheHorizon) {
   // horizon. Its exit and entry crossings round to the same point in the wrong order; taken naively the
   // horizon arc between them went the full turn and doubled A.
   const glm::dvec3 n(1.5565402379239612e-05, 0.99999999986710997, -4.8475113438766443e-06);
-  const SphericalPolygon piece = {
-      {0, 0.031844367089983082, 0.99949283953645129},
-      {0.29734291146679481, 0, 0.95477075416062585},
-      {0.99976488384278173, 0.021683566008145336, 0},
-      {0.99975657383635863, 0.015601170965442949, -0.015601170965442949},
-      {0.70701251913179874, 0.016327754953319285, -0.70701251913179897},
-      {0.70703830931603395, 0.013916117240398247, -0.70703830931603417},
-      {0.49085002261344934, 0, -0.87124408480079607},
-      {0, 0.010288411339643018, -0.99994707289541396},
-      {-0.005494162079855887, 0.0054941620798558887, -0.99996981372743476},
-      {-0.99996423648657029, 0.0059802068455218436, -0.0059802068455218436},
-      {-0.9999824026120866, 0.0059324924069702363, 0},
-      {-0.7070991497368454, 0.0046459533855062246, 0.70709914973684562},
-      {-0.70707267842148158, 0.0098211435049045774, 0.7070726784214818},
-      {-0.03700559691884605, 0.037005596918846063, 0.99862964686281963}};
+  const SphericalPolygon piece = {{0, 0.031844367089983082, 0.99949283953645129},
+                                  {0.29734291146679481, 0, 0.95477075416062585},
+                                  {0.99976488384278173, 0.021683566008145336, 0},
+                                  {0.99975657383635863, 0.015601170965442949, -0.015601170965442949},
+                                  {0.70701251913179874, 0.016327754953319285, -0.70701251913179897},
+                                  {0.70703830931603395, 0.013916117240398247, -0.70703830931603417},
+                                  {0.49085002261344934, 0, -0.87124408480079607},
+                                  {0, 0.010288411339643018, -0.99994707289541396},
+                                  {-0.005494162079855887, 0.0054941620798558887, -0.99996981372743476},
+                                  {-0.99996423648657029, 0.0059802068455218436, -0.0059802068455218436},
+                                  {-0.9999824026120866, 0.0059324924069702363, 0},
+                                  {-0.7070991497368454, 0.0046459533855062246, 0.70709914973684562},
+                                  {-0.70707267842148158, 0.0098211435049045774, 0.7070726784214818},
+                                  {-0.03700559691884605, 0.037005596918846063, 0.99862964686281963}};
   const double unclipped = projected_solid_angle(piece, n);
   EXPECT_NEAR(projected_solid_angle(clip_to_hemisphere(piece, n), n), unclipped, 1e-12);
 
@@ -373,7 +376,8 @@ TEST(SphericalPolygon, ClipVertexJustBelowOrAboveTheHorizon) {
       const double a = phase + 2 * kPi * k / 8;
       const double z = k == 3 ? -1e-20 * (1 + trial) : 0.0;
       dip.push_back(glm::normalize(glm::dvec3(std::cos(a), std::sin(a), z)));
-      bump.push_back(glm::normalize(glm::dvec3(std::cos(a), std::sin(a), k == 3 ? 1e-20 * (1 + trial) : -0.3)));
+      bump.push_back(
+          glm::normalize(glm::dvec3(std::cos(a), std::sin(a), k == 3 ? 1e-20 * (1 + trial) : -0.3)));
     }
     const glm::dvec3 z(0, 0, 1);
     EXPECT_NEAR(projected_solid_angle(clip_to_hemisphere(dip, z), z), kPi, 1e-12) << trial;

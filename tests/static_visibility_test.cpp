@@ -1,9 +1,9 @@
 // StaticVisibility reuses memory across frames; every compute() must still be a full recompute: equal,
 // bit for bit, to the one-shot compute_visibility of the same frame, whatever frames came before.
+#include <gtest/gtest.h>
+
 #include "sim_io/cloth_generators.hpp"
 #include "static_core/visibility.hpp"
-
-#include <gtest/gtest.h>
 
 namespace pleat {
 namespace {
@@ -12,7 +12,8 @@ void expect_same(const FrameVisibility& a, const FrameVisibility& b) {
   ASSERT_EQ(a.measures[0].size(), b.measures[0].size());
   for (int s = 0; s < 2; ++s)
     for (std::size_t v = 0; v < a.measures[s].size(); ++v) {
-      ASSERT_EQ(a.measures[s][v].sky_visibility, b.measures[s][v].sky_visibility) << "side " << s << " vertex " << v;
+      ASSERT_EQ(a.measures[s][v].sky_visibility, b.measures[s][v].sky_visibility)
+          << "side " << s << " vertex " << v;
       ASSERT_EQ(a.cones[s][v].pieces, b.cones[s][v].pieces) << "side " << s << " vertex " << v;
     }
   EXPECT_EQ(a.stats.slice_vertices, b.stats.slice_vertices);

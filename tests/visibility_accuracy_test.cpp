@@ -1,12 +1,5 @@
 // 3D visibility from cones against closed forms and against Embree ray casting (4096 cosine-weighted rays
 // per vertex and side) on the generated folded sequences.
-#include "oracles/test_meshes.hpp"
-#include "shading/ray_visibility.hpp"
-#include "sim_io/cloth_generators.hpp"
-#include "sim_io/mesh_sequence.hpp"
-#include "test_support.hpp"
-#include "static_core/visibility.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +7,13 @@
 #include <cstdio>
 #include <string>
 #include <vector>
+
+#include "oracles/test_meshes.hpp"
+#include "shading/ray_visibility.hpp"
+#include "sim_io/cloth_generators.hpp"
+#include "sim_io/mesh_sequence.hpp"
+#include "static_core/visibility.hpp"
+#include "test_support.hpp"
 
 namespace pleat {
 namespace {
@@ -45,7 +45,8 @@ TEST(VisibilityAccuracy, InsideOfAClosedSphereSeesNothing) {
   const FrameVisibility vis = cones_of(sphere);
   for (Index v = 0; v < sphere.topology.num_vertices; ++v) {
     EXPECT_EQ(vis.measure(Side::Back, v).sky_visibility, 0.0) << v;
-    EXPECT_NEAR(vis.measure(Side::Front, v).sky_visibility, 1.0, 5e-3) << v;  // polyhedral: the faces dip below the hemisphere
+    EXPECT_NEAR(vis.measure(Side::Front, v).sky_visibility, 1.0, 5e-3)
+        << v;  // polyhedral: the faces dip below the hemisphere
   }
 }
 
@@ -93,8 +94,9 @@ ErrorStats compare_with_rays(const MeshTopology& topology, const Frame& frame) {
 
 TEST(VisibilityAccuracy, ConesAgreeWithRayCastingOnGeneratedCloth) {
   // Bounds: measured on 2026-11-24 at resolution 40 (1,600 vertices: coarser than the benchmark's 3,025),
-  // mid-motion frame, the defaults: mean |dA| 0.009-0.035 and p95 0.03-0.135 over the four kinds, |bias| <= 0.009
-  // (the paper's plan: 0.014-0.037 and 0.05-0.16). The bounds leave room for noise and guard against regressions.
+  // mid-motion frame, the defaults: mean |dA| 0.009-0.035 and p95 0.03-0.135 over the four kinds, |bias| <=
+  // 0.009 (the paper's plan: 0.014-0.037 and 0.05-0.16). The bounds leave room for noise and guard against
+  // regressions.
   for (ClothKind kind : kAllClothKinds) {
     const ClothGenerator generator(kind, {40, 12, 24.0, 0});
     const ErrorStats e = compare_with_rays(generator.topology(), generator.frame(6));
@@ -107,10 +109,11 @@ TEST(VisibilityAccuracy, ConesAgreeWithRayCastingOnGeneratedCloth) {
 }
 
 TEST(VisibilityAccuracy, ConesAgreeWithRayCastingOnTheBundledBlenderCloth) {
-  // Measured 2026-11-24 with the defaults (8 spread orientations, nearest-on-fan storage), 4096 rays: drape frames
-  // 20/60/99 mean 0.019/0.019/0.018, p95 0.057/0.056/0.054; pile (last frame) 0.018/0.070; rucked 0.029/0.091;
-  // |bias| <= 0.006. The bounds leave about 1.5x for noise and guard against regressions. The paper's plan (6 axis
-  // orientations, nearer-endpoint storage) had mean 0.035-0.041 and p95 0.12-0.14 on these.
+  // Measured 2026-11-24 with the defaults (8 spread orientations, nearest-on-fan storage), 4096 rays: drape
+  // frames 20/60/99 mean 0.019/0.019/0.018, p95 0.057/0.056/0.054; pile (last frame) 0.018/0.070; rucked
+  // 0.029/0.091; |bias| <= 0.006. The bounds leave about 1.5x for noise and guard against regressions. The
+  // paper's plan (6 axis orientations, nearer-endpoint storage) had mean 0.035-0.041 and p95 0.12-0.14 on
+  // these.
   struct Case {
     const char* name;
     std::vector<int> frames;  // negative: from the end
@@ -119,12 +122,13 @@ TEST(VisibilityAccuracy, ConesAgreeWithRayCastingOnTheBundledBlenderCloth) {
   for (const Case& c : {Case{"drape", {20, 60, 99}, 0.03, 0.10}, Case{"pile", {-1}, 0.03, 0.11},
                         Case{"rucked", {-1}, 0.04, 0.13}}) {
     const std::string dir = std::string("data/") + c.name + "/" + c.name;
-    const MeshSequence cloth = load_sequence(test::source_dir() / (dir + ".obj"), test::source_dir() / (dir + ".pc2"));
+    const MeshSequence cloth =
+        load_sequence(test::source_dir() / (dir + ".obj"), test::source_dir() / (dir + ".pc2"));
     for (int f : c.frames) {
       const std::size_t k = f < 0 ? cloth.num_frames() - std::size_t(-f) : std::size_t(f);
       const ErrorStats e = compare_with_rays(cloth.topology(), cloth.frame(k));
-      std::printf("%-7s frame %3zu  mean |A_cone - A_rays| %.4f  p95 %.4f  bias %+.4f\n", c.name, k, e.mean, e.p95,
-                  e.bias);
+      std::printf("%-7s frame %3zu  mean |A_cone - A_rays| %.4f  p95 %.4f  bias %+.4f\n", c.name, k, e.mean,
+                  e.p95, e.bias);
       EXPECT_LT(e.mean, c.mean) << c.name << " " << k;
       EXPECT_LT(e.p95, c.p95) << c.name << " " << k;
       EXPECT_LT(std::abs(e.bias), 0.02) << c.name << " " << k;

@@ -1,19 +1,22 @@
 // pleat visibility: the CSV contract (DESIGN.md §5), --frames, --stats, and clean failures with no output.
-#include "sim_io/visibility_csv.hpp"
-#include "test_support.hpp"
-
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "sim_io/visibility_csv.hpp"
+#include "test_support.hpp"
 
 namespace pleat {
 namespace {
 
 TEST(VisibilityCommand, WritesOneRowPerFrameAndInputVertexIntoNewDirectories) {
   test::TempDir dir;
-  ASSERT_EQ(test::run_pleat("generate curtain -o " + (dir / "in/c.obj").string() + " --resolution 9 --frames 4").exit_code, 0);
+  ASSERT_EQ(
+      test::run_pleat("generate curtain -o " + (dir / "in/c.obj").string() + " --resolution 9 --frames 4")
+          .exit_code,
+      0);
   const auto result = test::run_pleat("visibility " + (dir / "in/c.obj").string() + " --cache " +
                                       (dir / "in/c.pc2").string() + " -o " + (dir / "out/v.csv").string() +
                                       " --frames 1:3 --stats " + (dir / "out/s.json").string());
@@ -38,7 +41,8 @@ TEST(VisibilityCommand, WritesOneRowPerFrameAndInputVertexIntoNewDirectories) {
 
 TEST(VisibilityCommand, MissingInputFailsCleanlyAndWritesNothing) {
   test::TempDir dir;
-  const auto result = test::run_pleat("visibility " + (dir / "nope.obj").string() + " -o " + (dir / "v.csv").string());
+  const auto result =
+      test::run_pleat("visibility " + (dir / "nope.obj").string() + " -o " + (dir / "v.csv").string());
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_NE(result.output.find("nope.obj"), std::string::npos) << result.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "v.csv"));
@@ -51,10 +55,11 @@ TEST(VisibilityCommand, KineticAndStaticEnginesWriteTheSameCsvOnTheBundledDrape)
   test::TempDir dir;
   const std::string input = std::string(PLEAT_SOURCE_DIR) + "/data/drape/drape.obj --cache " +
                             std::string(PLEAT_SOURCE_DIR) + "/data/drape/drape.pc2 --frames 0:12";
-  const auto kinetic = test::run_pleat("visibility " + input + " -o " + (dir / "k.csv").string() + " --stats " +
-                                       (dir / "k.json").string());
+  const auto kinetic = test::run_pleat("visibility " + input + " -o " + (dir / "k.csv").string() +
+                                       " --stats " + (dir / "k.json").string());
   ASSERT_EQ(kinetic.exit_code, 0) << kinetic.output;
-  const auto fixed = test::run_pleat("visibility " + input + " -o " + (dir / "s.csv").string() + " --engine static");
+  const auto fixed =
+      test::run_pleat("visibility " + input + " -o " + (dir / "s.csv").string() + " --engine static");
   ASSERT_EQ(fixed.exit_code, 0) << fixed.output;
   auto slurp = [](const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);

@@ -1,10 +1,10 @@
 // compute_visibility on input the algorithm does not expect: self-intersecting surfaces (chains cross),
 // degenerate and non-manifold faces, a sheet lying exactly in slicing planes, tiny meshes. It must not crash
 // or hang, must count crossings, and must keep every A in [0, 1].
+#include <gtest/gtest.h>
+
 #include "oracles/test_meshes.hpp"
 #include "static_core/visibility.hpp"
-
-#include <gtest/gtest.h>
 
 namespace pleat {
 namespace {
@@ -27,7 +27,8 @@ test::TestMesh crossing_sheets() {
   test::rigid_transform(b, {1, 0, 0}, 1.5707963267948966, {-4, 0.37, -4.21});  // the plane y = 0.37
   const Index offset = a.topology.num_vertices;
   for (const auto& p : b.frame.positions) a.frame.positions.push_back(p);
-  for (const auto& t : b.topology.triangles) a.topology.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  for (const auto& t : b.topology.triangles)
+    a.topology.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
   a.topology.num_vertices += b.topology.num_vertices;
   return a;
 }
@@ -55,9 +56,9 @@ TEST(VisibilityRobustness, SheetLyingInTheSlicingPlanes) {
 TEST(VisibilityRobustness, DegenerateNonManifoldAndTinyInput) {
   auto mesh = test::flat_sheet(5, 5);
   test::rigid_transform(mesh, {1, 1, 0}, 0.7, {0, 0, 0});
-  mesh.topology.triangles.push_back({0, 1, 2});   // zero area: three collinear vertices of the first row
-  mesh.topology.triangles.push_back({0, 6, 1});   // a third face on edge (0, 1)... and duplicate-ish
-  mesh.topology.triangles.push_back({0, 1, 6});   // the same face reversed
+  mesh.topology.triangles.push_back({0, 1, 2});      // zero area: three collinear vertices of the first row
+  mesh.topology.triangles.push_back({0, 6, 1});      // a third face on edge (0, 1)... and duplicate-ish
+  mesh.topology.triangles.push_back({0, 1, 6});      // the same face reversed
   mesh.frame.positions.emplace_back(100, 100, 100);  // an isolated vertex
   mesh.topology.num_vertices += 1;
   const SlicingPlan plan = make_diffuse_plan(mesh.topology, mesh.frame, {});
@@ -68,11 +69,13 @@ TEST(VisibilityRobustness, DegenerateNonManifoldAndTinyInput) {
   one.topology.num_vertices = 3;
   one.topology.triangles.push_back({0, 1, 2});
   one.frame.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  const FrameVisibility vis1 = compute_visibility(one.topology, one.frame, make_diffuse_plan(one.topology, one.frame, {}));
+  const FrameVisibility vis1 =
+      compute_visibility(one.topology, one.frame, make_diffuse_plan(one.topology, one.frame, {}));
   expect_sane(one, vis1);
 
   test::TestMesh empty;
-  const FrameVisibility vis0 = compute_visibility(empty.topology, empty.frame, make_diffuse_plan(empty.topology, empty.frame, {}));
+  const FrameVisibility vis0 =
+      compute_visibility(empty.topology, empty.frame, make_diffuse_plan(empty.topology, empty.frame, {}));
   EXPECT_TRUE(vis0.measures[0].empty());
 }
 

@@ -4,9 +4,8 @@
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
-#include <unistd.h>
-
 #include <tbb/global_control.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -101,7 +100,8 @@ std::vector<MethodRow> run_engines(const MeshTopology& topology, const SlicingPl
   double static_sv = 0, kinetic_sv = 0, paper_sv = 0;
   for (std::size_t f = 1; f < frames.size(); ++f) {
     if (s.ok()) try {
-        timed_frame(s, keep_sky, static_sv, [&]() -> const FrameVisibility& { return static_engine->compute(frames[f]); });
+        timed_frame(s, keep_sky, static_sv,
+                    [&]() -> const FrameVisibility& { return static_engine->compute(frames[f]); });
       } catch (const std::exception& e) {
         s.status = "error at frame " + std::to_string(f) + ": " + e.what();
       }
@@ -119,7 +119,8 @@ std::vector<MethodRow> run_engines(const MeshTopology& topology, const SlicingPl
       }
     heartbeat.beat("kinetic " + std::to_string(f));
     if (paper_engine && b.ok()) try {
-        timed_frame(b, keep_sky, paper_sv, [&]() -> const FrameVisibility& { return paper_engine->compute(frames[f]); });
+        timed_frame(b, keep_sky, paper_sv,
+                    [&]() -> const FrameVisibility& { return paper_engine->compute(frames[f]); });
       } catch (const std::exception& e) {
         b.status = "error at frame " + std::to_string(f) + ": " + e.what();
       }
@@ -139,14 +140,19 @@ std::vector<MethodRow> run_engines(const MeshTopology& topology, const SlicingPl
 // ---- The worker's result file: "status METHOD TEXT" lines, and "KEY COUNT v1 v2 ..." lines ----
 
 /// The kinetic counters a worker hands to its parent, in this order (then the rebuild reasons).
-constexpr std::size_t KineticFrameStats::*kKineticCounters[] = {
-    &KineticFrameStats::certificates,          &KineticFrameStats::exact_certificates,
-    &KineticFrameStats::flips,                 &KineticFrameStats::hull_enter,
-    &KineticFrameStats::hull_leave,            &KineticFrameStats::touches,
-    &KineticFrameStats::side_changes_regular,  &KineticFrameStats::side_changes_critical,
-    &KineticFrameStats::removed,               &KineticFrameStats::inserted,
-    &KineticFrameStats::slices_unchanged,      &KineticFrameStats::slices_repaired,
-    &KineticFrameStats::slices_rebuilt};
+constexpr std::size_t KineticFrameStats::*kKineticCounters[] = {&KineticFrameStats::certificates,
+                                                                &KineticFrameStats::exact_certificates,
+                                                                &KineticFrameStats::flips,
+                                                                &KineticFrameStats::hull_enter,
+                                                                &KineticFrameStats::hull_leave,
+                                                                &KineticFrameStats::touches,
+                                                                &KineticFrameStats::side_changes_regular,
+                                                                &KineticFrameStats::side_changes_critical,
+                                                                &KineticFrameStats::removed,
+                                                                &KineticFrameStats::inserted,
+                                                                &KineticFrameStats::slices_unchanged,
+                                                                &KineticFrameStats::slices_repaired,
+                                                                &KineticFrameStats::slices_rebuilt};
 constexpr std::size_t kNumKineticCounters = std::size(kKineticCounters);
 
 void write_values(std::ostream& out, const std::string& key, const std::vector<double>& values) {
@@ -222,7 +228,8 @@ std::vector<MethodRow> read_worker_result(const fs::path& path, int threads) {
     row.peak_reset = memory.at(3) != 0;
     if (values.count(m + ".kinetic")) row.kinetic = kinetic_from_fields(values[m + ".kinetic"]);
     const auto frames_with_sky = static_cast<std::size_t>(values[m + ".frames_with_sky"].at(0));
-    for (std::size_t f = 0; f < frames_with_sky; ++f) row.sky.push_back(values.at(m + ".sky" + std::to_string(f)));
+    for (std::size_t f = 0; f < frames_with_sky; ++f)
+      row.sky.push_back(values.at(m + ".sky" + std::to_string(f)));
   }
   return rows;
 }
@@ -241,7 +248,8 @@ MethodRow run_static(const MeshTopology& topology, const SlicingPlan& plan, cons
     row.ms_first = watch.wall_ms();
     double slice_vertices = 0;
     for (std::size_t k = 1; k < frames.size(); ++k)
-      timed_frame(row, keep_sky, slice_vertices, [&]() -> const FrameVisibility& { return engine.compute(frames[k]); });
+      timed_frame(row, keep_sky, slice_vertices,
+                  [&]() -> const FrameVisibility& { return engine.compute(frames[k]); });
     row.slice_vertices = slice_vertices / double(row.ms.size());
   } catch (const std::exception& e) {
     row.status = std::string("error: ") + e.what();
@@ -253,7 +261,8 @@ MethodRow run_static(const MeshTopology& topology, const SlicingPlan& plan, cons
 int run_cone_worker(const Options& options) {
   Heartbeat heartbeat;
   heartbeat.out.open(options.worker_result.string() + ".beat");
-  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, std::size_t(options.worker_threads));
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                              std::size_t(options.worker_threads));
   const Sequence seq = make_sequence(options.sequences.at(0), options.sizes.at(0), options.data);
   const std::vector<Frame> frames = make_frames(seq, options.upsample.at(0), options.frames);
   const SlicingPlan plan = make_diffuse_plan(seq.topology, frames[0], DiffusePlanParams{});
@@ -273,7 +282,8 @@ int run_cone_worker(const Options& options) {
                    {row.slice_vertices, row.peak_mb, row.rss_before_mb, row.peak_reset ? 1.0 : 0.0});
       if (row.kinetic) write_values(out, m + ".kinetic", kinetic_fields(*row.kinetic));
       write_values(out, m + ".frames_with_sky", {double(row.sky.size())});
-      for (std::size_t f = 0; f < row.sky.size(); ++f) write_values(out, m + ".sky" + std::to_string(f), row.sky[f]);
+      for (std::size_t f = 0; f < row.sky.size(); ++f)
+        write_values(out, m + ".sky" + std::to_string(f), row.sky[f]);
     }
     if (!out) return 1;
   }
@@ -281,21 +291,33 @@ int run_cone_worker(const Options& options) {
   return 0;
 }
 
-std::variant<std::vector<MethodRow>, std::string> run_cone_engines_in_child(const std::string& sequence, Index size,
-                                                                             Index vertices, double u, int frame_count,
-                                                                             int threads, bool keep_sky,
-                                                                             const Options& options) {
+std::variant<std::vector<MethodRow>, std::string> run_cone_engines_in_child(const std::string& sequence,
+                                                                            Index size, Index vertices,
+                                                                            double u, int frame_count,
+                                                                            int threads, bool keep_sky,
+                                                                            const Options& options) {
   static int counter = 0;
-  const fs::path result = fs::temp_directory_path() / ("frame_coherence_worker_" + std::to_string(getpid()) + "_" +
-                                                       std::to_string(counter++) + ".txt");
+  const fs::path result = fs::temp_directory_path() / ("frame_coherence_worker_" + std::to_string(getpid()) +
+                                                       "_" + std::to_string(counter++) + ".txt");
   const fs::path beat = result.string() + ".beat";
   fs::remove(result);
   fs::remove(beat);
   char u_text[32];
   std::snprintf(u_text, sizeof u_text, "%.17g", u);
-  std::vector<std::string> args{"frame_coherence_bench", "--worker", result.string(), "--sequences", sequence,
-                                "--sizes", std::to_string(size), "--upsample", u_text, "--frames",
-                                std::to_string(frame_count), "--data", options.data.string(), "--worker-threads",
+  std::vector<std::string> args{"frame_coherence_bench",
+                                "--worker",
+                                result.string(),
+                                "--sequences",
+                                sequence,
+                                "--sizes",
+                                std::to_string(size),
+                                "--upsample",
+                                u_text,
+                                "--frames",
+                                std::to_string(frame_count),
+                                "--data",
+                                options.data.string(),
+                                "--worker-threads",
                                 std::to_string(threads)};
   if (keep_sky) args.emplace_back("--worker-keep-sky");
   std::vector<char*> argv;
@@ -326,7 +348,8 @@ std::variant<std::vector<MethodRow>, std::string> run_cone_engines_in_child(cons
       last_size = size_now;
       read_last_step();
     }
-    const double allowed_s = options.kinetic_timeout_s > 0 ? options.kinetic_timeout_s : base_s + 30.0 * longest_gap_s;
+    const double allowed_s =
+        options.kinetic_timeout_s > 0 ? options.kinetic_timeout_s : base_s + 30.0 * longest_gap_s;
     if (since_change.wall_ms() > 1000.0 * allowed_s) {
       kill(pid, SIGKILL);
       waitpid(pid, &wstatus, 0);
@@ -342,8 +365,8 @@ std::variant<std::vector<MethodRow>, std::string> run_cone_engines_in_child(cons
     return "crashed: signal " + std::to_string(WTERMSIG(wstatus)) + " (" + strsignal(WTERMSIG(wstatus)) +
            ") after step '" + last_step + "'";
   if (!fs::exists(result))
-    return "the worker exited with status " + std::to_string(WEXITSTATUS(wstatus)) + " and no result, after step '" +
-           last_step + "'";
+    return "the worker exited with status " + std::to_string(WEXITSTATUS(wstatus)) +
+           " and no result, after step '" + last_step + "'";
   try {
     auto rows = read_worker_result(result, threads);
     fs::remove(result);

@@ -3,11 +3,11 @@
 //
 // The child is this program run with the internal flag --worker FILE (plus the measurement's sequence, size,
 // u, frames, --worker-threads T and, where accuracy is measured, --worker-keep-sky): it rebuilds the same
-// frames and plan, runs static.compute(k) and kinetic.advance(k) in turn on every frame (so that both times of
-// a frame see the same load on a shared machine) with T TBB threads, and writes both rows to FILE (text, one
-// key per line) and a line per step to FILE.beat. The parent kills the child when FILE.beat stays unchanged
-// longer than the allowed silence: --kinetic-timeout if given, else (60 s, --quick 20 s) + 1 ms per vertex +
-// 30 x the longest gap between heartbeats so far.
+// frames and plan, runs static.compute(k) and kinetic.advance(k) in turn on every frame (so that both times
+// of a frame see the same load on a shared machine) with T TBB threads, and writes both rows to FILE (text,
+// one key per line) and a line per step to FILE.beat. The parent kills the child when FILE.beat stays
+// unchanged longer than the allowed silence: --kinetic-timeout if given, else (60 s, --quick 20 s) + 1 ms per
+// vertex + 30 x the longest gap between heartbeats so far.
 //
 // Memory (memory_window.hpp): the peak is reset before the static engine is built and read after its frame 0
 // (it allocates almost nothing later), then reset before the kinetic engine is built and read at the end (so
@@ -33,9 +33,10 @@ int run_cone_worker(const Options& options);
 
 /// Runs the child for one measurement: the rows {static, kinetic} (with `keep_sky` also "paper": the static
 /// engine on make_paper_plan, the baseline of the accuracy and cost comparison), or why the child failed.
-std::variant<std::vector<MethodRow>, std::string> run_cone_engines_in_child(const std::string& sequence, Index size,
-                                                                             Index vertices, double u, int frames,
-                                                                             int threads, bool keep_sky,
-                                                                             const Options& options);
+std::variant<std::vector<MethodRow>, std::string> run_cone_engines_in_child(const std::string& sequence,
+                                                                            Index size, Index vertices,
+                                                                            double u, int frames, int threads,
+                                                                            bool keep_sky,
+                                                                            const Options& options);
 
 }  // namespace pleat::bench

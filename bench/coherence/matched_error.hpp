@@ -38,8 +38,8 @@ double flicker(std::span<const SkyValues> a, std::span<const SkyValues> ref);
 /// One rung of the ray ladder.
 struct Rung {
   double rays = 0;
-  double ms = 0;        ///< time per frame
-  double error = 0;     ///< the error measure matched (mean or p95)
+  double ms = 0;     ///< time per frame
+  double error = 0;  ///< the error measure matched (mean or p95)
   double flicker = 0;
 };
 

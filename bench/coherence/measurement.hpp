@@ -34,13 +34,14 @@ struct KineticTotals {
 };
 
 struct MethodRow {
-  std::string method;  ///< "static", "kinetic", "embree" (fixed directions), "embree-random" (new every frame)
-  int rays = 0;        ///< Embree's rays per vertex and side
+  std::string
+      method;    ///< "static", "kinetic", "embree" (fixed directions), "embree-random" (new every frame)
+  int rays = 0;  ///< Embree's rays per vertex and side
   int threads = 1;
-  std::string config;       ///< how the method was configured (Embree: BVH update, ray call, flags)
-  std::vector<double> ms;   ///< wall time per timed frame (frames 1..N-1)
+  std::string config;          ///< how the method was configured (Embree: BVH update, ray call, flags)
+  std::vector<double> ms;      ///< wall time per timed frame (frames 1..N-1)
   std::vector<double> cpu_ms;  ///< process CPU time per timed frame (the one-core cost at 1 thread)
-  double ms_first = NAN;    ///< frame 0 (construction / BVH build / warm-up)
+  double ms_first = NAN;       ///< frame 0 (construction / BVH build / warm-up)
   std::vector<SkyValues> sky;  ///< per timed frame, when accuracy is measured
   ErrorStats err;
   double flicker = NAN;

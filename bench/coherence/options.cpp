@@ -12,7 +12,8 @@ namespace pleat::bench {
 namespace {
 
 [[noreturn]] void usage_error(const std::string& what) {
-  std::fprintf(stderr, "frame_coherence_bench: %s (see the flags at the top of bench/frame_coherence_bench.cpp)\n",
+  std::fprintf(stderr,
+               "frame_coherence_bench: %s (see the flags at the top of bench/frame_coherence_bench.cpp)\n",
                what.c_str());
   std::exit(2);
 }
@@ -98,9 +99,12 @@ Options parse_options(int argc, char** argv) {
       o.worker_keep_sky = true;
     } else if (arg == "--help" || arg == "-h") {
       std::printf(
-          "frame_coherence_bench [--quick] [--out DIR] [--sequences drape,pile,rucked,curtain,roll,flag,sleeve]\n"
-          "  [--sizes 3025,29929] [--upsample 0.5,1,2,4,8] [--frames 8] [--large-frames 4] [--large-upsample LIST]\n"
-          "  [--rays 8,12,16,24,32,48,64,96,128,256,1024] [--threads 1,2] [--sweep-rays 32] [--random-rays 16]\n"
+          "frame_coherence_bench [--quick] [--out DIR] [--sequences "
+          "drape,pile,rucked,curtain,roll,flag,sleeve]\n"
+          "  [--sizes 3025,29929] [--upsample 0.5,1,2,4,8] [--frames 8] [--large-frames 4] [--large-upsample "
+          "LIST]\n"
+          "  [--rays 8,12,16,24,32,48,64,96,128,256,1024] [--threads 1,2] [--sweep-rays 32] [--random-rays "
+          "16]\n"
           "  [--reference-rays 4096] [--reference-sample 4000] [--data DIR] [--kinetic-timeout S]\n");
       std::exit(0);
     } else {
@@ -127,7 +131,8 @@ Options parse_options(int argc, char** argv) {
   if (o.threads.empty()) usage_error("--threads needs at least one count");
   for (int t : o.threads)
     if (t < 1) usage_error("--threads values must be positive");
-  if (o.reference_rays < 1 || o.sweep_rays < 1 || o.random_rays < 0) usage_error("ray counts must be positive");
+  if (o.reference_rays < 1 || o.sweep_rays < 1 || o.random_rays < 0)
+    usage_error("ray counts must be positive");
   if (o.reference_sample < 1) usage_error("--reference-sample must be positive");
   for (const auto& s : o.sequences)
     if (!is_sequence_name(s, o.data)) usage_error("unknown sequence '" + s + "'");

@@ -12,19 +12,19 @@ namespace pleat::bench {
 struct Options {
   bool quick = false;
   std::filesystem::path out = "bench/results";
-  std::vector<std::string> sequences;   // default: every real sequence in data/, then the generated kinds
+  std::vector<std::string> sequences;  // default: every real sequence in data/, then the generated kinds
   std::vector<Index> sizes{3025, 29929};
   std::vector<double> upsample{0.5, 1, 2, 4, 8};
   int frames = 8;
-  int large_frames = 4;                 // 0: frames
-  std::vector<double> large_upsample;   // empty: upsample
+  int large_frames = 4;                // 0: frames
+  std::vector<double> large_upsample;  // empty: upsample
   std::vector<int> rays{8, 12, 16, 24, 32, 48, 64, 96, 128, 256, 1024};
-  std::vector<int> threads{1, 2};       // thread counts at u = 1 (the first also at every u)
-  int sweep_rays = 32;                  // ray count of the peer-configuration sweep
-  int random_rays = 16;                 // ray count of the per-frame-random-directions row (0: none)
+  std::vector<int> threads{1, 2};  // thread counts at u = 1 (the first also at every u)
+  int sweep_rays = 32;             // ray count of the peer-configuration sweep
+  int random_rays = 16;            // ray count of the per-frame-random-directions row (0: none)
   int reference_rays = 4096;
-  Index reference_sample = 4000;        // the reference estimates about this many vertices (a stride above it)
-  double kinetic_timeout_s = 0;         // 0: automatic (see cone_worker.hpp)
+  Index reference_sample = 4000;  // the reference estimates about this many vertices (a stride above it)
+  double kinetic_timeout_s = 0;   // 0: automatic (see cone_worker.hpp)
   std::filesystem::path data;
   // Internal: this process is a cone-engine worker for one measurement, writing its rows here.
   std::filesystem::path worker_result;

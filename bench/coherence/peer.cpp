@@ -34,8 +34,9 @@ std::string describe(const EmbreeSceneParams& p) {
   return s;
 }
 
-MethodRow run_embree(const MeshTopology& topology, const std::vector<Frame>& frames, const EmbreeSceneParams& config,
-                     int rays, bool random_directions, int threads, bool keep_sky) {
+MethodRow run_embree(const MeshTopology& topology, const std::vector<Frame>& frames,
+                     const EmbreeSceneParams& config, int rays, bool random_directions, int threads,
+                     bool keep_sky) {
   MethodRow row;
   row.method = random_directions ? "embree-random" : "embree";
   row.rays = rays;
@@ -85,13 +86,15 @@ EmbreeSceneParams fastest_peer(const MeshTopology& topology, const std::vector<F
     p.ray_call = call;
     attempt(p);
   }
-  for (auto change : {+[](EmbreeSceneParams& p) { p.coherent = true; }, +[](EmbreeSceneParams& p) { p.robust = false; },
-                      +[](EmbreeSceneParams& p) { p.mode = EmbreeSceneParams::BuildMode::Rebuild; }}) {
+  for (auto change :
+       {+[](EmbreeSceneParams& p) { p.coherent = true; }, +[](EmbreeSceneParams& p) { p.robust = false; },
+        +[](EmbreeSceneParams& p) { p.mode = EmbreeSceneParams::BuildMode::Rebuild; }}) {
     EmbreeSceneParams p = best;
     change(p);
     attempt(p);
   }
-  std::stable_sort(trials.begin(), trials.end(), [](const PeerTrial& a, const PeerTrial& b) { return a.ms < b.ms; });
+  std::stable_sort(trials.begin(), trials.end(),
+                   [](const PeerTrial& a, const PeerTrial& b) { return a.ms < b.ms; });
   return best;
 }
 
@@ -105,7 +108,8 @@ std::vector<SkyValues> reference_sky(const MeshTopology& topology, const std::ve
   std::unique_ptr<EmbreeScene> scene;
   for (std::size_t k = 1; k < frames.size(); ++k) {
     if (!scene) scene = std::make_unique<EmbreeScene>(topology, frames[k]);
-    out.push_back(sky_of(ray_cast_sky_visibility(*scene, topology, frames[k], vertex_normals(topology, frames[k]), params)));
+    out.push_back(sky_of(
+        ray_cast_sky_visibility(*scene, topology, frames[k], vertex_normals(topology, frames[k]), params)));
   }
   return out;
 }

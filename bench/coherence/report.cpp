@@ -19,7 +19,9 @@ std::string format(const char* fmt, auto... args) {
   return buffer;
 }
 
-std::string num(double x, const char* fmt = "%.6g") { return std::isfinite(x) ? format(fmt, x) : std::string(); }
+std::string num(double x, const char* fmt = "%.6g") {
+  return std::isfinite(x) ? format(fmt, x) : std::string();
+}
 std::string cell(double x, const char* fmt) { return std::isfinite(x) ? format(fmt, x) : std::string("–"); }
 std::string u_label(double u) { return format("%g", u); }
 
@@ -49,7 +51,8 @@ std::string csv_quote(const std::string& s) {
 std::vector<std::string> rebuild_reason_columns() {
   std::vector<std::string> names;
   for (int r = 1; r < static_cast<int>(kinetic::RebuildReason::count); ++r)
-    names.push_back(std::string("rebuilt_") + kinetic::rebuild_reason_name(static_cast<kinetic::RebuildReason>(r)));
+    names.push_back(std::string("rebuilt_") +
+                    kinetic::rebuild_reason_name(static_cast<kinetic::RebuildReason>(r)));
   return names;
 }
 
@@ -68,7 +71,8 @@ std::vector<std::pair<std::string, Index>> sequence_keys(const std::vector<Measu
   return keys;
 }
 
-const Measurement* find(const std::vector<Measurement>& all, const std::string& seq, Index vertices, double u) {
+const Measurement* find(const std::vector<Measurement>& all, const std::string& seq, Index vertices,
+                        double u) {
   for (const auto& m : all)
     if (m.sequence == seq && m.vertices == vertices && m.upsample == u) return &m;
   return nullptr;
@@ -77,18 +81,24 @@ const Measurement* find(const std::vector<Measurement>& all, const std::string& 
 /// "K*" and "pleat ÷ Embree(K*)" cells, with the bound's direction when K* is off the ladder.
 std::string rays_cell(const MatchedRays& k) {
   switch (k.bound) {
-    case MatchedRays::Bound::Below: return format("< %.0f", k.rays);
-    case MatchedRays::Bound::Above: return format("> %.0f", k.rays);
-    default: return format("%.1f", k.rays);
+    case MatchedRays::Bound::Below:
+      return format("< %.0f", k.rays);
+    case MatchedRays::Bound::Above:
+      return format("> %.0f", k.rays);
+    default:
+      return format("%.1f", k.rays);
   }
 }
 std::string ratio_cell(double pleat_ms, const MatchedRays& k) {
   if (!(pleat_ms > 0)) return "–";
   const double r = pleat_ms / k.ms;
   switch (k.bound) {
-    case MatchedRays::Bound::Below: return format("> %.2f", r);  // Embree(K*) < Embree(K_1)
-    case MatchedRays::Bound::Above: return format("< %.2f", r);
-    default: return format("%.2f", r);
+    case MatchedRays::Bound::Below:
+      return format("> %.2f", r);  // Embree(K*) < Embree(K_1)
+    case MatchedRays::Bound::Above:
+      return format("< %.2f", r);
+    default:
+      return format("%.2f", r);
   }
 }
 
@@ -128,9 +138,11 @@ bool matched_embree(const Measurement& m, int threads, bool p95, MatchedRays& ou
 
 void write_csv_header(std::ostream& out) {
   out << "sequence,source,vertices,triangles,planes,upsample,frames,method,rays,threads,config,ms_per_frame,"
-         "cpu_ms_per_frame,ms_first_frame,ms_min,ms_max,us_per_slice_vertex_cpu,us_per_mesh_vertex_cpu,mean_err,"
+         "cpu_ms_per_frame,ms_first_frame,ms_min,ms_max,us_per_slice_vertex_cpu,us_per_mesh_vertex_cpu,mean_"
+         "err,"
          "p95_err,flicker,max_static_kinetic_diff,slice_vertices,peak_rss_mb,rss_before_mb,peak_increase_mb,"
-         "peak_reset,events,flips,hull_enter,hull_leave,touches,side_changes_regular,side_changes_critical,removed,"
+         "peak_reset,events,flips,hull_enter,hull_leave,touches,side_changes_regular,side_changes_critical,"
+         "removed,"
          "inserted,slices_unchanged,slices_repaired,slices_rebuilt,certificates,exact_certificates";
   for (const auto& name : rebuild_reason_columns()) out << ',' << name;
   out << ",status\n";
@@ -146,23 +158,26 @@ void write_csv_rows(std::ostream& out, const Measurement& m) {
       hi = *std::max_element(r.ms.begin(), r.ms.end());
     }
     const bool cone = r.method == "static" || r.method == "kinetic";
-    out << m.sequence << ',' << (m.real ? "blender" : "generated") << ',' << m.vertices << ',' << m.triangles << ','
-        << m.planes << ',' << u_label(m.upsample) << ',' << m.frames << ',' << r.method << ',' << r.rays << ','
-        << r.threads << ',' << csv_quote(r.config) << ',' << num(r.ms_per_frame()) << ',' << num(r.cpu_ms_per_frame())
-        << ',' << num(r.ms_first) << ',' << num(lo) << ',' << num(hi) << ','
+    out << m.sequence << ',' << (m.real ? "blender" : "generated") << ',' << m.vertices << ',' << m.triangles
+        << ',' << m.planes << ',' << u_label(m.upsample) << ',' << m.frames << ',' << r.method << ','
+        << r.rays << ',' << r.threads << ',' << csv_quote(r.config) << ',' << num(r.ms_per_frame()) << ','
+        << num(r.cpu_ms_per_frame()) << ',' << num(r.ms_first) << ',' << num(lo) << ',' << num(hi) << ','
         << num(cone ? us_per(&r, slice_vertices) : NAN) << ',' << num(us_per(&r, double(m.vertices))) << ','
         << (r.measured_accuracy() ? num(r.err.mean) + ',' + num(r.err.p95) : std::string(",")) << ','
         << num(r.flicker) << ',' << (cone ? num(m.max_static_kinetic) : std::string()) << ','
-        << num(r.slice_vertices, "%.1f") << ',' << num(r.peak_mb, "%.1f") << ',' << num(r.rss_before_mb, "%.1f") << ','
-        << num(r.peak_mb - r.rss_before_mb, "%.1f") << ',' << (r.peak_reset ? 1 : 0);
+        << num(r.slice_vertices, "%.1f") << ',' << num(r.peak_mb, "%.1f") << ','
+        << num(r.rss_before_mb, "%.1f") << ',' << num(r.peak_mb - r.rss_before_mb, "%.1f") << ','
+        << (r.peak_reset ? 1 : 0);
     if (r.kinetic && r.kinetic->frames) {
       const KineticTotals& t = *r.kinetic;
       const KineticFrameStats& k = t.sum;
-      for (std::size_t v : {k.events(), k.flips, k.hull_enter, k.hull_leave, k.touches, k.side_changes_regular,
-                            k.side_changes_critical, k.removed, k.inserted, k.slices_unchanged, k.slices_repaired,
-                            k.slices_rebuilt, k.certificates, k.exact_certificates})
+      for (std::size_t v :
+           {k.events(), k.flips, k.hull_enter, k.hull_leave, k.touches, k.side_changes_regular,
+            k.side_changes_critical, k.removed, k.inserted, k.slices_unchanged, k.slices_repaired,
+            k.slices_rebuilt, k.certificates, k.exact_certificates})
         out << ',' << num(t.per_frame(v), "%.2f");
-      for (std::size_t i = 1; i < k.rebuilt_because.size(); ++i) out << ',' << num(t.per_frame(k.rebuilt_because[i]), "%.2f");
+      for (std::size_t i = 1; i < k.rebuilt_because.size(); ++i)
+        out << ',' << num(t.per_frame(k.rebuilt_because[i]), "%.2f");
     } else {
       for (std::size_t i = 0; i < 14 + rebuild_reason_columns().size(); ++i) out << ',';
     }
@@ -171,22 +186,26 @@ void write_csv_rows(std::ostream& out, const Measurement& m) {
   out.flush();
 }
 
-std::string headline_tables(const Options& options, const SourceState& source, const std::vector<Measurement>& all) {
+std::string headline_tables(const Options& options, const SourceState& source,
+                            const std::vector<Measurement>& all) {
   std::ostringstream out;
   const bool two = std::find(options.threads.begin(), options.threads.end(), 2) != options.threads.end();
   out << "**Against ray casting at matched error** (u = 1; Embree configured as measured fastest, fixed "
          "directions; K* = Embree's rays per vertex and side whose error equals the cone engine's, log-log "
          "interpolated over "
       << options.rays.size() << " ray counts " << options.rays.front() << "–" << options.rays.back()
-      << "; < 1: pleat is faster; \"paper's plan\": the static engine on the paper's 6 axis orientations with "
+      << "; < 1: pleat is faster; \"paper's plan\": the static engine on the paper's 6 axis orientations "
+         "with "
          "nearer-endpoint storage, the baseline of pleat's defaults):\n\n";
-  out << "| sequence | vertices | cone err mean / p95 | cone flicker | paper's plan: err mean / p95, flicker | "
+  out << "| sequence | vertices | cone err mean / p95 | cone flicker | paper's plan: err mean / p95, flicker "
+         "| "
          "static ÷ paper's plan, CPU | K* (mean) | Embree(K*) CPU ms, 1 thread | "
          "static ÷ Embree(K*), 1 thread (CPU) |";
   if (two) out << " static ÷ Embree(K*), 2 threads (wall) |";
   out << " kinetic ÷ Embree(K*), 1 thread (CPU) |";
   if (two) out << " kinetic ÷ Embree(K*), 2 threads (wall) |";
-  out << " K* (p95) | static ÷ Embree(K* p95), 1 thread (CPU) | Embree flicker at K* | Embree " << options.random_rays
+  out << " K* (p95) | static ÷ Embree(K* p95), 1 thread (CPU) | Embree flicker at K* | Embree "
+      << options.random_rays
       << " rays, new directions each frame: flicker |\n|---|---|---|---|---|---|---|---|---|";
   if (two) out << "---|";
   out << "---|";
@@ -202,28 +221,32 @@ std::string headline_tables(const Options& options, const SourceState& source, c
     const bool have_p = matched_embree(*m, 1, true, kp, true);
     const MethodRow* random = m->row("embree-random", 1, options.random_rays);
     const MethodRow* paper = m->row("paper");
-    out << "| " << seq << " | " << vertices << " | " << format("%.3f / %.3f", s->err.mean, s->err.p95) << " | "
-        << cell(s->flicker, "%.4f") << " | "
+    out << "| " << seq << " | " << vertices << " | " << format("%.3f / %.3f", s->err.mean, s->err.p95)
+        << " | " << cell(s->flicker, "%.4f") << " | "
         << (paper && paper->measured_accuracy()
                 ? format("%.3f / %.3f, %.4f", paper->err.mean, paper->err.p95, paper->flicker)
                 : std::string("–"))
-        << " | " << cell(cpu_of(s) / cpu_of(paper), "%.2f") << " | " << rays_cell(k1) << " | " << cell(k1.ms, "%.1f") << " | "
-        << ratio_cell(cpu_of(s), k1) << " |";
+        << " | " << cell(cpu_of(s) / cpu_of(paper), "%.2f") << " | " << rays_cell(k1) << " | "
+        << cell(k1.ms, "%.1f") << " | " << ratio_cell(cpu_of(s), k1) << " |";
     if (two) out << ' ' << (have2 ? ratio_cell(ms_of(m->row("static", 2)), k2) : "–") << " |";
     out << ' ' << ratio_cell(cpu_of(m->row("kinetic")), k1) << " |";
     if (two) out << ' ' << (have2 ? ratio_cell(ms_of(m->row("kinetic", 2)), k2) : "–") << " |";
-    out << ' ' << (have_p ? rays_cell(kp) : "–") << " | " << (have_p ? ratio_cell(cpu_of(s), kp) : "–") << " | "
-        << cell(k1.flicker, "%.4f") << " | " << cell(random ? random->flicker : NAN, "%.4f") << " |\n";
+    out << ' ' << (have_p ? rays_cell(kp) : "–") << " | " << (have_p ? ratio_cell(cpu_of(s), kp) : "–")
+        << " | " << cell(k1.flicker, "%.4f") << " | " << cell(random ? random->flicker : NAN, "%.4f")
+        << " |\n";
   }
 
   std::vector<double> ups;
   for (const auto& m : all)
     if (std::find(ups.begin(), ups.end(), m.upsample) == ups.end()) ups.push_back(m.upsample);
   std::sort(ups.begin(), ups.end());
-  out << "\n**Cost per element and kinetic ÷ static** (one thread; µs of CPU per slice vertex and per mesh vertex "
-         "at u = 1; Embree's at K* for comparison; kinetic ÷ static = median CPU time per frame, both engines "
+  out << "\n**Cost per element and kinetic ÷ static** (one thread; µs of CPU per slice vertex and per mesh "
+         "vertex "
+         "at u = 1; Embree's at K* for comparison; kinetic ÷ static = median CPU time per frame, both "
+         "engines "
          "frame by frame in turn):\n\n";
-  out << "| sequence | vertices | slice vertices | static µs / slice vertex | static µs / mesh vertex | kinetic µs / "
+  out << "| sequence | vertices | slice vertices | static µs / slice vertex | static µs / mesh vertex | "
+         "kinetic µs / "
          "mesh vertex | Embree(K*) µs / mesh vertex |";
   for (double u : ups) out << " kinetic ÷ static, u = " << u_label(u) << " |";
   out << "\n|---|---|---|---|---|---|---|";
@@ -239,8 +262,8 @@ std::string headline_tables(const Options& options, const SourceState& source, c
       embree_us = 1000.0 * k1.ms / double(vertices);  // CPU time at K*, interpolated like the wall time
     out << "| " << seq << " | " << vertices << " | " << cell(s ? s->slice_vertices : NAN, "%.0f") << " | "
         << cell(m ? us_per(s, s ? s->slice_vertices : NAN) : NAN, "%.2f") << " | "
-        << cell(us_per(s, double(vertices)), "%.1f") << " | " << cell(us_per(k, double(vertices)), "%.1f") << " | "
-        << cell(embree_us, "%.1f") << " |";
+        << cell(us_per(s, double(vertices)), "%.1f") << " | " << cell(us_per(k, double(vertices)), "%.1f")
+        << " | " << cell(embree_us, "%.1f") << " |";
     for (double u : ups) {
       const Measurement* mu = find(all, seq, vertices, u);
       const MethodRow* su = mu ? mu->row("static") : nullptr;
@@ -254,8 +277,10 @@ std::string headline_tables(const Options& options, const SourceState& source, c
       << ". Error = mean and 95th percentile of |A − A_ref| over vertices, both sides and the timed frames, "
          "against Embree with "
       << options.reference_rays
-      << " rays; flicker = mean |(A_{t+1} − A_t) − (R_{t+1} − R_t)| over consecutive frames. Ratios at one thread "
-         "compare median process CPU time per frame (the one-core cost, robust to other jobs on the shared machine), "
+      << " rays; flicker = mean |(A_{t+1} − A_t) − (R_{t+1} − R_t)| over consecutive frames. Ratios at one "
+         "thread "
+         "compare median process CPU time per frame (the one-core cost, robust to other jobs on the shared "
+         "machine), "
          "at two threads median wall time. Everything else, and how the peer is configured: "
          "`bench/results/frame_coherence.md`.\n";
   return out.str();
@@ -269,22 +294,31 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
   out << "Written by `bench/frame_coherence_bench` (`" << options.command_line
       << "`; `bench/run_frame_coherence.sh` runs it and the plots). Commit **" << source.commit << "**"
       << (source.dirty.empty() ? std::string()
-                               : " plus uncommitted changes to " + source.dirty + " (`git diff HEAD | sha256sum`: " +
-                                     source.dirty_hash + "…)")
-      << ". Machine: " << machine() << ", load average at the end " << shell_output("cut -d' ' -f1-3 /proc/loadavg")
-      << ". Whole run: " << format("%.0f", total_seconds) << " s wall.\n\n";
-  out << "Every method runs on the same frames; the cone engines on the same plan (`make_diffuse_plan` on the first "
-         "frame: 6 orientations, planes one average edge length apart). **ms** = wall milliseconds per frame, the "
-         "median over frames 1..N−1 (frame 0 builds the engines / Embree's BVH and is not counted); **CPU** = "
+                               : " plus uncommitted changes to " + source.dirty +
+                                     " (`git diff HEAD | sha256sum`: " + source.dirty_hash + "…)")
+      << ". Machine: " << machine() << ", load average at the end "
+      << shell_output("cut -d' ' -f1-3 /proc/loadavg") << ". Whole run: " << format("%.0f", total_seconds)
+      << " s wall.\n\n";
+  out << "Every method runs on the same frames; the cone engines on the same plan (`make_diffuse_plan` on "
+         "the first "
+         "frame: 6 orientations, planes one average edge length apart). **ms** = wall milliseconds per "
+         "frame, the "
+         "median over frames 1..N−1 (frame 0 builds the engines / Embree's BVH and is not counted); **CPU** "
+         "= "
          "process CPU time (at one thread, the one-core cost). Threads: TBB limited to the count given "
          "(`tbb::global_control`); every u runs at one thread, u = 1 also at each count of `--threads`. "
-         "**Error** (u = 1) = |A − A_ref| over every vertex and side and every timed frame, against Embree with "
+         "**Error** (u = 1) = |A − A_ref| over every vertex and side and every timed frame, against Embree "
+         "with "
       << options.reference_rays << " rays (another seed; above " << options.reference_sample
-      << " vertices on every k-th vertex, k chosen for about that many), mean / 95th percentile. **Flicker** = the "
+      << " vertices on every k-th vertex, k chosen for about that many), mean / 95th percentile. **Flicker** "
+         "= the "
          "mean over consecutive frame pairs of |(A_{t+1} − A_t) − (R_{t+1} − R_t)|, R the reference. "
-         "**Embree** = BVH update to the frame + vertex normals + K stratified cosine-weighted rays per vertex and "
-         "side with the one-ring side test (shading/ray_visibility.hpp), directions fixed per vertex and side "
-         "across frames; `embree-random` draws new directions each frame. Its configuration is the fastest of a "
+         "**Embree** = BVH update to the frame + vertex normals + K stratified cosine-weighted rays per "
+         "vertex and "
+         "side with the one-ring side test (shading/ray_visibility.hpp), directions fixed per vertex and "
+         "side "
+         "across frames; `embree-random` draws new directions each frame. Its configuration is the fastest "
+         "of a "
          "greedy sweep per sequence (ray call, coherence hint, robust flag, refit vs rebuild; below). "
          "**K\\*** = the ray count whose error equals the static engine's, log-log interpolated between the "
          "bracketing ray counts of the ladder (time and flicker at K\\* likewise); `< 8` / `> 1024`: off the "
@@ -292,46 +326,52 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
   out << "## Headline\n\n" << headline_tables(options, source, all) << "\n";
 
   out << "## The peer's configuration\n\nPer sequence and size, the configurations tried (one thread, "
-      << options.sweep_rays << " rays per vertex and side, median ms per frame), fastest first; the first is used.\n\n";
+      << options.sweep_rays
+      << " rays per vertex and side, median ms per frame), fastest first; the first is used.\n\n";
   out << "| sequence | vertices | configurations tried (ms per frame) |\n|---|---|---|\n";
   for (const auto& m : all) {
     if (m.peer_sweep.empty()) continue;
     out << "| " << m.sequence << " | " << m.vertices << " | ";
     for (std::size_t i = 0; i < m.peer_sweep.size(); ++i)
-      out << (i ? "; " : "") << (i == 0 ? "**" : "") << m.peer_sweep[i].config << " " << cell(m.peer_sweep[i].ms, "%.1f")
-          << (i == 0 ? "**" : "");
+      out << (i ? "; " : "") << (i == 0 ? "**" : "") << m.peer_sweep[i].config << " "
+          << cell(m.peer_sweep[i].ms, "%.1f") << (i == 0 ? "**" : "");
     out << " |\n";
   }
 
-  out << "\n## The ray ladder (u = 1)\n\n| sequence | vertices | rays | ms, 1 thread | ms, 2 threads | err mean / p95 | "
+  out << "\n## The ray ladder (u = 1)\n\n| sequence | vertices | rays | ms, 1 thread | ms, 2 threads | err "
+         "mean / p95 | "
          "flicker |\n|---|---|---|---|---|---|---|\n";
   for (const auto& m : all) {
     for (const MethodRow* r : m.ladder(1)) {
       const MethodRow* r2 = m.row("embree", 2, r->rays);
-      out << "| " << m.sequence << " | " << m.vertices << " | " << r->rays << " | " << cell(ms_of(r), "%.1f") << " | "
-          << cell(ms_of(r2), "%.1f") << " | "
+      out << "| " << m.sequence << " | " << m.vertices << " | " << r->rays << " | " << cell(ms_of(r), "%.1f")
+          << " | " << cell(ms_of(r2), "%.1f") << " | "
           << (r->measured_accuracy() ? format("%.4f / %.4f", r->err.mean, r->err.p95) : "–") << " | "
           << cell(r->flicker, "%.4f") << " |\n";
     }
     if (const MethodRow* r = m.row("embree-random", 1, options.random_rays))
-      out << "| " << m.sequence << " | " << m.vertices << " | " << r->rays << " (new directions each frame) | "
-          << cell(ms_of(r), "%.1f") << " | – | "
+      out << "| " << m.sequence << " | " << m.vertices << " | " << r->rays
+          << " (new directions each frame) | " << cell(ms_of(r), "%.1f") << " | – | "
           << (r->measured_accuracy() ? format("%.4f / %.4f", r->err.mean, r->err.p95) : "–") << " | "
           << cell(r->flicker, "%.4f") << " |\n";
   }
 
-  out << "\n## Cone engines per temporal resolution\n\n| sequence | vertices | u | frames | planes | static ms | kinetic ms "
-         "| kinetic ÷ static | static CPU ms | kinetic CPU ms | static ms, 2 threads | kinetic ms, 2 threads | cone err "
-         "mean / p95 | cone flicker | max \\|A_s − A_k\\| |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  out << "\n## Cone engines per temporal resolution\n\n| sequence | vertices | u | frames | planes | static "
+         "ms | kinetic ms "
+         "| kinetic ÷ static | static CPU ms | kinetic CPU ms | static ms, 2 threads | kinetic ms, 2 threads "
+         "| cone err "
+         "mean / p95 | cone flicker | max \\|A_s − A_k\\| "
+         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& m : all) {
     const MethodRow* s = m.row("static");
     const MethodRow* k = m.row("kinetic");
     const MethodRow* s2 = m.row("static", 2);
     const MethodRow* k2 = m.row("kinetic", 2);
-    out << "| " << m.sequence << " | " << m.vertices << " | " << u_label(m.upsample) << " | " << m.frames << " | "
-        << m.planes << " | " << cell(ms_of(s), "%.1f") << " | " << cell(ms_of(k), "%.1f") << " | "
-        << cell(ms_of(k) / ms_of(s), "%.2f") << " | " << cell(s && s->ok() ? s->cpu_ms_per_frame() : NAN, "%.1f")
-        << " | " << cell(k && k->ok() ? k->cpu_ms_per_frame() : NAN, "%.1f") << " | " << cell(ms_of(s2), "%.1f")
+    out << "| " << m.sequence << " | " << m.vertices << " | " << u_label(m.upsample) << " | " << m.frames
+        << " | " << m.planes << " | " << cell(ms_of(s), "%.1f") << " | " << cell(ms_of(k), "%.1f") << " | "
+        << cell(ms_of(k) / ms_of(s), "%.2f") << " | "
+        << cell(s && s->ok() ? s->cpu_ms_per_frame() : NAN, "%.1f") << " | "
+        << cell(k && k->ok() ? k->cpu_ms_per_frame() : NAN, "%.1f") << " | " << cell(ms_of(s2), "%.1f")
         << " | " << cell(ms_of(k2), "%.1f") << " | "
         << (s && s->measured_accuracy() ? format("%.4f / %.4f", s->err.mean, s->err.p95) : "–") << " | "
         << cell(s ? s->flicker : NAN, "%.4f") << " | " << cell(m.max_static_kinetic, "%.1e") << " |";
@@ -341,8 +381,10 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
   }
 
   // Growth with vertex count (generated kinds, u = 1).
-  out << "\n## Growth with vertex count\n\nLog-log slope of ms per frame (one thread, u = 1) against vertices "
-         "between the smallest and largest size measured (generated kinds; 1 = linear). Embree at the ladder's "
+  out << "\n## Growth with vertex count\n\nLog-log slope of ms per frame (one thread, u = 1) against "
+         "vertices "
+         "between the smallest and largest size measured (generated kinds; 1 = linear). Embree at the "
+         "ladder's "
          "middle ray count.\n\n| sequence | sizes | static | kinetic | Embree |\n|---|---|---|---|---|\n";
   const int middle_rays = options.rays[options.rays.size() / 2];
   std::map<std::string, std::pair<const Measurement*, const Measurement*>> span;
@@ -359,33 +401,40 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
       const double ta = ms_of(a->row(method, 1, rays)), tb = ms_of(b->row(method, 1, rays));
       return std::log(tb / ta) / std::log(double(b->vertices) / double(a->vertices));
     };
-    out << "| " << seq << " | " << a->vertices << "→" << b->vertices << " | " << cell(slope("static", 0), "%.2f")
-        << " | " << cell(slope("kinetic", 0), "%.2f") << " | " << cell(slope("embree", middle_rays), "%.2f") << " |\n";
+    out << "| " << seq << " | " << a->vertices << "→" << b->vertices << " | "
+        << cell(slope("static", 0), "%.2f") << " | " << cell(slope("kinetic", 0), "%.2f") << " | "
+        << cell(slope("embree", middle_rays), "%.2f") << " |\n";
   }
 
-  out << "\n## Kinetic engine, mean per frame (one thread)\n\nEvents = flips + hull enter + hull leave + touches; side "
-         "changes = (mesh vertex, plane) crossings, regular / critical; removed / inserted = slice vertices edited "
+  out << "\n## Kinetic engine, mean per frame (one thread)\n\nEvents = flips + hull enter + hull leave + "
+         "touches; side "
+         "changes = (mesh vertex, plane) crossings, regular / critical; removed / inserted = slice vertices "
+         "edited "
          "locally; slices unchanged / repaired / rebuilt (rebuild reasons in the CSV).\n\n";
-  out << "| sequence | vertices | u | planes | events | flips | side changes reg / crit | removed / inserted | "
-         "unchanged | repaired | rebuilt | certificates (exact) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  out << "| sequence | vertices | u | planes | events | flips | side changes reg / crit | removed / inserted "
+         "| "
+         "unchanged | repaired | rebuilt | certificates (exact) "
+         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& m : all) {
     const MethodRow* k = m.row("kinetic");
     if (!k || !k->kinetic || !k->kinetic->frames) continue;
     const KineticTotals& totals = *k->kinetic;
     const KineticFrameStats& t = totals.sum;
     auto pf = [&](std::size_t v) { return format("%.1f", totals.per_frame(v)); };
-    out << "| " << m.sequence << " | " << m.vertices << " | " << u_label(m.upsample) << " | " << m.planes << " | "
-        << pf(t.events()) << " | " << pf(t.flips) << " | " << pf(t.side_changes_regular) << " / "
+    out << "| " << m.sequence << " | " << m.vertices << " | " << u_label(m.upsample) << " | " << m.planes
+        << " | " << pf(t.events()) << " | " << pf(t.flips) << " | " << pf(t.side_changes_regular) << " / "
         << pf(t.side_changes_critical) << " | " << pf(t.removed) << " / " << pf(t.inserted) << " | "
         << pf(t.slices_unchanged) << " | " << pf(t.slices_repaired) << " | " << pf(t.slices_rebuilt) << " | "
         << pf(t.certificates) << " (" << pf(t.exact_certificates) << ") |\n";
   }
 
-  out << "\n## Peak memory\n\nThe cone engines run in a child process (both alive, frames in turn), Embree in the main "
+  out << "\n## Peak memory\n\nThe cone engines run in a child process (both alive, frames in turn), Embree "
+         "in the main "
          "one. **peak** = VmHWM at the end of a window, **+** = peak − resident set at its start. ";
-  out << (memory_reset ? "VmHWM is reset at the start of each window (static: construction and frame 0; kinetic: "
-                         "construction and every later frame, with the static engine's per-frame transients).\n\n"
-                       : "Resetting VmHWM failed on this machine: **peak** is the process-wide high-water mark.\n\n");
+  out << (memory_reset
+              ? "VmHWM is reset at the start of each window (static: construction and frame 0; kinetic: "
+                "construction and every later frame, with the static engine's per-frame transients).\n\n"
+              : "Resetting VmHWM failed on this machine: **peak** is the process-wide high-water mark.\n\n");
   out << "| sequence | vertices | u | static MB (+) | kinetic MB (+) | Embree, largest K, MB (+) |\n"
          "|---|---|---|---|---|---|\n";
   for (const auto& m : all) {
@@ -393,13 +442,15 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
       return r ? format("%.0f (+%.0f)", r->peak_mb, r->peak_mb - r->rss_before_mb) : std::string("–");
     };
     const auto ladder = m.ladder(1);
-    out << "| " << m.sequence << " | " << m.vertices << " | " << u_label(m.upsample) << " | " << mb(m.row("static"))
-        << " | " << mb(m.row("kinetic")) << " | " << mb(ladder.empty() ? nullptr : ladder.back()) << " |\n";
+    out << "| " << m.sequence << " | " << m.vertices << " | " << u_label(m.upsample) << " | "
+        << mb(m.row("static")) << " | " << mb(m.row("kinetic")) << " | "
+        << mb(ladder.empty() ? nullptr : ladder.back()) << " |\n";
   }
 
   out << "\n## Problems\n\n";
   if (failures.empty())
-    out << "None: every method ran on every measurement, and static and kinetic agreed to 1e-9 wherever both ran.\n";
+    out << "None: every method ran on every measurement, and static and kinetic agreed to 1e-9 wherever both "
+           "ran.\n";
   for (const auto& f : failures) out << "- " << f << '\n';
 }
 

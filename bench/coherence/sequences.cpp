@@ -39,7 +39,8 @@ std::vector<std::string> default_sequences(const fs::path& data) {
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(data, ec)) {
     const std::string name = entry.path().filename().string();
-    if (entry.is_directory() && is_real_sequence(name, data) && !parse_cloth_kind(name)) names.push_back(name);
+    if (entry.is_directory() && is_real_sequence(name, data) && !parse_cloth_kind(name))
+      names.push_back(name);
   }
   std::sort(names.begin(), names.end(), [](const std::string& a, const std::string& b) {
     return (a != "drape") < (b != "drape") || ((a != "drape") == (b != "drape") && a < b);
@@ -65,7 +66,8 @@ Sequence make_sequence(const std::string& name, Index size, const fs::path& data
   }
   const int resolution = static_cast<int>(std::lround(std::sqrt(double(size))));
   if (cloth_vertex_count(resolution) != size)
-    throw std::invalid_argument("size " + std::to_string(size) + " is not a square grid (try 3025, 29929, 300304)");
+    throw std::invalid_argument("size " + std::to_string(size) +
+                                " is not a square grid (try 3025, 29929, 300304)");
   auto generator = std::make_shared<ClothGenerator>(*parse_cloth_kind(name),
                                                     GeneratorParams{resolution, kGeneratorCycle, 24.0, 0});
   s.topology = generator->topology();
@@ -78,9 +80,9 @@ std::vector<Frame> make_frames(const Sequence& s, double u, int count) {
   std::map<std::size_t, Frame> native;
   auto get = [&](std::size_t i) -> const Frame& {
     if (i >= s.native_available)
-      throw std::out_of_range(s.name + " has " + std::to_string(s.native_available) + " frames from its start; u=" +
-                              std::to_string(u) + " x " + std::to_string(count) + " frames needs frame " +
-                              std::to_string(i));
+      throw std::out_of_range(s.name + " has " + std::to_string(s.native_available) +
+                              " frames from its start; u=" + std::to_string(u) + " x " +
+                              std::to_string(count) + " frames needs frame " + std::to_string(i));
     auto it = native.find(i);
     if (it == native.end()) it = native.emplace(i, s.native(i)).first;
     return it->second;
@@ -99,7 +101,8 @@ std::vector<Frame> make_frames(const Sequence& s, double u, int count) {
     Frame& out = frames[k];
     out.time = (1 - f) * a.time + f * b.time;
     out.positions.resize(a.positions.size());
-    for (std::size_t v = 0; v < a.positions.size(); ++v) out.positions[v] = (1 - f) * a.positions[v] + f * b.positions[v];
+    for (std::size_t v = 0; v < a.positions.size(); ++v)
+      out.positions[v] = (1 - f) * a.positions[v] + f * b.positions[v];
   }
   return frames;
 }

@@ -1,8 +1,8 @@
 // The cloth sequences of the frame-coherence benchmark and their frames at a temporal resolution.
 //
-// Real sequences: every data/NAME/ holding NAME.obj + NAME.pc2 (Blender simulations: drape, pile, rucked, ...),
-// their size fixed, taken from a start sample where the cloth has landed (the drape from sample 20; the others
-// from 24 samples before their end, so that the most folded frames are measured). Generated sequences:
+// Real sequences: every data/NAME/ holding NAME.obj + NAME.pc2 (Blender simulations: drape, pile, rucked,
+// ...), their size fixed, taken from a start sample where the cloth has landed (the drape from sample 20; the
+// others from 24 samples before their end, so that the most folded frames are measured). Generated sequences:
 // ClothGenerator's kinds (curtain, roll, flag, sleeve) at resolution sqrt(size) (3025 -> 55, 29929 -> 173,
 // 300304 -> 548), 48 frames per motion cycle (24 fps), from frame 8 on (the cycle loops, so any length is
 // available). Temporal resolution u: 1 = native frames; u = 2, 4, 8 insert u-1 linearly interpolated frames

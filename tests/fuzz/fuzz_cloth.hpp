@@ -4,11 +4,6 @@
 // are dropped, as MeshSequence drops them); check_engines runs both engines and the shading on it.
 #pragma once
 
-#include "kinetic/kinetic_visibility.hpp"
-#include "shading/shade.hpp"
-#include "static_core/slicing_plan.hpp"
-#include "static_core/visibility.hpp"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -18,6 +13,11 @@
 #include <set>
 #include <string>
 #include <vector>
+
+#include "kinetic/kinetic_visibility.hpp"
+#include "shading/shade.hpp"
+#include "static_core/slicing_plan.hpp"
+#include "static_core/visibility.hpp"
 
 namespace pleat::fuzz {
 
@@ -75,8 +75,9 @@ inline std::string check_engines(const FuzzCloth& cloth) {
         const double a = expected.measure(side, v).sky_visibility, b = got.measure(side, v).sky_visibility;
         if (!(std::abs(a - b) <= 1e-9)) {
           char message[160];
-          std::snprintf(message, sizeof message, "kinetic A %.17g != static A %.17g (frame %zu, vertex %u, side %d)",
-                        b, a, f, v, static_cast<int>(side));
+          std::snprintf(message, sizeof message,
+                        "kinetic A %.17g != static A %.17g (frame %zu, vertex %u, side %d)", b, a, f, v,
+                        static_cast<int>(side));
           return message;
         }
       }

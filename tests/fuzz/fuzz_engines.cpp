@@ -2,9 +2,9 @@
 // a sanitizer report, any exception (InvariantError is a bug) or the kinetic engine's A differing from the
 // static engine's (the product's equality, as the property test states it). Findings go to
 // tests/fuzz/regressions/fuzz_engines/, which tests/fuzz_regressions_test.cpp replays in the normal suite.
-#include "fuzz/fuzz_cloth.hpp"
-
 #include <cstdlib>
+
+#include "fuzz/fuzz_cloth.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto cloth = pleat::fuzz::decode_cloth(data, size);

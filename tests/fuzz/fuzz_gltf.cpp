@@ -1,8 +1,8 @@
 // libFuzzer: the glTF reader, as .glb when the input starts with the binary magic "glTF", else as .gltf.
+#include <cstring>
+
 #include "fuzz/fuzz_sequence_reader.hpp"
 #include "fuzz/fuzz_support.hpp"
-
-#include <cstring>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const bool binary = size >= 4 && std::memcmp(data, "glTF", 4) == 0;

@@ -1,10 +1,10 @@
 // libFuzzer: a numbered OBJ sequence — the input is cut at each "\n#frame\n" into up to four files
 // f_0000.obj, f_0001.obj, ... of a fresh directory, loaded as a directory of frames.
-#include "fuzz/fuzz_sequence_reader.hpp"
-#include "fuzz/fuzz_support.hpp"
-
 #include <cstdio>
 #include <string_view>
+
+#include "fuzz/fuzz_sequence_reader.hpp"
+#include "fuzz/fuzz_support.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto dir = pleat::fuzz::scratch_directory() / "sequence";

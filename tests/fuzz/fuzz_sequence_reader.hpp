@@ -1,10 +1,10 @@
 // One harness body for every reader: load the sequence as the CLI does, then read every frame.
 #pragma once
 
+#include <filesystem>
+
 #include "sim_io/input_error.hpp"
 #include "sim_io/mesh_sequence.hpp"
-
-#include <filesystem>
 
 namespace pleat::fuzz {
 

@@ -3,12 +3,13 @@
 // input) and nothing else: any other exception, a crash, a hang or a sanitizer report is a finding.
 #pragma once
 
+#include <unistd.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace pleat::fuzz {
 
@@ -23,7 +24,8 @@ inline const std::filesystem::path& scratch_directory() {
 }
 
 /// Writes `size` bytes to `name` in the scratch directory and returns its path.
-inline std::filesystem::path write_input(const std::string& name, const std::uint8_t* data, std::size_t size) {
+inline std::filesystem::path write_input(const std::string& name, const std::uint8_t* data,
+                                         std::size_t size) {
   const auto path = scratch_directory() / name;
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
@@ -40,7 +42,8 @@ inline const std::filesystem::path& grid_obj() {
     for (int j = 0; j < 2; ++j)
       for (int i = 0; i < 2; ++i) {
         const int a = 1 + j * 3 + i;
-        out << "f " << a << ' ' << a + 1 << ' ' << a + 4 << "\nf " << a << ' ' << a + 4 << ' ' << a + 3 << '\n';
+        out << "f " << a << ' ' << a + 1 << ' ' << a + 4 << "\nf " << a << ' ' << a + 4 << ' ' << a + 3
+            << '\n';
       }
     return p;
   }();

@@ -1,13 +1,13 @@
 #include "oracles/random_slices.hpp"
 
-#include "oracles/test_meshes.hpp"
-
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <numeric>
+
+#include "oracles/test_meshes.hpp"
 
 namespace pleat::test {
 namespace {
@@ -15,7 +15,8 @@ namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 
 bool segments_cross(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& d) {
-  const K::Segment_2 s(K::Point_2(a.x, a.y), K::Point_2(b.x, b.y)), t(K::Point_2(c.x, c.y), K::Point_2(d.x, d.y));
+  const K::Segment_2 s(K::Point_2(a.x, a.y), K::Point_2(b.x, b.y)),
+      t(K::Point_2(c.x, c.y), K::Point_2(d.x, d.y));
   return CGAL::do_intersect(s, t);
 }
 
@@ -111,7 +112,8 @@ Slice random_chain_slice(std::mt19937_64& rng) {
       // Cut into dangling pieces.
       std::size_t cut = 1 + static_cast<std::size_t>(unit(rng) * (loop.size() - 1));
       pieces.emplace_back(std::vector<glm::dvec2>(loop.begin(), loop.begin() + cut), false);
-      if (cut + 1 < loop.size()) pieces.emplace_back(std::vector<glm::dvec2>(loop.begin() + cut, loop.end()), false);
+      if (cut + 1 < loop.size())
+        pieces.emplace_back(std::vector<glm::dvec2>(loop.begin() + cut, loop.end()), false);
     }
     for (auto& [chain, is_closed] : pieces) {
       if (chain.size() < 2) continue;
@@ -149,7 +151,8 @@ RandomSurface random_height_field(std::mt19937_64& rng, int n) {
     for (int i = 0; i < n; ++i) {
       const double x = double(i) / (n - 1), y = double(j) / (n - 1);
       double z = fold * std::sin(12 * x);
-      for (const auto& b : bumps) z += b.h * std::exp(-((x - b.x) * (x - b.x) + (y - b.y) * (y - b.y)) / (b.r * b.r));
+      for (const auto& b : bumps)
+        z += b.h * std::exp(-((x - b.x) * (x - b.x) + (y - b.y) * (y - b.y)) / (b.r * b.r));
       s.frame.positions.emplace_back(x, y, z);
     }
   return s;

@@ -3,13 +3,12 @@
 // meshes by random planes, some placed exactly through mesh vertices.
 #pragma once
 
-#include "sim_io/mesh.hpp"
-#include "static_core/mesh_slicer.hpp"
-
 #include <glm/vec2.hpp>
-
 #include <random>
 #include <vector>
+
+#include "sim_io/mesh.hpp"
+#include "static_core/mesh_slicer.hpp"
 
 namespace pleat::test {
 

@@ -1,10 +1,9 @@
 #include "oracles/test_meshes.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
-
-#include <cmath>
-#include <algorithm>
 #include <map>
 
 namespace pleat::test {
@@ -13,7 +12,8 @@ TestMesh flat_sheet(int nx, int ny, double spacing, glm::dvec2 origin) {
   TestMesh m;
   m.topology.num_vertices = static_cast<Index>(nx * ny);
   for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) m.frame.positions.emplace_back(origin.x + spacing * i, origin.y + spacing * j, 0.0);
+    for (int i = 0; i < nx; ++i)
+      m.frame.positions.emplace_back(origin.x + spacing * i, origin.y + spacing * j, 0.0);
   for (int j = 0; j + 1 < ny; ++j)
     for (int i = 0; i + 1 < nx; ++i) {
       const Index a = j * nx + i, b = a + 1, c = a + nx, d = c + 1;
@@ -26,12 +26,13 @@ TestMesh flat_sheet(int nx, int ny, double spacing, glm::dvec2 origin) {
 TestMesh icosphere(int subdivisions) {
   TestMesh m;
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<glm::dvec3> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<glm::dvec3> p = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   for (auto& q : p) q = glm::normalize(q);
-  std::vector<Triangle> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                             {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                             {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  std::vector<Triangle> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                             {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                             {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                             {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
   for (int s = 0; s < subdivisions; ++s) {
     std::map<std::pair<Index, Index>, Index> mid;
     auto midpoint = [&](Index a, Index b) {

@@ -1,10 +1,10 @@
 // Small meshes with known visibility: a flat sheet, an icosphere, a V-fold; and rigid transforms.
 #pragma once
 
-#include "sim_io/mesh.hpp"
-
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+
+#include "sim_io/mesh.hpp"
 
 namespace pleat::test {
 

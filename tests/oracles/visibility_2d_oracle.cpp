@@ -49,7 +49,8 @@ std::vector<std::array<AngularSet, 2>> brute_force_slice_cones(const Slice& slic
         }
         continue;  // otherwise seen edge-on: a single direction
       }
-      blocked.push_back(o == CGAL::LEFT_TURN ? thin_wedge_between(dir(X, a), dir(X, b)) : thin_wedge_between(dir(X, b), dir(X, a)));
+      blocked.push_back(o == CGAL::LEFT_TURN ? thin_wedge_between(dir(X, a), dir(X, b))
+                                             : thin_wedge_between(dir(X, b), dir(X, a)));
     }
     const AngularSet visible = AngularSet::from_wedges(blocked).complement();
     // Ranges between chain edges, decided exactly (two arms 1e-16 apart are distinct edges): the first
@@ -87,7 +88,8 @@ std::vector<std::array<AngularSet, 2>> brute_force_slice_cones(const Slice& slic
     auto range_cw_of = [&](const P& T) {
       const P* best = nullptr;
       for (const P& q : incident)
-        if (!same_direction(T, q) && (!best || ccw_before(T, *best, q))) best = &q;  // the last ccw = first cw
+        if (!same_direction(T, q) && (!best || ccw_before(T, *best, q)))
+          best = &q;  // the last ccw = first cw
       return AngularSet::from_wedges({best ? wedge_from_to(*best, T) : Wedge{0.0, kTwoPi}});
     };
     const int next = next_distinct(slice, x, true), prev = next_distinct(slice, x, false);
@@ -95,8 +97,10 @@ std::vector<std::array<AngularSet, 2>> brute_force_slice_cones(const Slice& slic
       const int ccw_of = side == Side::Front ? next : prev;
       const int cw_of = side == Side::Front ? prev : next;
       AngularSet range = AngularSet::full();
-      if (ccw_of >= 0) range = range_ccw_of(point(slice, ccw_of));
-      else if (cw_of >= 0) range = range_cw_of(point(slice, cw_of));
+      if (ccw_of >= 0)
+        range = range_ccw_of(point(slice, ccw_of));
+      else if (cw_of >= 0)
+        range = range_cw_of(point(slice, cw_of));
       result[x][static_cast<int>(side)] = range.intersect(visible);
     }
   }

@@ -7,11 +7,11 @@
 // Cost: O(n log n) per vertex, O(n^2 log n) per slice.
 #pragma once
 
-#include "static_core/angular_set.hpp"
-#include "static_core/mesh_slicer.hpp"
-
 #include <array>
 #include <vector>
+
+#include "static_core/angular_set.hpp"
+#include "static_core/mesh_slicer.hpp"
 
 namespace pleat::oracle {
 
