@@ -1,54 +1,37 @@
 // Micro-benchmarks of the kinetic layer's hot parts on real data (kinetic/kinetic_slice.hpp, DESIGN.md §3):
-// what one certificate, one static predicate, one rebuilt slice vertex, one repaired event or edit and one
-// funnel-tree corner cost, so that the kinetic engine's frame time can be read off its parts.
+// what one frame certificate, one rebuilt slice vertex, one repaired edit and one funnel-tree corner cost, so
+// that the kinetic engine's frame time can be read off its parts.
 //
 // Input: two consecutive frames k, k+1 of a sequence and the CLI's default plan on frame k
-// (make_diffuse_plan: 6 orientations, spacing = average edge length). "drape" is the bundled Blender
-// simulation (data/drape/drape.obj + drape.pc2, 3,111 vertices), samples 40 and 41; "curtain/3025" is
-// ClothGenerator's curtain at resolution 55 (48 frames per cycle), frames 12 and 13. Everything the timed
-// loops read is prepared once, outside them.
+// (make_diffuse_plan). "drape" is the bundled Blender simulation (data/drape/drape.obj + drape.pc2, 3,111
+// vertices), samples 40 and 41; "curtain/3025" is ClothGenerator's curtain at resolution 55 (48 frames per
+// cycle), frames 12 and 13. Everything the timed loops read is prepared once, outside them.
 //
 // Benchmarks (one thread, serial; wall time (UseRealTime) and process CPU time; per-item counters are
 // seconds per item over wall time, printed with an SI prefix):
-//   certificate/filter/<seq>          certainly_positive on every finite face of every plane's triangulation
-//                                     at frame k, its slice vertices moving from their frame-k to their
-//                                     frame-k+1 points (matched by mesh edge; faces whose vertex vanishes, or
-//                                     is a crossing point of two chains, are skipped); one FPU-rounding guard
-//                                     per pass. Counters: s_per_certificate, undecided_fraction,
-//                                     skipped_vanishing, skipped_crossing.
-//   certificate/filter_guarded/<seq>  the same with one guard per certificate, as the engine's certify does.
-//   certificate/exact/<seq>           the undecided ones: orientation_polynomial, sign_after and
-//                                     first_root_after at t = 0 (all in rational arithmetic). Counter:
-//                                     s_per_certificate.
-//   certificate/lazy/<seq>            the undecided ones as KineticSlice's certify decides them at t = 0:
-//                                     orientation_certificate, exact Bernstein signs (Mpzf), certain_sign_at,
-//                                     first_root_after on the interval enclosure, the rational polynomial
-//                                     only where intervals cannot decide. Counters: s_per_certificate, and
-//                                     how many each stage decided (by_signs, by_intervals, by_exact).
-//   predicate/orientation/<seq>       CGAL::orientation (EPICK, filtered exact) on the same triples at frame
-//                                     k+1: what a static recompute pays per predicate. Counter:
-//                                     s_per_predicate.
+//   certificate/at_frame/<seq>        the frame certificate of a kept triangle: CGAL::orientation (EPICK,
+//                                     filtered exact) of every finite face of every plane's triangulation at
+//                                     frame k, on its slice vertices' frame-k+1 points (matched by mesh edge;
+//                                     faces whose vertex vanishes, or is a crossing point of two chains, are
+//                                     skipped). Counters: s_per_certificate, failed (not left turns at k+1).
 //   slice/rebuild/<seq>               KineticSlice::build of every plane at frame k+1 (the static path:
 //                                     slicing, constrained triangulation, regions, cones).
 //                                     s_per_slice_vertex.
 //   slice/repair/<seq>                KineticSlice::build at frame k (not timed) then advance to k+1 with
-//                                     KineticPolicy{100, 100} (repair whatever can be repaired), every plane.
-//                                     Counters: s_per_slice_vertex (frame k+1's), events, edits, rebuilt
-//                                     (slices rebuilt anyway, and rebuilt_<reason>), s_per_event_or_edit
-//                                     (the whole advance over events + edits).
+//                                     KineticPolicy{100} (repair whatever can be repaired), every plane.
+//                                     Counters: s_per_slice_vertex (frame k+1's), every KineticCounts
+//                                     counter, rebuilt_<reason>, s_per_edit (the whole advance over slice
+//                                     vertices removed, inserted and put back).
 //   slice/advance_default/<seq>       the same with the default KineticPolicy{}.
 //   funnel/trees/<seq>                grow_shortest_path_tree from both ends of every window of every region
 //                                     without holes, on every plane's triangulation at frame k.
 //                                     Counter: s_per_corner_tree (corners of the region per tree).
-// The cost of the local edits alone (slice/edit) is not separable from advance() without touching the
-// kinetic sources: not measured.
 //
 // Flags of ours (before Google Benchmark's own):
 //   --pleat_sequences=drape,curtain   which inputs
 //   --pleat_data=DIR                  the repository's data/ (default: found from this source file's path)
 // Run: build/bench/kinetic_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 // Results: bench/results/kinetic_micro.md.
-#include <CGAL/FPU.h>
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
@@ -64,8 +47,6 @@
 
 #include "bench/bench_args.hpp"
 #include "kinetic/kinetic_slice.hpp"
-#include "kinetic/moving_orientation.hpp"
-#include "kinetic/root_isolation.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/mesh_slicer.hpp"
@@ -80,9 +61,6 @@ namespace fs = std::filesystem;
 using kinetic::KineticPolicy;
 using kinetic::KineticScratch;
 using kinetic::KineticSlice;
-using kinetic::MovingPoint;
-using kinetic::RootTime;
-using kinetic::SliceEventCounts;
 
 // ---- Options ----
 
@@ -123,9 +101,6 @@ std::string sequence_label(const std::string& name) { return name == "curtain" ?
 
 // ---- Inputs: frames k and k+1, the plan, and every structure the benchmarks read, built once. ----
 
-/// Three slice vertices of a finite face at frame k, moving to their frame-k+1 points.
-using Triple = std::array<MovingPoint, 3>;
-
 /// One window of a region without holes: the two trees grown from it, and the region's corner count.
 struct TreeTask {
   std::size_t plane = 0;
@@ -141,13 +116,11 @@ struct Workload {
   std::vector<std::vector<Index>> faces0, faces1;  // candidate faces per plane at k and k+1
   std::vector<KineticSlice> at_k;                  // every plane built at frame k (sized once: never moved)
   std::size_t slice_vertices0 = 0, slice_vertices1 = 0;
-  std::vector<Triple> triples;        // every finite face of frame k whose slice vertices survive
+  std::vector<std::array<cgal::Point2, 3>> points1;  // every finite face of frame k, at frame k+1's points
   std::size_t skipped_vanishing = 0;  // faces with a slice vertex whose mesh edge stops crossing at k+1
   std::size_t skipped_crossing = 0;   // faces with a crossing point of two chains (no mesh edge)
-  std::vector<Triple> undecided;      // the triples the interval filter cannot decide
-  std::vector<std::array<cgal::Point2, 3>> points1;  // the triples at frame k+1
-  std::vector<TreeTask> trees;                       // every window of every region without holes
-  std::size_t tree_corners = 0;                      // sum over trees of both ends: corners reached
+  std::vector<TreeTask> trees;        // every window of every region without holes
+  std::size_t tree_corners = 0;       // sum over trees of both ends: corners reached
   std::size_t max_corners = 0;
 
   void load(const std::string& name) {
@@ -186,12 +159,12 @@ struct Workload {
       slice_vertices1 += next.vertices.size();
       for (Index y = 0; y < next.vertices.size(); ++y) next_of_edge[next.vertices[y].edge] = std::int32_t(y);
 
-      // Certificates: the triangle orientations of frame k's triangulation over the interval.
+      // Frame certificates: the triangles of frame k's triangulation on frame k+1's points.
       const SliceTriangulation& tri = at_k[p].triangulation();
       const cgal::Cdt& cdt = tri.cdt();
       if (tri.dimension() == 2)
         for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-          Triple t;
+          std::array<cgal::Point2, 3> t;
           bool crossing = false, vanishing = false;
           for (int i = 0; i < 3; ++i) {
             const int x = f->vertex(i)->info().slice_vertex;
@@ -201,14 +174,13 @@ struct Workload {
             else if (y < 0)
               vanishing = true;
             else
-              t[i] = {cgal::to_glm(f->vertex(i)->point()), next.vertices[y].point};
+              t[i] = cgal::to_point(next.vertices[y].point);
           }
           if (crossing || vanishing) {
             ++(crossing ? skipped_crossing : skipped_vanishing);
             continue;
           }
-          triples.push_back(t);
-          points1.push_back({cgal::to_point(t[0].to), cgal::to_point(t[1].to), cgal::to_point(t[2].to)});
+          points1.push_back(t);
         }
       for (const SliceVertex& v : next.vertices) next_of_edge[v.edge] = -1;
 
@@ -225,11 +197,6 @@ struct Workload {
           tree_corners += 2 * region_corners[r];
         }
       }
-    }
-    {
-      CGAL::Protect_FPU_rounding<true> rounding;
-      for (const Triple& t : triples)
-        if (!kinetic::certainly_positive(t[0], t[1], t[2])) undecided.push_back(t);
     }
   }
 };
@@ -249,90 +216,7 @@ benchmark::Counter per_item(double items) {
 
 // ---- Benchmarks ----
 
-void filter_benchmark(benchmark::State& state, std::string name, bool guard_per_certificate) {
-  const Workload& w = workload(name);
-  std::size_t positive = 0;
-  for (auto _ : state) {
-    positive = 0;
-    if (guard_per_certificate) {
-      for (const Triple& t : w.triples) {
-        CGAL::Protect_FPU_rounding<true> rounding;
-        positive += kinetic::certainly_positive(t[0], t[1], t[2]);
-      }
-    } else {
-      CGAL::Protect_FPU_rounding<true> rounding;
-      for (const Triple& t : w.triples) positive += kinetic::certainly_positive(t[0], t[1], t[2]);
-    }
-    benchmark::DoNotOptimize(positive);
-  }
-  state.counters["certificates"] = double(w.triples.size());
-  state.counters["skipped_vanishing"] = double(w.skipped_vanishing);
-  state.counters["skipped_crossing"] = double(w.skipped_crossing);
-  state.counters["undecided_fraction"] = double(w.triples.size() - positive) / double(w.triples.size());
-  state.counters["s_per_certificate"] = per_item(double(w.triples.size()));
-}
-
-void exact_benchmark(benchmark::State& state, std::string name) {
-  const Workload& w = workload(name);
-  if (w.undecided.empty()) {
-    state.SkipWithError("no undecided certificate");
-    return;
-  }
-  const RootTime t0 = RootTime::zero();
-  std::size_t roots = 0, negative = 0;
-  for (auto _ : state) {
-    roots = negative = 0;
-    for (const Triple& t : w.undecided) {
-      const kinetic::ExactPolynomial poly = kinetic::orientation_polynomial(t[0], t[1], t[2]);
-      negative += kinetic::sign_after(poly, t0) < 0;
-      roots += kinetic::first_root_after(poly, t0).has_value();
-    }
-    benchmark::DoNotOptimize(roots);
-  }
-  state.counters["certificates"] = double(w.undecided.size());
-  state.counters["with_root"] = double(roots);
-  state.counters["negative_after_0"] = double(negative);
-  state.counters["s_per_certificate"] = per_item(double(w.undecided.size()));
-}
-
-/// How KineticSlice's certify decides an undecided triangle certificate at t = 0 (kinetic::first_failure):
-/// which stage settled it (0: exact Bernstein signs, 1: intervals, 2: rational arithmetic).
-int decide_lazily(const Triple& t, const RootTime& t0) {
-  const kinetic::CertificateFailure failure = kinetic::first_failure(t, t0, true);
-  benchmark::DoNotOptimize(failure.time);
-  switch (failure.decided_by) {
-    case kinetic::CertificateFailure::DecidedBy::filter:
-    case kinetic::CertificateFailure::DecidedBy::exact_signs:
-      return 0;
-    case kinetic::CertificateFailure::DecidedBy::intervals:
-      return 1;
-    case kinetic::CertificateFailure::DecidedBy::rationals:
-      return 2;
-  }
-  return 2;
-}
-
-void lazy_benchmark(benchmark::State& state, std::string name) {
-  const Workload& w = workload(name);
-  if (w.undecided.empty()) {
-    state.SkipWithError("no undecided certificate");
-    return;
-  }
-  const RootTime t0 = RootTime::zero();
-  std::array<std::size_t, 3> by{};
-  for (auto _ : state) {
-    by = {};
-    for (const Triple& t : w.undecided) ++by[decide_lazily(t, t0)];
-    benchmark::DoNotOptimize(by.data());
-  }
-  state.counters["certificates"] = double(w.undecided.size());
-  state.counters["by_signs"] = double(by[0]);
-  state.counters["by_intervals"] = double(by[1]);
-  state.counters["by_exact"] = double(by[2]);
-  state.counters["s_per_certificate"] = per_item(double(w.undecided.size()));
-}
-
-void orientation_benchmark(benchmark::State& state, std::string name) {
+void certificate_benchmark(benchmark::State& state, std::string name) {
   const Workload& w = workload(name);
   std::size_t left = 0;
   for (auto _ : state) {
@@ -340,9 +224,11 @@ void orientation_benchmark(benchmark::State& state, std::string name) {
     for (const auto& p : w.points1) left += CGAL::orientation(p[0], p[1], p[2]) == CGAL::LEFT_TURN;
     benchmark::DoNotOptimize(left);
   }
-  state.counters["predicates"] = double(w.points1.size());
-  state.counters["not_left_at_k1"] = double(w.points1.size() - left);
-  state.counters["s_per_predicate"] = per_item(double(w.points1.size()));
+  state.counters["certificates"] = double(w.points1.size());
+  state.counters["skipped_vanishing"] = double(w.skipped_vanishing);
+  state.counters["skipped_crossing"] = double(w.skipped_crossing);
+  state.counters["failed"] = double(w.points1.size() - left);
+  state.counters["s_per_certificate"] = per_item(double(w.points1.size()));
 }
 
 void rebuild_benchmark(benchmark::State& state, std::string name) {
@@ -367,24 +253,16 @@ void advance_benchmark(benchmark::State& state, std::string name, KineticPolicy 
   const Workload& w = workload(name);
   std::vector<KineticSlice> slices(w.plan.planes.size());
   KineticScratch scratch;
-  SliceEventCounts total;
-  std::size_t rebuilt = 0;
-  std::array<std::size_t, static_cast<std::size_t>(kinetic::RebuildReason::count)> because{};
+  KineticCounts total;
   auto build_all = [&] {
     for (std::size_t p = 0; p < slices.size(); ++p)
       slices[p].build(w.topology, *w.edges, w.frame0, w.plan.planes[p], w.plan.storage, w.faces0[p], scratch);
   };
   auto advance_all = [&] {
     total = {};
-    rebuilt = 0;
-    because = {};
-    for (std::size_t p = 0; p < slices.size(); ++p) {
-      const SliceEventCounts c =
+    for (std::size_t p = 0; p < slices.size(); ++p)
+      total +=
           slices[p].advance(w.topology, *w.edges, w.frame1, w.plan.planes[p], w.faces1[p], policy, scratch);
-      total += c;
-      rebuilt += c.rebuild != kinetic::RebuildReason::none;
-      ++because[static_cast<std::size_t>(c.rebuild)];
-    }
   };
   build_all();
   advance_all();  // warm
@@ -395,23 +273,16 @@ void advance_benchmark(benchmark::State& state, std::string name, KineticPolicy 
     advance_all();
     benchmark::DoNotOptimize(slices.back().cones().cones.wedges.data());
   }
-  const double events = double(total.events()), edits = double(total.removed + total.inserted);
+  const double edits = double(total.removed + total.inserted + total.reinserted);
   state.counters["slices"] = double(slices.size());
   state.counters["slice_vertices"] = double(w.slice_vertices1);
-  state.counters["certificates"] = double(total.certificates);
-  state.counters["exact_certificates"] = double(total.exact_certificates);
-  state.counters["flips"] = double(total.flips);
-  state.counters["hull"] = double(total.hull_enter + total.hull_leave);
-  state.counters["touches"] = double(total.touches);
-  state.counters["events"] = events;
-  state.counters["edits"] = edits;
-  state.counters["rebuilt"] = double(rebuilt);
-  for (std::size_t r = 1; r < because.size(); ++r)  // by reason, where any
-    if (because[r] > 0)
+  for (const KineticCounter& c : kKineticCounters) state.counters[c.name] = double(total.*c.field);
+  for (std::size_t r = 1; r < total.rebuilt_because.size(); ++r)  // by reason, where any
+    if (total.rebuilt_because[r] > 0)
       state.counters[std::string("rebuilt_") + kinetic::rebuild_reason_name(kinetic::RebuildReason(r))] =
-          double(because[r]);
+          double(total.rebuilt_because[r]);
   state.counters["s_per_slice_vertex"] = per_item(double(w.slice_vertices1));
-  if (events + edits > 0) state.counters["s_per_event_or_edit"] = per_item(events + edits);
+  if (edits > 0) state.counters["s_per_edit"] = per_item(edits);
 }
 
 void funnel_benchmark(benchmark::State& state, std::string name) {
@@ -441,13 +312,9 @@ void register_benchmarks() {
   };
   for (const std::string& s : g_options.sequences) {
     const std::string label = sequence_label(s);
-    add("certificate/filter/" + label, filter_benchmark, s, false);
-    add("certificate/filter_guarded/" + label, filter_benchmark, s, true);
-    add("certificate/exact/" + label, exact_benchmark, s);
-    add("certificate/lazy/" + label, lazy_benchmark, s);
-    add("predicate/orientation/" + label, orientation_benchmark, s);
+    add("certificate/at_frame/" + label, certificate_benchmark, s);
     add("slice/rebuild/" + label, rebuild_benchmark, s);
-    add("slice/repair/" + label, advance_benchmark, s, KineticPolicy{100, 100});
+    add("slice/repair/" + label, advance_benchmark, s, KineticPolicy{100});
     add("slice/advance_default/" + label, advance_benchmark, s, KineticPolicy{});
     add("funnel/trees/" + label, funnel_benchmark, s);
   }

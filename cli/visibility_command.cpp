@@ -47,20 +47,10 @@ nlohmann::json kinetic_json(const KineticFrameStats& k) {
   nlohmann::json rebuilt;
   for (int r = 1; r < static_cast<int>(kinetic::RebuildReason::count); ++r)
     rebuilt[kinetic::rebuild_reason_name(static_cast<kinetic::RebuildReason>(r))] = k.rebuilt_because[r];
-  return {{"events",
-           {{"flip", k.flips},
-            {"hull_enter", k.hull_enter},
-            {"hull_leave", k.hull_leave},
-            {"touch", k.touches},
-            {"side_change_regular", k.side_changes_regular},
-            {"side_change_critical", k.side_changes_critical}}},
-          {"certificates", k.certificates},
-          {"exact_certificates", k.exact_certificates},
-          {"local_edits", {{"slice_vertices_removed", k.removed}, {"slice_vertices_inserted", k.inserted}}},
-          {"slices_unchanged", k.slices_unchanged},
-          {"slices_repaired", k.slices_repaired},
-          {"slices_rebuilt", k.slices_rebuilt},
-          {"rebuilt_because", rebuilt}};
+  nlohmann::json out;
+  for (const KineticCounter& c : kKineticCounters) out[c.name] = k.*c.field;
+  out["rebuilt_because"] = rebuilt;
+  return out;
 }
 
 /// One engine behind one call per frame: the static engine recomputes, the kinetic one advances.
@@ -166,13 +156,9 @@ void register_visibility_command(CLI::App& app) {
                   "frames A:B (first A, up to but excluding B; either may be omitted) or N");
   cmd->add_option("--stats", options->stats, "also write per-frame statistics as JSON");
   cmd->add_option(
-         "--max-events-per-vertex", options->policy.max_events_per_vertex,
-         "kinetic: rebuild a slice when its events in a frame exceed this many per slice vertex (+16)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  cmd->add_option(
          "--max-edit-fraction", options->policy.max_edit_fraction,
-         "kinetic: rebuild a slice when the slice vertices removed plus inserted exceed this fraction (+2)")
+         "kinetic: rebuild a slice when the slice vertices removed, inserted and put back in a frame exceed "
+         "this fraction of it (+2)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_flag("--serial", options->serial, "one thread (default: TBB over slices)");

@@ -1,13 +1,6 @@
 #include "kinetic/kinetic_slice.hpp"
 
-#include <CGAL/FPU.h>
-
 #include <algorithm>
-#include <cmath>
-#include <glm/geometric.hpp>
-#include <optional>
-#include <sstream>
-#include <unordered_map>
 
 #include "static_core/assert.hpp"
 
@@ -40,15 +33,7 @@ KineticScratch::~KineticScratch() = default;
 
 namespace {
 
-/// Later events first out of the heap: exact time, then creation order.
-struct LaterEvent {
-  bool operator()(const KineticScratch::Event& a, const KineticScratch::Event& b) const {
-    const int c = compare(a.time, b.time);
-    return c != 0 ? c > 0 : a.sequence > b.sequence;
-  }
-};
-
-/// An infinite face (oo, a, b) walks the hull clockwise from a to b; `next` is the infinite face (oo, b, c).
+/// An infinite face (oo, a, b) walks the hull clockwise from a to b; c follows b.
 struct HullCorner {
   VertexHandle a, b, c;
 };
@@ -60,121 +45,7 @@ HullCorner hull_corner(const Cdt& cdt, FaceHandle f) {
   return {f->vertex(Cdt::ccw(i)), f->vertex(Cdt::cw(i)), g->vertex(Cdt::cw(j))};
 }
 
-/// The moving points of face f's certificate, in the order whose orientation must stay non-negative: a finite
-/// face (v0, v1, v2); an infinite face (oo, a, b) the hull corner (c, b, a) at b. False when there is nothing
-/// to certify (a hull of two vertices, only while the slice degenerates).
-template <class Motion>
-bool certificate_points(const Cdt& cdt, FaceHandle f, const Motion& motion, std::array<MovingPoint, 3>& p) {
-  if (cdt.is_infinite(f)) {
-    const HullCorner h = hull_corner(cdt, f);
-    if (h.a == h.c) return false;
-    p = {motion(h.c), motion(h.b), motion(h.a)};
-  } else {
-    p = {motion(f->vertex(0)), motion(f->vertex(1)), motion(f->vertex(2))};
-  }
-  return true;
-}
-
-/// Flips the edge (f, i) (either face may be infinite) and keeps the constraint flags of the four outer
-/// edges, as CGAL's Constrained_triangulation_2::flip does, without its geometric preconditions (the points
-/// are those of t = 0 while the flip happens at the event time). Precondition: (f, i) is not constrained.
-/// Returns false, changing nothing, when the flip is combinatorially impossible: the two opposite vertices
-/// are one vertex or already joined by an edge (a repair sequence decided on doubles can lead there).
-bool flip_edge(Cdt& cdt, FaceHandle f, int i) {
-  const FaceHandle g = f->neighbor(i);
-  const int j = cdt.mirror_index(f, i);
-  if (f->vertex(i) == g->vertex(j) || cdt.tds().is_edge(f->vertex(i), g->vertex(j))) return false;
-  std::array<std::pair<FaceHandle, int>, 4> outer{
-      {{f->neighbor(Cdt::cw(i)), cdt.mirror_index(f, Cdt::cw(i))},
-       {f->neighbor(Cdt::ccw(i)), cdt.mirror_index(f, Cdt::ccw(i))},
-       {g->neighbor(Cdt::cw(j)), cdt.mirror_index(g, Cdt::cw(j))},
-       {g->neighbor(Cdt::ccw(j)), cdt.mirror_index(g, Cdt::ccw(j))}}};
-  cdt.tds().flip(f, i);
-  f->set_constraint(f->index(g), false);
-  g->set_constraint(g->index(f), false);
-  for (const auto& [h, k] : outer)
-    h->neighbor(k)->set_constraint(cdt.mirror_index(h, k), h->is_constrained(k));
-  return true;
-}
-
 }  // namespace
-
-std::string event_invariants(const Cdt& cdt, std::span<const SliceVertex> next,
-                             const std::vector<KineticScratch::Event>& queue, const RootTime& t,
-                             std::size_t constraints) {
-  auto motion = [&](VertexHandle v) {
-    return MovingPoint{cgal::to_glm(v->point()), next[v->info().slice_vertex].point};
-  };
-  if (!cdt.tds().is_valid()) return "the triangulation's combinatorics are invalid";
-  std::size_t constrained = 0;
-  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
-    for (int i = 0; i < 3; ++i) {
-      if (f->is_constrained(i) != f->neighbor(i)->is_constrained(cdt.mirror_index(f, i)))
-        return "a constraint flag differs on the two sides of an edge";
-      constrained += f->is_constrained(i);
-    }
-  if (constrained != 2 * constraints)
-    return std::to_string(constrained / 2) + " constrained edges for " + std::to_string(constraints) +
-           " chain edges";
-  std::unordered_map<const void*, const KineticScratch::Event*> live;
-  for (const KineticScratch::Event& e : queue) {
-    if (e.face->info().version != e.version) continue;
-    if (compare(e.time, t) < 0) return "a live event lies in the past";
-    if (!live.emplace(&*e.face, &e).second) return "a face has two live events";
-  }
-  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) {
-    const auto it = live.find(&*f);
-    const KineticScratch::Event* pending = it == live.end() ? nullptr : it->second;
-    std::array<MovingPoint, 3> p;
-    if (!certificate_points(cdt, f, motion, p)) {
-      if (pending) return "a two-vertex hull has an event";
-      continue;
-    }
-    {
-      CGAL::Protect_FPU_rounding<true> rounding;
-      if (certainly_positive(p[0], p[1], p[2])) {
-        if (pending) return "a face positive over the interval has an event";
-        continue;
-      }
-    }
-    const ExactPolynomial poly = orientation_polynomial(p[0], p[1], p[2]);
-    const bool hull = cdt.is_infinite(f);
-    if (pending && pending->fails && !poly.is_zero() && sign_after(poly, pending->time) >= 0 &&
-        !(pending->time == RootTime::one() && sign_at(poly, pending->time) == 0))
-      return "an event claims a failure its certificate does not have";
-    if (poly.is_zero()) {
-      if (hull ? pending != nullptr : !(pending && pending->time == t))
-        return hull ? "a hull corner flat for all t has an event"
-                    : "a triangle flat for all t is not repaired now";
-      continue;
-    }
-    if (t == RootTime::one()) {
-      // The end of the interval: every triangle must be strictly positive (one degenerate at t = 1 is
-      // flipped, since static_core has none), a hull corner may be flat.
-      const int s = sign_at(poly, t);
-      if (hull ? s < 0 : s <= 0) {
-        // A reflex hull corner at t = 1 can only follow a flip chosen on doubles; with its event now (a flip
-        // at t = 1 made it), the exact guard after the events rebuilds the slice.
-        if (!(pending && pending->time == t))
-          return hull ? "a hull corner is reflex at t = 1"
-                      : "a triangle flat or inverted at t = 1 has no event now";
-      } else if (pending && !(s == 0 && pending->time == t)) {
-        return "a certificate that holds at t = 1 has an event";
-      }
-      continue;
-    }
-    if (sign_after(poly, t) < 0) {
-      if (!(pending && pending->time == t)) return "an inverted certificate has no event now";
-      continue;
-    }
-    if (pending && pending->time == t && sign_at(poly, t) == 0)
-      continue;  // this instant's touch, still queued
-    const std::optional<RootTime> next = first_root_after(poly, t);
-    if (next.has_value() != (pending != nullptr) || (next && !(pending->time == *next)))
-      return "a certificate's event is not at its first zero";
-  }
-  return {};
-}
 
 void KineticSlice::build(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
                          const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
@@ -204,16 +75,16 @@ void KineticSlice::grow_cones(const MeshTopology& topology, const Frame& frame, 
   compute_plane_cones(topology.num_vertices, m_storage, frame, m_tri, scratch.cones, m_out);
 }
 
-SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshEdges& edges,
-                                       const Frame& next, const SlicingPlane& plane,
-                                       std::span<const Index> faces, const KineticPolicy& policy,
-                                       KineticScratch& scratch, bool check_every_event) {
-  SliceEventCounts counts;
+KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshEdges& edges, const Frame& next,
+                                    const SlicingPlane& plane, std::span<const Index> faces,
+                                    const KineticPolicy& policy, KineticScratch& scratch) {
+  KineticCounts counts;
   m_changed_edges.clear();
   slice_mesh(topology, edges, next, plane, faces, scratch.slicer, m_next);
   auto rebuild = [&](RebuildReason reason) {
-    counts.rebuild = reason;
-    counts.structure_changed = true;
+    counts.removed = counts.inserted = 0;  // not applied as local edits
+    counts.slices_rebuilt = 1;
+    ++counts.rebuilt_because[static_cast<std::size_t>(reason)];
     std::swap(m_out.slice, m_next);
     finish_build(topology, next, scratch);
     return counts;
@@ -245,10 +116,11 @@ SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshE
   }
   counts.inserted = scratch.born.size();
   counts.removed = old.vertices.size() + counts.inserted - m_next.vertices.size();
-  if (double(counts.removed + counts.inserted) > policy.max_edit_fraction * double(old.vertices.size()) + 2.0)
-    return rebuild(RebuildReason::policy);
+  const std::size_t budget =
+      2 + static_cast<std::size_t>(policy.max_edit_fraction * double(old.vertices.size()));
+  if (counts.removed + counts.inserted > budget) return rebuild(RebuildReason::policy);
 
-  // 1. Remove the vanishing slice vertices at t = 0; survivors take their new ids.
+  // 1. Remove the vanishing slice vertices at frame k's points; survivors take their new ids.
   Cdt& cdt = m_tri.cdt_for_editing();
   scratch.vertex_of_new.assign(m_next.vertices.size(), VertexHandle());
   for (Index x = 0; x < old.vertices.size(); ++x) {
@@ -265,189 +137,144 @@ SliceEventCounts KineticSlice::advance(const MeshTopology& topology, const MeshE
     if (cdt.dimension() < 2) return rebuild(RebuildReason::degenerate);
   }
 
-  // 2. Move the survivors from t = 0 to t = 1, repairing at every event.
-  std::optional<std::size_t> surviving_chain_edges;
-  if (check_every_event) {
-    surviving_chain_edges = 0;
-    for (const SliceEdge& e : old.edges)
-      *surviving_chain_edges += scratch.new_of_old[e.from] >= 0 && scratch.new_of_old[e.to] >= 0;
-  }
-  if (const RebuildReason r = move_survivors(policy, surviving_chain_edges, scratch, counts);
+  // 2. Certify at the next frame; take out the vertices of failed certificates.
+  if (const RebuildReason r =
+          certify_at_next_frame(budget - counts.removed - counts.inserted, scratch, counts);
       r != RebuildReason::none)
     return rebuild(r);
 
-  // 3. Insert the appearing slice vertices and their chain edges at t = 1.
+  // 3. Kept vertices to their next points (a valid triangulation of them, if the hull winds once); then the
+  // vertices taken out and the new ones, and their chain edges.
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v)
+    v->set_point(cgal::to_point(m_next.vertices[v->info().slice_vertex].point));
+  if (!hull_winds_once(cdt)) return rebuild(RebuildReason::repair_failed);
+  for (Index y = 0; y < m_next.vertices.size(); ++y)
+    if (scratch.taken_out[y]) scratch.born.push_back(y);
+  FaceHandle hint;
   for (Index y : scratch.born) {
-    const VertexHandle v = cdt.insert(cgal::to_point(m_next.vertices[y].point));
-    if (v->info().slice_vertex != -1)
-      return rebuild(RebuildReason::degenerate);  // coincides with another point
+    // Located from a kept chain neighbour when there is one (a short walk), else from the last insertion.
+    for (const std::int32_t e : {m_next.out_edge[y], m_next.in_edge[y]}) {
+      if (e < 0) continue;
+      const SliceEdge& edge = m_next.edges[e];
+      const VertexHandle w = scratch.vertex_of_new[edge.from == y ? edge.to : edge.from];
+      if (w != VertexHandle()) {
+        hint = w->face();
+        break;
+      }
+    }
+    const cgal::Point2 p = cgal::to_point(m_next.vertices[y].point);
+    Cdt::Locate_type type;
+    int li = 0;
+    const FaceHandle at = cdt.locate(p, type, li, hint);
+    if (type == Cdt::VERTEX) return rebuild(RebuildReason::degenerate);  // meets another slice point
+    if (type == Cdt::EDGE && at->is_constrained(li)) return rebuild(RebuildReason::crossing);  // a chain
+    const VertexHandle v = cdt.insert(p, type, at, li);
     v->info().slice_vertex = static_cast<int>(y);
     scratch.vertex_of_new[y] = v;
+    hint = v->face();
   }
   if (!scratch.born.empty()) {
     const std::size_t vertices = cdt.number_of_vertices();
-    for (const SliceEdge& e : m_next.edges) {
-      const VertexHandle a = scratch.vertex_of_new[e.from], b = scratch.vertex_of_new[e.to];
-      if (scratch.is_born[e.from] || scratch.is_born[e.to]) cdt.insert_constraint(a, b);
-    }
+    auto is_new = [&](Index y) { return scratch.is_born[y] || scratch.taken_out[y]; };
+    for (const SliceEdge& e : m_next.edges)
+      if (is_new(e.from) || is_new(e.to))
+        cdt.insert_constraint(scratch.vertex_of_new[e.from], scratch.vertex_of_new[e.to]);
+    // A chain edge that crosses another is split at a new vertex; one through a slice point is split there.
     if (cdt.number_of_vertices() != vertices) return rebuild(RebuildReason::crossing);
+    for (const SliceEdge& e : m_next.edges)
+      if (is_new(e.from) || is_new(e.to))
+        if (!cdt.is_edge(scratch.vertex_of_new[e.from], scratch.vertex_of_new[e.to]))
+          return rebuild(RebuildReason::crossing);
   }
-  counts.structure_changed =
-      counts.removed + counts.inserted + counts.flips + counts.hull_enter + counts.hull_leave > 0;
-  finish_frame(topology, next, counts.structure_changed, scratch);
+  const bool structure_changed = counts.removed + counts.inserted + counts.reinserted > 0;
+  ++(structure_changed ? counts.slices_repaired : counts.slices_unchanged);
+  finish_frame(topology, next, structure_changed, scratch);
   return counts;
 }
 
-RebuildReason KineticSlice::move_survivors(const KineticPolicy& policy,
-                                           std::optional<std::size_t> check_constraints,
-                                           KineticScratch& scratch, SliceEventCounts& counts) {
+RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScratch& scratch,
+                                                  KineticCounts& counts) {
   Cdt& cdt = m_tri.cdt_for_editing();
-  const VertexHandle infinite = cdt.infinite_vertex();
-  auto motion = [&](VertexHandle v) {
-    return MovingPoint{cgal::to_glm(v->point()), m_next.vertices[v->info().slice_vertex].point};
-  };
-  auto& queue = scratch.queue;
-  queue.clear();
-  std::uint64_t sequence = 0;
-  auto schedule = [&](const RootTime& time, FaceHandle f, CertificatePolynomial certificate, bool fails) {
-    queue.push_back({time, f, f->info().version, fails, sequence++, std::move(certificate)});
-    std::push_heap(queue.begin(), queue.end(), LaterEvent());
-  };
-  // (Re)certifies face f from time t0: a finite face stays positively oriented; an infinite face (oo, a, b)
-  // certifies the hull corner at b (orient(c, b, a) >= 0). A certificate that already fails just after t0 (a
-  // repair left a triangle inverted right away, or degenerate for all t) gets its event at t0.
-  auto certify = [&](FaceHandle f, const RootTime& t0) {
-    ++f->info().version;
+  const std::vector<SliceVertex>& next = m_next.vertices;
+  auto next_point = [&](VertexHandle v) { return cgal::to_point(next[v->info().slice_vertex].point); };
+  scratch.taken_out.assign(next.size(), 0);
+  scratch.take_out.clear();
+  scratch.recheck.clear();
+  // Certifies face f at the next frame; a failure queues the vertex it takes out.
+  auto certify = [&](FaceHandle f) {
     ++counts.certificates;
-    std::array<MovingPoint, 3> p;
-    if (!certificate_points(cdt, f, motion, p)) return;
-    CertificateFailure failure = first_failure(p, t0, !cdt.is_infinite(f));
-    counts.exact_certificates += failure.decided_by != CertificateFailure::DecidedBy::filter;
-    if (failure.time) schedule(*failure.time, f, std::move(failure.certificate), failure.fails);
-  };
-  // The policy's bound, and in any case a bound on same-instant cascades (flips at one exact time that keep
-  // producing degenerate triangles) and on the total (a kinetic triangulation has O(n^2) events at most).
-  const std::size_t n = cdt.number_of_vertices();
-  const std::size_t max_events = std::min<std::size_t>(
-      16 + static_cast<std::size_t>(policy.max_events_per_vertex * double(n)), 4 * n * n + 64);
-  const std::size_t max_same_instant = n + 16;
-  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) {
-    certify(f, RootTime::zero());
-    // More certificates fail than the policy allows events: rebuild now, before certifying the rest.
-    // Or more are left undecided by the filter (about 5 us each on average; a sign of degenerate motion).
-    if (queue.size() > max_events || counts.exact_certificates > max_events) return RebuildReason::policy;
-  }
-  // check_every_event: the kinetic invariants after each event (event_invariants); a violation is a bug.
-  auto check = [&](const RootTime& t) {
-    if (!check_constraints) return;
-    const std::string why = event_invariants(cdt, m_next.vertices, queue, t, *check_constraints);
-    if (why.empty()) return;
-    std::ostringstream message;
-    message << "kinetic invariant after the event at " << t << ": " << why;
-    throw InvariantError(message.str());  // thrown whatever PLEAT_CHECK_INVARIANTS says: the caller asked
-  };
-  check(RootTime::zero());
-
-  // After a flip of (f, i) at time t: the two new faces and, around every new infinite face, the hull corners
-  // whose neighbours changed.
-  std::vector<FaceHandle>& touched = scratch.touched;
-  auto recertify_around = [&](FaceHandle f, FaceHandle g, const RootTime& t) {
-    touched.clear();
-    for (FaceHandle h : {f, g}) {
-      touched.push_back(h);
-      if (!cdt.is_infinite(h)) continue;
-      const int i = h->index(infinite);
-      touched.push_back(h->neighbor(Cdt::cw(i)));   // the previous hull corner
-      touched.push_back(h->neighbor(Cdt::ccw(i)));  // the next one
-    }
-    std::sort(touched.begin(), touched.end());
-    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-    for (FaceHandle h : touched) certify(h, t);
-  };
-
-  std::size_t same_instant = 0;
-  RootTime last_time;
-  const RootTime one = RootTime::one();
-  while (!queue.empty()) {
-    std::pop_heap(queue.begin(), queue.end(), LaterEvent());
-    KineticScratch::Event event = std::move(queue.back());
-    queue.pop_back();
-    const FaceHandle f = event.face;
-    if (f->info().version != event.version) continue;  // replaced by a repair
-    if (counts.events() >= max_events || counts.exact_certificates > max_events) return RebuildReason::policy;
-    same_instant = event.time == last_time ? same_instant + 1 : 0;
-    if (same_instant > max_same_instant) return RebuildReason::policy;
-    last_time = event.time;
-    const bool at_end = event.time == one;
-    // Before t = 1, an event not known to fail may be a touch: decide exactly. (At t = 1 a triangle is
-    // flipped and a hull corner left flat, whatever the sign after.)
-    bool inverts = event.fails;
-    ExactPolynomial poly;
-    if (!inverts && !at_end) {
-      poly = event.certificate.exact();
-      inverts = poly.is_zero() || sign_after(poly, event.time) < 0;
-    }
-    if (at_end ? cdt.is_infinite(f) : !inverts) {
-      // A certificate that touches zero and keeps its sign, or a hull corner flat at t = 1 (static_core keeps
-      // collinear hull points as hull vertices): no repair; look for its next zero.
-      ++counts.touches;
-      if (!at_end)
-        if (auto next = first_root_after(poly, event.time))
-          schedule(*next, f, std::move(event.certificate), false);
-      check(event.time);
-      continue;
-    }
+    VertexHandle out;
     if (cdt.is_infinite(f)) {
-      const int i = f->index(infinite);
-      const FaceHandle g = f->neighbor(Cdt::ccw(i));
-      // Edge (b, oo): b leaves the hull, triangle (a, b, c) appears.
-      if (!flip_edge(cdt, f, Cdt::ccw(i))) return RebuildReason::repair_failed;
-      ++counts.hull_leave;
-      recertify_around(f, g, event.time);
-      check(event.time);
-      continue;
-    }
-    // The triangle collapses: flip the edge opposite the vertex that lies between the other two. (Chosen on
-    // doubles at the event time; the exact check at t = 1 guards the outcome.)
-    const double t = event.time.approximate();
-    int k = 0;
-    double most_between = INFINITY;
-    for (int m = 0; m < 3; ++m) {
-      const glm::dvec2 pm = motion(f->vertex(m)).at(t);
-      const double d =
-          glm::dot(motion(f->vertex(Cdt::ccw(m))).at(t) - pm, motion(f->vertex(Cdt::cw(m))).at(t) - pm);
-      if (d < most_between) most_between = d, k = m;
-    }
-    if (f->is_constrained(k)) return RebuildReason::crossing;  // a vertex reaches a chain edge
-    const FaceHandle g = f->neighbor(k);
-    ++(cdt.is_infinite(g) ? counts.hull_enter : counts.flips);
-    if (!flip_edge(cdt, f, k)) return RebuildReason::repair_failed;
-    recertify_around(f, g, event.time);
-    check(event.time);
-  }
-
-  // Every vertex at its t = 1 point; then the exact guard: the static engine's predicates on these points.
-  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v)
-    v->set_point(cgal::to_point(m_next.vertices[v->info().slice_vertex].point));
-  // Flips at t = 1 can fold every triangle of a slice that becomes collinear into the outside: no finite
-  // face is left, which the face count exposes (static_core's triangulation then has dimension 1).
-  const std::size_t hull_size = cdt.degree(infinite);
-  if (cdt.number_of_faces() == 0 || cdt.number_of_faces() + hull_size + 2 != 2 * cdt.number_of_vertices())
-    return RebuildReason::degenerate;
-  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) {
-    // Two faces that share two edges (a repair sequence decided on doubles can fold the hull onto itself).
-    for (int i = 0; i < 3; ++i)
-      if (f->neighbor(i)->index(f) != cdt.mirror_index(f, i)) return RebuildReason::repair_failed;
-    if (cdt.is_infinite(f)) {
+      // The hull corner (c, b, a) at b: convex, or straight with b between a and c.
       const HullCorner h = hull_corner(cdt, f);
-      if (h.a == h.c || CGAL::orientation(h.c->point(), h.b->point(), h.a->point()) == CGAL::RIGHT_TURN)
-        return RebuildReason::repair_failed;
-    } else if (CGAL::orientation(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) !=
-               CGAL::LEFT_TURN) {
-      return RebuildReason::repair_failed;
+      const cgal::Point2 a = next_point(h.a), b = next_point(h.b), c = next_point(h.c);
+      const CGAL::Orientation o = CGAL::orientation(c, b, a);
+      if (o == CGAL::LEFT_TURN ||
+          (o == CGAL::COLLINEAR && CGAL::collinear_are_strictly_ordered_along_line(a, b, c)))
+        return;
+      out = h.b;
+    } else {
+      const cgal::Point2 p0 = next_point(f->vertex(0)), p1 = next_point(f->vertex(1)),
+                         p2 = next_point(f->vertex(2));
+      if (CGAL::orientation(p0, p1, p2) == CGAL::LEFT_TURN) return;
+      // The vertex that moved farthest since frame k.
+      double farthest = -1.0;
+      for (int i = 0; i < 3; ++i) {
+        const VertexHandle v = f->vertex(i);
+        const double d = CGAL::squared_distance(v->point(), next_point(v));
+        if (d > farthest) farthest = d, out = v;
+      }
     }
+    ++counts.certificates_failed;
+    const int y = out->info().slice_vertex;
+    if (scratch.taken_out[y]) return;
+    scratch.taken_out[y] = 1;
+    scratch.take_out.push_back(out);
+  };
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f);
+  while (!scratch.take_out.empty()) {
+    // Remove the queued vertices at frame k's points (the triangulation is valid there), remembering their
+    // neighbours: every face a removal creates has its vertices among them.
+    for (const VertexHandle v : scratch.take_out) {
+      if (++counts.reinserted > budget) return RebuildReason::policy;
+      auto u = cdt.incident_vertices(v), done = u;
+      do
+        if (!cdt.is_infinite(u)) scratch.recheck.push_back(u->info().slice_vertex);
+      while (++u != done);
+      scratch.vertex_of_new[v->info().slice_vertex] = VertexHandle();
+      cdt.remove_incident_constraints(v);
+      cdt.Cdt::Ctr::remove(v);
+      if (cdt.dimension() < 2) return RebuildReason::degenerate;
+    }
+    scratch.take_out.clear();
+    // Neighbours by id: one queued after it was remembered is gone by now.
+    std::sort(scratch.recheck.begin(), scratch.recheck.end());
+    scratch.recheck.erase(std::unique(scratch.recheck.begin(), scratch.recheck.end()), scratch.recheck.end());
+    for (const std::int32_t y : scratch.recheck) {
+      if (scratch.taken_out[y]) continue;
+      auto f = cdt.incident_faces(scratch.vertex_of_new[y]), done = f;
+      do certify(f);
+      while (++f != done);
+    }
+    scratch.recheck.clear();
   }
   return RebuildReason::none;
+}
+
+bool hull_winds_once(const Cdt& cdt) {
+  // Along a hull polygon with no reflex corner, the lexicographically smallest point is passed once per turn.
+  auto v = cdt.incident_vertices(cdt.infinite_vertex()), done = v;
+  auto previous = v;
+  --previous;
+  int minima = 0;
+  do {
+    auto following = v;
+    ++following;
+    minima += CGAL::compare_xy(v->point(), previous->point()) == CGAL::SMALLER &&
+              CGAL::compare_xy(v->point(), following->point()) == CGAL::SMALLER;
+    previous = v;
+  } while (++v != done);
+  return minima == 1;
 }
 
 bool KineticSlice::chains_are_edges() const {

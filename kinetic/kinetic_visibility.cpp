@@ -15,7 +15,6 @@ namespace pleat {
 using kinetic::KineticScratch;
 using kinetic::KineticSlice;
 using kinetic::RebuildReason;
-using kinetic::SliceEventCounts;
 
 struct KineticVisibility::Impl {
   Impl(const MeshTopology& topology, SlicingPlan plan_in, const Frame& first, const KineticParams& params)
@@ -46,12 +45,18 @@ struct KineticVisibility::Impl {
       for (std::size_t p = 0; p < slices.size(); ++p) f(p);
   }
 
+  static std::string what_happened(const KineticCounts& c) {
+    for (std::size_t r = 1; r < c.rebuilt_because.size(); ++r)
+      if (c.rebuilt_because[r])
+        return std::string("rebuilt: ") + kinetic::rebuild_reason_name(RebuildReason(r));
+    return c.slices_repaired ? "repaired" : "kept";
+  }
+
   void check(std::size_t p) const {
     if (!params.check_invariants) return;
     std::string why;
     if (!slices[p].check_invariants(&why))  // thrown whatever PLEAT_CHECK_INVARIANTS says: the caller asked
-      throw InvariantError("plane " + std::to_string(p) + " (" +
-                           kinetic::rebuild_reason_name(counts[p].rebuild) + "): " + why);
+      throw InvariantError("plane " + std::to_string(p) + " (" + what_happened(counts[p]) + "): " + why);
   }
 
   void index_vertex_faces() {
@@ -89,28 +94,15 @@ struct KineticVisibility::Impl {
     const auto start = std::chrono::steady_clock::now();
     candidate_faces_per_plane(topology, next, plan, faces);
     for_each_plane([&](std::size_t p) {
-      counts[p] = slices[p].advance(topology, edges, next, plan.planes[p], faces[p], params.policy,
-                                    scratch.local(), params.check_invariants);
+      counts[p] =
+          slices[p].advance(topology, edges, next, plan.planes[p], faces[p], params.policy, scratch.local());
       check(p);
     });
     gather_and_assemble(next);
     stats = {};
     for (std::size_t p = 0; p < slices.size(); ++p) {
-      const SliceEventCounts& c = counts[p];
-      stats.certificates += c.certificates;
-      stats.exact_certificates += c.exact_certificates;
-      stats.flips += c.flips;
-      stats.hull_enter += c.hull_enter;
-      stats.hull_leave += c.hull_leave;
-      stats.touches += c.touches;
-      if (c.rebuild != RebuildReason::none) {
-        ++stats.slices_rebuilt;
-        ++stats.rebuilt_because[static_cast<std::size_t>(c.rebuild)];
-        continue;
-      }
-      stats.removed += c.removed;
-      stats.inserted += c.inserted;
-      ++(c.structure_changed ? stats.slices_repaired : stats.slices_unchanged);
+      stats += counts[p];
+      if (counts[p].slices_rebuilt) continue;
       // Classify the mesh vertices that crossed this plane (each counted once per plane).
       for (Index e : slices[p].changed_edges())
         for (Index v : edges.endpoints[e]) {
@@ -138,7 +130,7 @@ struct KineticVisibility::Impl {
   KineticParams params;
   MeshEdges edges;
   std::vector<KineticSlice> slices;
-  std::vector<SliceEventCounts> counts;
+  std::vector<KineticCounts> counts;
   std::vector<std::vector<Index>> faces;
   tbb::enumerable_thread_specific<KineticScratch> scratch;
   FrameAssembler assembler;
@@ -153,22 +145,15 @@ struct KineticVisibility::Impl {
   KineticFrameStats stats;
 };
 
-KineticFrameStats& KineticFrameStats::operator+=(const KineticFrameStats& o) {
-  seconds += o.seconds;
-  certificates += o.certificates;
-  exact_certificates += o.exact_certificates;
-  flips += o.flips;
-  hull_enter += o.hull_enter;
-  hull_leave += o.hull_leave;
-  touches += o.touches;
-  side_changes_regular += o.side_changes_regular;
-  side_changes_critical += o.side_changes_critical;
-  removed += o.removed;
-  inserted += o.inserted;
-  slices_unchanged += o.slices_unchanged;
-  slices_repaired += o.slices_repaired;
-  slices_rebuilt += o.slices_rebuilt;
+KineticCounts& KineticCounts::operator+=(const KineticCounts& o) {
+  for (const KineticCounter& c : kKineticCounters) this->*c.field += o.*c.field;
   for (std::size_t r = 0; r < rebuilt_because.size(); ++r) rebuilt_because[r] += o.rebuilt_because[r];
+  return *this;
+}
+
+KineticFrameStats& KineticFrameStats::operator+=(const KineticFrameStats& o) {
+  KineticCounts::operator+=(o);
+  seconds += o.seconds;
   return *this;
 }
 

@@ -31,7 +31,6 @@ struct VertexInfo {
 struct FaceInfo {
   int region = -1;
   std::array<int, 3> corner{-1, -1, -1};
-  std::uint32_t version = 0;  ///< kinetic layer: bumped whenever the face's certificate is replaced
 };
 
 using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, Kernel>;

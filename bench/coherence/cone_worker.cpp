@@ -139,20 +139,7 @@ std::vector<MethodRow> run_engines(const MeshTopology& topology, const SlicingPl
 
 // ---- The worker's result file: "status METHOD TEXT" lines, and "KEY COUNT v1 v2 ..." lines ----
 
-/// The kinetic counters a worker hands to its parent, in this order (then the rebuild reasons).
-constexpr std::size_t KineticFrameStats::*kKineticCounters[] = {&KineticFrameStats::certificates,
-                                                                &KineticFrameStats::exact_certificates,
-                                                                &KineticFrameStats::flips,
-                                                                &KineticFrameStats::hull_enter,
-                                                                &KineticFrameStats::hull_leave,
-                                                                &KineticFrameStats::touches,
-                                                                &KineticFrameStats::side_changes_regular,
-                                                                &KineticFrameStats::side_changes_critical,
-                                                                &KineticFrameStats::removed,
-                                                                &KineticFrameStats::inserted,
-                                                                &KineticFrameStats::slices_unchanged,
-                                                                &KineticFrameStats::slices_repaired,
-                                                                &KineticFrameStats::slices_rebuilt};
+/// The kinetic counters a worker hands to its parent: kKineticCounters in order, then the rebuild reasons.
 constexpr std::size_t kNumKineticCounters = std::size(kKineticCounters);
 
 void write_values(std::ostream& out, const std::string& key, const std::vector<double>& values) {
@@ -167,7 +154,7 @@ void write_values(std::ostream& out, const std::string& key, const std::vector<d
 
 std::vector<double> kinetic_fields(const KineticTotals& t) {
   std::vector<double> f{double(t.frames)};
-  for (auto counter : kKineticCounters) f.push_back(double(t.sum.*counter));
+  for (const KineticCounter& c : kKineticCounters) f.push_back(double(t.sum.*c.field));
   for (std::size_t r : t.sum.rebuilt_because) f.push_back(double(r));
   return f;
 }
@@ -177,7 +164,8 @@ KineticTotals kinetic_from_fields(const std::vector<double>& f) {
   if (f.size() != 1 + kNumKineticCounters + t.sum.rebuilt_because.size())
     throw std::runtime_error("bad kinetic counter line");
   t.frames = int(f[0]);
-  for (std::size_t i = 0; i < kNumKineticCounters; ++i) t.sum.*kKineticCounters[i] = std::size_t(f[1 + i]);
+  for (std::size_t i = 0; i < kNumKineticCounters; ++i)
+    t.sum.*kKineticCounters[i].field = std::size_t(f[1 + i]);
   for (std::size_t i = 0; i < t.sum.rebuilt_because.size(); ++i)
     t.sum.rebuilt_because[i] = std::size_t(f[1 + kNumKineticCounters + i]);
   return t;

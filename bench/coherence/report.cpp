@@ -141,9 +141,8 @@ void write_csv_header(std::ostream& out) {
          "cpu_ms_per_frame,ms_first_frame,ms_min,ms_max,us_per_slice_vertex_cpu,us_per_mesh_vertex_cpu,mean_"
          "err,"
          "p95_err,flicker,max_static_kinetic_diff,slice_vertices,peak_rss_mb,rss_before_mb,peak_increase_mb,"
-         "peak_reset,events,flips,hull_enter,hull_leave,touches,side_changes_regular,side_changes_critical,"
-         "removed,"
-         "inserted,slices_unchanged,slices_repaired,slices_rebuilt,certificates,exact_certificates";
+         "peak_reset";
+  for (const KineticCounter& c : kKineticCounters) out << ',' << c.name;
   for (const auto& name : rebuild_reason_columns()) out << ',' << name;
   out << ",status\n";
 }
@@ -171,15 +170,12 @@ void write_csv_rows(std::ostream& out, const Measurement& m) {
     if (r.kinetic && r.kinetic->frames) {
       const KineticTotals& t = *r.kinetic;
       const KineticFrameStats& k = t.sum;
-      for (std::size_t v :
-           {k.events(), k.flips, k.hull_enter, k.hull_leave, k.touches, k.side_changes_regular,
-            k.side_changes_critical, k.removed, k.inserted, k.slices_unchanged, k.slices_repaired,
-            k.slices_rebuilt, k.certificates, k.exact_certificates})
-        out << ',' << num(t.per_frame(v), "%.2f");
+      for (const KineticCounter& c : kKineticCounters) out << ',' << num(t.per_frame(k.*c.field), "%.2f");
       for (std::size_t i = 1; i < k.rebuilt_because.size(); ++i)
         out << ',' << num(t.per_frame(k.rebuilt_because[i]), "%.2f");
     } else {
-      for (std::size_t i = 0; i < 14 + rebuild_reason_columns().size(); ++i) out << ',';
+      for (std::size_t i = 0; i < std::size(kKineticCounters) + rebuild_reason_columns().size(); ++i)
+        out << ',';
     }
     out << ',' << csv_quote(r.status) << '\n';
   }
@@ -406,15 +402,14 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
         << cell(slope("embree", middle_rays), "%.2f") << " |\n";
   }
 
-  out << "\n## Kinetic engine, mean per frame (one thread)\n\nEvents = flips + hull enter + hull leave + "
-         "touches; side "
-         "changes = (mesh vertex, plane) crossings, regular / critical; removed / inserted = slice vertices "
-         "edited "
-         "locally; slices unchanged / repaired / rebuilt (rebuild reasons in the CSV).\n\n";
-  out << "| sequence | vertices | u | planes | events | flips | side changes reg / crit | removed / inserted "
-         "| "
-         "unchanged | repaired | rebuilt | certificates (exact) "
-         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  out << "\n## Kinetic engine, mean per frame (one thread)\n\nSide changes = (mesh vertex, plane) crossings, "
+         "regular / critical; removed / inserted = slice vertices edited locally; certificates checked at "
+         "the "
+         "frame (failed); put back = slice vertices taken out and re-inserted to repair failed certificates; "
+         "slices unchanged / repaired / rebuilt (rebuild reasons in the CSV).\n\n";
+  out << "| sequence | vertices | u | planes | side changes reg / crit | removed / inserted | certificates "
+         "(failed) | put back | unchanged | repaired | rebuilt "
+         "|\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& m : all) {
     const MethodRow* k = m.row("kinetic");
     if (!k || !k->kinetic || !k->kinetic->frames) continue;
@@ -422,10 +417,10 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
     const KineticFrameStats& t = totals.sum;
     auto pf = [&](std::size_t v) { return format("%.1f", totals.per_frame(v)); };
     out << "| " << m.sequence << " | " << m.vertices << " | " << u_label(m.upsample) << " | " << m.planes
-        << " | " << pf(t.events()) << " | " << pf(t.flips) << " | " << pf(t.side_changes_regular) << " / "
-        << pf(t.side_changes_critical) << " | " << pf(t.removed) << " / " << pf(t.inserted) << " | "
-        << pf(t.slices_unchanged) << " | " << pf(t.slices_repaired) << " | " << pf(t.slices_rebuilt) << " | "
-        << pf(t.certificates) << " (" << pf(t.exact_certificates) << ") |\n";
+        << " | " << pf(t.side_changes_regular) << " / " << pf(t.side_changes_critical) << " | "
+        << pf(t.removed) << " / " << pf(t.inserted) << " | " << pf(t.certificates) << " ("
+        << pf(t.certificates_failed) << ") | " << pf(t.reinserted) << " | " << pf(t.slices_unchanged) << " | "
+        << pf(t.slices_repaired) << " | " << pf(t.slices_rebuilt) << " |\n";
   }
 
   out << "\n## Peak memory\n\nThe cone engines run in a child process (both alive, frames in turn), Embree "
