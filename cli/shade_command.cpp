@@ -3,7 +3,8 @@
 // sides, and optionally rendered to PNG images.
 //
 // Per frame: compute_visibility with a slicing plan (cli_options.hpp; the paper's diffuse plan by default)
-// made once from the first selected frame (the planes stay fixed while the cloth moves), then shade_frame
+// made once from the first selected frame (the planes stay fixed while the cloth moves), or the frame's cones
+// read from a cone cache (--cones, shading/cone_cache.hpp), then shade_frame
 // for each lighting setup (shading/shade.hpp), to_srgb, and the setup's glb writer (sim_io/gltf_format.hpp)
 // and renderer (shading/render.hpp). The cones are computed once per frame whatever the number of setups:
 // relighting costs only the shading pass.
@@ -21,6 +22,7 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
+#include "shading/cone_cache.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
 #include "shading/render.hpp"
@@ -41,6 +43,7 @@ struct ShadeOptions {
   std::vector<std::string> light_specs;
   std::string lights_file;
   std::string relight_file;
+  std::string cones;  // shade from this cone cache instead of computing cones
   double albedo = 0.6;
   double exposure = 1.0;
   bool no_interreflection = false;
@@ -138,14 +141,26 @@ void run_shade(const ShadeOptions& options) {
     }
   }
 
-  const SlicingPlan plan = options.plan.make(topology, sequence.frame(frame_ids.front()));
+  // The cones: from a cone cache (checked against the mesh and every selected frame before anything is
+  // written), or computed per frame.
+  std::optional<ConeCacheReader> cache;
+  std::vector<std::size_t> cached;
+  std::optional<StaticVisibility> engine;  // reused across frames
+  if (!options.cones.empty()) {
+    cache.emplace(options.cones);
+    cache->check_mesh(topology, sequence.welded_of_input());
+    for (std::size_t i : frame_ids) cached.push_back(cache->index_of_frame(i));
+  } else {
+    engine.emplace(topology, options.plan.make(topology, sequence.frame(frame_ids.front())));
+  }
+  FrameVisibility from_cache;
   double cone_seconds = 0.0, shade_seconds = 0.0;
   Progress progress("shading frames", frame_ids.size());
-  StaticVisibility engine(topology, plan);  // reused across frames
   for (std::size_t j = 0; j < frame_ids.size(); ++j) {
     const Frame frame = sequence.frame(frame_ids[j]);
     const auto t0 = std::chrono::steady_clock::now();
-    const FrameVisibility& visibility = engine.compute(frame);
+    if (cache) cache->read_frame(cached[j], frame, from_cache);
+    const FrameVisibility& visibility = cache ? from_cache : engine->compute(frame);
     const auto t1 = std::chrono::steady_clock::now();
     const bool render_this = render && (j % static_cast<std::size_t>(options.render_every) == 0);
     if (render_this) {
@@ -183,8 +198,8 @@ void run_shade(const ShadeOptions& options) {
     std::ostringstream out;
     const double n = double(frame_ids.size());
     out << "shaded " << frame_ids.size() << " frames of " << topology.num_vertices << " vertices: cones "
-        << 1e3 * cone_seconds / n << " ms/frame, shading " << 1e3 * shade_seconds / (n * setups.size())
-        << " ms/frame per setup\n";
+        << (cache ? "read from " + options.cones + " in " : std::string()) << 1e3 * cone_seconds / n
+        << " ms/frame, shading " << 1e3 * shade_seconds / (n * setups.size()) << " ms/frame per setup\n";
     for (std::size_t s = 0; s < setups.size(); ++s) {
       out << "wrote " << outputs[s].string();
       if (render) out << " and images in " << render_dirs[s].string();
@@ -225,6 +240,10 @@ void register_shade_command(CLI::App& app) {
       "--relight", options->relight_file,
       "JSON file of several setups, {\"setups\": [{\"name\": \"noon\", \"lights\": [...]}, ...]}: one cone "
       "computation per frame, one output per setup");
+  cmd->add_option(
+      "--cones", options->cones,
+      "shade from a cone cache written by `pleat visibility --cones` (no visibility is computed; the "
+      "plan options are ignored)");
   cmd->add_option("--albedo", options->albedo, "cloth albedo rho in [0, 1)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.999));
@@ -265,6 +284,10 @@ void register_shade_command(CLI::App& app) {
       "0,1,0\n"
       "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --relight setups.json   # "
       "curtain_<name>.glb\n"
+      "  pleat visibility curtain.obj --cache curtain.pc2 -o A.csv --cones curtain.cones   # cones once, "
+      "then\n"
+      "  pleat shade curtain.obj --cache curtain.pc2 -o dusk.glb --cones curtain.cones --light "
+      "dir:0.3,-1,0.2,E=2\n"
       "Radiance: B = rho (E/pi) / (1 - rho (1 - A)) per vertex and side, E the direct irradiance through the "
       "cone, A its sky visibility; colours are Reinhard-tone-mapped sRGB.");
   cmd->callback([options] { run_shade(*options); });

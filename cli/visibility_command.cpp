@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "kinetic/kinetic_visibility.hpp"
+#include "shading/cone_cache.hpp"
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/visibility_csv.hpp"
@@ -23,6 +24,7 @@ struct VisibilityOptions {
   std::string cache;
   std::string output;
   std::string engine = "kinetic";
+  std::string cones;  // optional cone cache (.cones)
   std::string frames;
   std::string stats;
   PlanOptions plan;
@@ -97,6 +99,14 @@ void run(const VisibilityOptions& options) {
   create_parent_directory(options.output);
   if (!options.stats.empty()) create_parent_directory(options.stats);
   VisibilityCsvWriter csv(options.output, sequence.welded_of_input());
+  std::optional<ConeCacheWriter> cones;
+  if (!options.cones.empty()) {
+    create_parent_directory(options.cones);
+    std::vector<std::uint32_t> frame_ids;
+    for (std::size_t f = first; f < last; ++f) frame_ids.push_back(std::uint32_t(f));
+    cones.emplace(options.cones, topology, sequence.welded_of_input(), sequence.frame_rate(),
+                  options.plan.describe(), std::move(frame_ids));
+  }
   nlohmann::json stats = {{"input", options.input},
                           {"engine", options.engine},
                           {"plan", options.plan.describe()},
@@ -120,6 +130,7 @@ void run(const VisibilityOptions& options) {
       back[v] = vis.measure(Side::Back, v).sky_visibility;
     }
     csv.add_frame(f, front, back);
+    if (cones) cones->add_frame(frame, vis);
     nlohmann::json frame_stats = stats_json(f, seconds, vis.stats);
     if (f != first && engine.kinetic_stats()) frame_stats["kinetic"] = kinetic_json(*engine.kinetic_stats());
     stats["frames"].push_back(frame_stats);
@@ -128,10 +139,12 @@ void run(const VisibilityOptions& options) {
   }
   progress.finish();
   if (!options.stats.empty()) write_file_atomically(options.stats, stats.dump(2) + "\n");
+  if (cones) cones->commit();
   csv.commit();
   std::cout << "wrote " << options.output << ": " << (last - first) << " frames x "
             << sequence.num_input_vertices() << " vertices (" << plan.planes.size()
             << " planes: " << options.plan.describe() << ")\n";
+  if (cones) std::cout << "wrote " << options.cones << ": the 3D cones of every frame\n";
   if (crossing_frames > 0)
     std::cout << "warning: chains cross in " << crossing_frames
               << " frames (the surface self-intersects there); crossing points were inserted and counted in "
@@ -155,6 +168,8 @@ void register_visibility_command(CLI::App& app) {
   cmd->add_option("--frames", options->frames,
                   "frames A:B (first A, up to but excluding B; either may be omitted) or N");
   cmd->add_option("--stats", options->stats, "also write per-frame statistics as JSON");
+  cmd->add_option("--cones", options->cones,
+                  "also write every frame's 3D cones to a cone cache (.cones), for `pleat shade --cones`");
   cmd->add_option(
          "--max-edit-fraction", options->policy.max_edit_fraction,
          "kinetic: rebuild a slice when the slice vertices removed, inserted and put back in a frame exceed "

@@ -1,5 +1,6 @@
 // Little- and big-endian encoding of 32-bit ints and floats for the binary cache formats (PC2 is
-// little-endian, MDD big-endian), independent of the host's byte order.
+// little-endian, MDD big-endian; the cone cache little-endian with 64-bit fields too), independent of the
+// host's byte order.
 #pragma once
 
 #include <bit>
@@ -48,6 +49,15 @@ inline void append_i32_be(std::string& out, std::int32_t v) {
 }
 inline void append_f32_le(std::string& out, float v) { append_u32_le(out, std::bit_cast<std::uint32_t>(v)); }
 inline void append_f32_be(std::string& out, float v) { append_u32_be(out, std::bit_cast<std::uint32_t>(v)); }
+inline std::uint64_t load_u64_le(const unsigned char* p) {
+  return std::uint64_t(load_u32_le(p)) | (std::uint64_t(load_u32_le(p + 4)) << 32);
+}
+inline double load_f64_le(const unsigned char* p) { return std::bit_cast<double>(load_u64_le(p)); }
+inline void append_u64_le(std::string& out, std::uint64_t v) {
+  append_u32_le(out, std::uint32_t(v & 0xFFFFFFFFu));
+  append_u32_le(out, std::uint32_t(v >> 32));
+}
+inline void append_f64_le(std::string& out, double v) { append_u64_le(out, std::bit_cast<std::uint64_t>(v)); }
 inline float load_f32(const unsigned char* p, ByteOrder order) {
   return order == ByteOrder::Little ? load_f32_le(p) : load_f32_be(p);
 }

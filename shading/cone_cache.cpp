@@ -1,0 +1,323 @@
+#include "shading/cone_cache.hpp"
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <optional>
+
+#include "sim_io/atomic_file.hpp"
+#include "sim_io/byte_order.hpp"
+#include "sim_io/input_error.hpp"
+
+namespace pleat {
+
+namespace {
+
+constexpr char kMagic[8] = {'P', 'L', 'E', 'A', 'T', 'C', 'N', 'S'};
+constexpr std::uint32_t kVersion = 1;
+constexpr std::size_t kFixedHeader = 8 + 4 * 6 + 8 + 8;  // magic, six u32, fingerprint, frame rate
+constexpr std::size_t kMeasureDoubles = 5;
+
+void append_vec3(std::string& out, const glm::dvec3& v) {
+  for (int k = 0; k < 3; ++k) bytes::append_f64_le(out, v[k]);
+}
+
+}  // namespace
+
+namespace {
+
+constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
+
+/// FNV-1a 64 over the `bytes` little-endian bytes of `value`.
+void fnv1a(std::uint64_t& h, std::uint64_t value, int bytes) {
+  for (int k = 0; k < bytes; ++k) {
+    h ^= (value >> (8 * k)) & 0xFFu;
+    h *= 1099511628211ull;
+  }
+}
+
+}  // namespace
+
+std::uint64_t topology_fingerprint(const MeshTopology& topology) {
+  std::uint64_t h = kFnvOffset;
+  for (const Triangle& t : topology.triangles)
+    for (Index v : t) fnv1a(h, v, 4);
+  return h;
+}
+
+std::uint64_t positions_fingerprint(const Frame& frame) {
+  std::uint64_t h = kFnvOffset;
+  for (const glm::dvec3& p : frame.positions)
+    for (int k = 0; k < 3; ++k) fnv1a(h, std::bit_cast<std::uint64_t>(p[k]), 8);
+  return h;
+}
+
+// ---- Writer ----
+
+struct ConeCacheWriter::Impl {
+  AtomicFile file;
+  Index vertices = 0;
+  std::size_t frames = 0;
+  std::uint64_t table_offset = 0;
+  std::vector<std::uint64_t> offsets;
+  std::uint64_t position = 0;
+  std::string buffer;
+  bool committed = false;
+
+  explicit Impl(const std::filesystem::path& path) : file(path) {}
+
+  void write(const std::string& bytes) {
+    file.stream().write(bytes.data(), std::streamsize(bytes.size()));
+    if (!file.stream()) throw std::runtime_error(file.path().string() + ": cannot write the cone cache");
+    position += bytes.size();
+  }
+};
+
+ConeCacheWriter::ConeCacheWriter(const std::filesystem::path& path, const MeshTopology& topology,
+                                 std::span<const Index> welded_of_input, double frame_rate, std::string plan,
+                                 std::vector<std::uint32_t> frames)
+    : m_impl(std::make_unique<Impl>(path)) {
+  Impl& w = *m_impl;
+  w.vertices = topology.num_vertices;
+  w.frames = frames.size();
+  std::string& h = w.buffer;
+  h.assign(kMagic, kMagic + 8);
+  const std::size_t table_offset =
+      kFixedHeader + 4 + plan.size() + 4 * welded_of_input.size() + 12 * frames.size();
+  for (std::size_t value : {std::size_t(kVersion), table_offset, std::size_t(topology.num_vertices),
+                            welded_of_input.size(), topology.triangles.size(), frames.size()})
+    bytes::append_u32_le(h, std::uint32_t(value));
+  bytes::append_u64_le(h, topology_fingerprint(topology));
+  bytes::append_f64_le(h, frame_rate);
+  bytes::append_u32_le(h, std::uint32_t(plan.size()));
+  h += plan;
+  for (Index v : welded_of_input) bytes::append_u32_le(h, v);
+  for (std::uint32_t f : frames) {
+    bytes::append_u32_le(h, f);
+    bytes::append_f64_le(h, frame_rate > 0.0 ? f / frame_rate : 0.0);
+  }
+  w.table_offset = h.size();
+  // The table, filled in by commit().
+  for (std::size_t k = 0; k <= frames.size(); ++k) bytes::append_u64_le(h, 0);
+  w.write(h);
+}
+
+ConeCacheWriter::~ConeCacheWriter() = default;
+
+void ConeCacheWriter::add_frame(const Frame& frame, const FrameVisibility& visibility) {
+  Impl& w = *m_impl;
+  if (w.offsets.size() == w.frames) throw std::logic_error("ConeCacheWriter: more frames than announced");
+  w.offsets.push_back(w.position);
+  std::string& out = w.buffer;
+  out.clear();
+  bytes::append_u64_le(out, positions_fingerprint(frame));
+  for (Index v = 0; v < w.vertices; ++v) append_vec3(out, visibility.normals[v]);
+  for (Side side : kBothSides) {
+    for (Index v = 0; v < w.vertices; ++v) {
+      const ConeMeasures& m = visibility.measure(side, v);
+      bytes::append_f64_le(out, m.sky_visibility);
+      append_vec3(out, m.bent_normal);
+      bytes::append_f64_le(out, m.solid_angle);
+    }
+    for (Index v = 0; v < w.vertices; ++v) {
+      const VisibilityCone& cone = visibility.cone(side, v);
+      bytes::append_u32_le(out, std::uint32_t(cone.pieces.size()));
+      for (const SphericalPolygon& piece : cone.pieces) {
+        bytes::append_u32_le(out, std::uint32_t(piece.size()));
+        for (const glm::dvec3& d : piece) append_vec3(out, d);
+      }
+    }
+  }
+  w.write(out);
+}
+
+void ConeCacheWriter::commit() {
+  Impl& w = *m_impl;
+  if (w.offsets.size() != w.frames) throw std::logic_error("ConeCacheWriter: frames missing at commit");
+  w.offsets.push_back(w.position);
+  std::string table;
+  for (std::uint64_t offset : w.offsets) bytes::append_u64_le(table, offset);
+  std::ostream& out = w.file.stream();
+  out.seekp(std::streamoff(w.table_offset));
+  out.write(table.data(), std::streamsize(table.size()));
+  if (!out) throw std::runtime_error(w.file.path().string() + ": cannot write the cone cache's frame table");
+  w.file.commit();
+}
+
+// ---- Reader ----
+
+struct ConeCacheReader::Impl {
+  std::string path;
+  std::ifstream in;
+  std::uint64_t file_size = 0;
+  ConeCacheHeader header;
+  std::vector<std::uint64_t> offsets;
+  std::string block;
+
+  [[noreturn]] void fail(const std::string& place, const std::string& what) const {
+    throw InputError(path, place, what);
+  }
+
+  /// Reads `n` bytes at `offset` into `block`, or fails naming `place`.
+  const unsigned char* read(std::uint64_t offset, std::uint64_t n, const std::string& place) {
+    if (offset > file_size || n > file_size - offset)
+      fail(place, "truncated cone cache: needs bytes up to " + std::to_string(offset + n) +
+                      ", the file has " + std::to_string(file_size));
+    block.resize(n);
+    in.seekg(std::streamoff(offset));
+    in.read(block.data(), std::streamsize(n));
+    if (!in) fail(place, "cannot read the cone cache");
+    return reinterpret_cast<const unsigned char*>(block.data());
+  }
+};
+
+ConeCacheReader::ConeCacheReader(const std::filesystem::path& path) : m_impl(std::make_unique<Impl>()) {
+  Impl& r = *m_impl;
+  r.path = path.string();
+  r.in.open(path, std::ios::binary);
+  if (!r.in) r.fail("", "cannot open the cone cache");
+  std::error_code error;
+  r.file_size = std::filesystem::file_size(path, error);
+  if (error) r.fail("", "cannot read the cone cache's size");
+
+  const unsigned char* p = r.read(0, kFixedHeader, "byte 0");
+  if (std::memcmp(p, kMagic, 8) != 0) r.fail("byte 0", "not a pleat cone cache (no \"PLEATCNS\" magic)");
+  const std::uint32_t version = bytes::load_u32_le(p + 8);
+  if (version != kVersion)
+    r.fail("byte 8", "cone cache version " + std::to_string(version) + " (this pleat reads version " +
+                         std::to_string(kVersion) + ")");
+  const std::uint64_t table_offset = bytes::load_u32_le(p + 12);
+  ConeCacheHeader& h = r.header;
+  h.vertices = bytes::load_u32_le(p + 16);
+  const std::uint32_t input_vertices = bytes::load_u32_le(p + 20);
+  h.triangles = bytes::load_u32_le(p + 24);
+  const std::uint32_t frames = bytes::load_u32_le(p + 28);
+  h.fingerprint = bytes::load_u64_le(p + 32);
+  h.frame_rate = bytes::load_f64_le(p + 40);
+  if (!std::isfinite(h.frame_rate) || h.frame_rate < 0.0) r.fail("byte 40", "invalid frame rate");
+  const std::uint64_t expected_table =
+      kFixedHeader + 4 + 4 * std::uint64_t(input_vertices) + 12 * std::uint64_t(frames);
+  if (table_offset < expected_table) r.fail("byte 12", "the frame table overlaps the header");
+  const std::string header_place = "byte " + std::to_string(kFixedHeader);
+  p = r.read(kFixedHeader, table_offset - kFixedHeader, header_place);
+  const std::uint32_t plan_bytes = bytes::load_u32_le(p);
+  if (kFixedHeader + 4 + std::uint64_t(plan_bytes) + 4 * std::uint64_t(input_vertices) +
+          12 * std::uint64_t(frames) !=
+      table_offset)
+    r.fail(header_place, "the header's sizes do not add up to the frame table's offset");
+  h.plan.assign(reinterpret_cast<const char*>(p + 4), plan_bytes);
+  p += 4 + plan_bytes;
+  h.welded_of_input.resize(input_vertices);
+  for (std::uint32_t i = 0; i < input_vertices; ++i) {
+    h.welded_of_input[i] = bytes::load_u32_le(p + 4 * i);
+    if (h.welded_of_input[i] >= h.vertices)
+      r.fail(header_place, "input vertex " + std::to_string(i) + " maps to no vertex");
+  }
+  p += 4 * std::uint64_t(input_vertices);
+  for (std::uint32_t k = 0; k < frames; ++k) {
+    h.frames.push_back(bytes::load_u32_le(p + 12 * k));
+    h.times.push_back(bytes::load_f64_le(p + 12 * k + 4));
+  }
+  p = r.read(table_offset, 8 * (std::uint64_t(frames) + 1), "byte " + std::to_string(table_offset));
+  for (std::uint32_t k = 0; k <= frames; ++k) r.offsets.push_back(bytes::load_u64_le(p + 8 * k));
+  const std::uint64_t data_start = table_offset + 8 * (std::uint64_t(frames) + 1);
+  for (std::uint32_t k = 0; k < frames; ++k)
+    if (r.offsets[k] < data_start || r.offsets[k + 1] < r.offsets[k])
+      r.fail("frame table", "frame " + std::to_string(k) + "'s offsets are out of order");
+  if (r.offsets.back() != r.file_size)
+    r.fail("frame table", "truncated cone cache: the frames end at byte " + std::to_string(r.offsets.back()) +
+                              ", the file has " + std::to_string(r.file_size) + " bytes");
+}
+
+ConeCacheReader::~ConeCacheReader() = default;
+
+const ConeCacheHeader& ConeCacheReader::header() const { return m_impl->header; }
+
+void ConeCacheReader::check_mesh(const MeshTopology& topology, std::span<const Index> welded_of_input) const {
+  const ConeCacheHeader& h = m_impl->header;
+  auto mismatch = [&](const std::string& what) {
+    m_impl->fail("", "the cone cache was computed for a different mesh (" + what + ")");
+  };
+  if (h.vertices != topology.num_vertices)
+    mismatch(std::to_string(h.vertices) + " vertices, this mesh has " +
+             std::to_string(topology.num_vertices));
+  if (h.triangles != topology.triangles.size())
+    mismatch(std::to_string(h.triangles) + " triangles, this mesh has " +
+             std::to_string(topology.triangles.size()));
+  if (h.fingerprint != topology_fingerprint(topology)) mismatch("other triangles");
+  if (!std::equal(h.welded_of_input.begin(), h.welded_of_input.end(), welded_of_input.begin(),
+                  welded_of_input.end()))
+    mismatch("another vertex order");
+}
+
+std::size_t ConeCacheReader::index_of_frame(std::size_t frame) const {
+  const auto& frames = m_impl->header.frames;
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    if (frames[k] == frame) return k;
+  m_impl->fail("frame " + std::to_string(frame),
+               "this frame is not in the cone cache (it has " + std::to_string(frames.size()) + " frames)");
+}
+
+void ConeCacheReader::read_frame(std::size_t index, const Frame& frame, FrameVisibility& out) {
+  Impl& r = *m_impl;
+  const Index n = r.header.vertices;
+  const std::string place = "frame " + std::to_string(r.header.frames.at(index));
+  const std::uint64_t start = r.offsets[index], size = r.offsets[index + 1] - start;
+  const unsigned char* p = r.read(start, size, place);
+  const unsigned char* const end = p + size;
+  auto need = [&](std::uint64_t bytes) {
+    if (std::uint64_t(end - p) < bytes)
+      r.fail(place + ", byte " + std::to_string(start + (size - std::uint64_t(end - p))),
+             "the frame block ends early");
+  };
+  auto number = [&] {
+    const double x = bytes::load_f64_le(p);
+    if (!std::isfinite(x))
+      r.fail(place + ", byte " + std::to_string(start + (size - std::uint64_t(end - p))),
+             "a number is not finite");
+    p += 8;
+    return x;
+  };
+  auto vec3 = [&] {
+    glm::dvec3 v;
+    for (int k = 0; k < 3; ++k) v[k] = number();
+    return v;
+  };
+  need(8);
+  if (bytes::load_u64_le(p) != positions_fingerprint(frame))
+    r.fail(place, "the cones were computed for other positions of this frame (a different simulation)");
+  p += 8;
+  need(24 * std::uint64_t(n));
+  out.normals.resize(n);
+  for (Index v = 0; v < n; ++v) out.normals[v] = vec3();
+  for (int side = 0; side < 2; ++side) {
+    need(8 * kMeasureDoubles * std::uint64_t(n));
+    out.measures[side].resize(n);
+    for (ConeMeasures& m : out.measures[side]) {
+      m.sky_visibility = number();
+      m.bent_normal = vec3();
+      m.solid_angle = number();
+    }
+    out.cones[side].resize(n);
+    for (VisibilityCone& cone : out.cones[side]) {
+      need(4);
+      const std::uint32_t pieces = bytes::load_u32_le(p);
+      p += 4;
+      need(4 * std::uint64_t(pieces));  // at least a count per piece
+      cone.pieces.resize(pieces);
+      for (SphericalPolygon& piece : cone.pieces) {
+        need(4);
+        const std::uint32_t k = bytes::load_u32_le(p);
+        p += 4;
+        need(24 * std::uint64_t(k));
+        piece.resize(k);
+        for (glm::dvec3& d : piece) d = vec3();
+      }
+    }
+  }
+  if (p != end) r.fail(place, "the frame block has " + std::to_string(end - p) + " bytes too many");
+  out.stats = {};
+}
+
+}  // namespace pleat

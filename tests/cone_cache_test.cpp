@@ -1,0 +1,201 @@
+// The cone cache (shading/cone_cache.hpp): frames round-trip exactly, bad caches (truncated, foreign, another
+// version, another mesh, a frame not cached, a corrupt block) fail with one InputError naming the file and
+// the place, and at the command line shading from a cache writes the same glb as shading from fresh cones.
+#include "shading/cone_cache.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "sim_io/cloth_generators.hpp"
+#include "sim_io/input_error.hpp"
+#include "static_core/visibility.hpp"
+#include "test_support.hpp"
+
+namespace pleat {
+namespace {
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void spit(const std::filesystem::path& p, const std::string& bytes) {
+  std::ofstream(p, std::ios::binary) << bytes;
+}
+
+/// The message of the InputError `f` throws, or "" when it throws none.
+template <class F>
+std::string input_error(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+struct Fixture {
+  ClothGenerator cloth{ClothKind::Roll, {10, 12, 24.0, 3}};
+  std::vector<Index> identity;
+  std::vector<FrameVisibility> frames;
+  std::vector<Frame> positions;
+  Fixture() {
+    for (Index v = 0; v < cloth.topology().num_vertices; ++v) identity.push_back(v);
+    const SlicingPlan plan = make_diffuse_plan(cloth.topology(), cloth.frame(0), {});
+    StaticVisibility engine(cloth.topology(), plan, {false});
+    for (std::size_t f : {2, 5, 7}) {
+      positions.push_back(cloth.frame(f));
+      frames.push_back(engine.compute(positions.back()));
+    }
+  }
+  void write(const std::filesystem::path& path) const {
+    ConeCacheWriter writer(path, cloth.topology(), identity, 24.0, "test plan", {2, 5, 7});
+    for (std::size_t k = 0; k < frames.size(); ++k) writer.add_frame(positions[k], frames[k]);
+    writer.commit();
+  }
+};
+
+TEST(ConeCache, FramesRoundTripExactlyAndInAnyOrder) {
+  test::TempDir dir;
+  const Fixture fx;
+  fx.write(dir / "c.cones");
+  ConeCacheReader reader(dir / "c.cones");
+  EXPECT_EQ(reader.header().plan, "test plan");
+  EXPECT_EQ(reader.header().frames, (std::vector<std::uint32_t>{2, 5, 7}));
+  EXPECT_DOUBLE_EQ(reader.header().times[1], 5.0 / 24.0);
+  reader.check_mesh(fx.cloth.topology(), fx.identity);
+  std::size_t pieces = 0;
+  const std::size_t numbers[] = {2, 5, 7};
+  for (std::size_t k : {2u, 0u, 1u}) {  // a frame is read without the ones before it
+    FrameVisibility got;
+    reader.read_frame(reader.index_of_frame(numbers[k]), fx.positions[k], got);
+    const FrameVisibility& want = fx.frames[k];
+    ASSERT_EQ(got.normals, want.normals);
+    for (int side = 0; side < 2; ++side) {
+      ASSERT_EQ(got.measures[side].size(), want.measures[side].size());
+      for (std::size_t v = 0; v < want.measures[side].size(); ++v) {
+        EXPECT_EQ(got.measures[side][v].sky_visibility, want.measures[side][v].sky_visibility);
+        EXPECT_EQ(got.measures[side][v].bent_normal, want.measures[side][v].bent_normal);
+        EXPECT_EQ(got.measures[side][v].solid_angle, want.measures[side][v].solid_angle);
+        ASSERT_EQ(got.cones[side][v].pieces, want.cones[side][v].pieces);
+        pieces += want.cones[side][v].pieces.size();
+      }
+    }
+  }
+  EXPECT_GT(pieces, 100u);  // the round trip carried real cones
+}
+
+TEST(ConeCache, BadCachesFailWithOneClearError) {
+  test::TempDir dir;
+  const Fixture fx;
+  fx.write(dir / "good.cones");
+  const std::string good = slurp(dir / "good.cones");
+
+  spit(dir / "truncated.cones", good.substr(0, good.size() - 100));
+  EXPECT_NE(input_error([&] { ConeCacheReader r(dir / "truncated.cones"); }).find("truncated"),
+            std::string::npos);
+  spit(dir / "header_only.cones", good.substr(0, 30));
+  EXPECT_NE(input_error([&] { ConeCacheReader r(dir / "header_only.cones"); }).find("header_only.cones"),
+            std::string::npos);
+
+  spit(dir / "foreign.cones", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n" + std::string(100, ' '));
+  EXPECT_NE(input_error([&] { ConeCacheReader r(dir / "foreign.cones"); }).find("not a pleat cone cache"),
+            std::string::npos);
+
+  std::string future = good;
+  future[8] = 2;  // version 2
+  spit(dir / "future.cones", future);
+  EXPECT_NE(input_error([&] { ConeCacheReader r(dir / "future.cones"); }).find("version 2"),
+            std::string::npos);
+
+  ConeCacheReader reader(dir / "good.cones");
+  const ClothGenerator other(ClothKind::Curtain, {10, 12, 24.0, 3});
+  if (other.topology().triangles != fx.cloth.topology().triangles)
+    EXPECT_NE(input_error([&] { reader.check_mesh(other.topology(), fx.identity); }).find("different mesh"),
+              std::string::npos);
+  std::vector<Index> other_order = fx.identity;
+  std::swap(other_order[0], other_order[1]);
+  EXPECT_NE(input_error([&] { reader.check_mesh(fx.cloth.topology(), other_order); }).find("different mesh"),
+            std::string::npos);
+  const ClothGenerator smaller(ClothKind::Roll, {9, 12, 24.0, 3});
+  EXPECT_NE(input_error([&] { reader.check_mesh(smaller.topology(), fx.identity); }).find("different mesh"),
+            std::string::npos);
+  EXPECT_NE(input_error([&] { reader.index_of_frame(3); }).find("frame 3"), std::string::npos);
+
+  // Inside frame 5's block (the second): a piece count far too large, and a coordinate that is not a number.
+  auto u32_at = [&](std::size_t at) {
+    return std::uint32_t(std::uint8_t(good[at])) | std::uint32_t(std::uint8_t(good[at + 1])) << 8 |
+           std::uint32_t(std::uint8_t(good[at + 2])) << 16 | std::uint32_t(std::uint8_t(good[at + 3])) << 24;
+  };
+  const std::size_t table = u32_at(12);
+  const std::size_t block = u32_at(table + 8);  // offset[1], low half (the file is small)
+  const std::size_t vertices = fx.cloth.topology().num_vertices;
+  std::string corrupt = good;
+  const std::size_t first_count = block + 8 + 24 * vertices + 40 * vertices;
+  for (int k = 0; k < 4; ++k) corrupt[first_count + k] = char(0xFF);
+  spit(dir / "corrupt.cones", corrupt);
+  ConeCacheReader corrupt_reader(dir / "corrupt.cones");
+  FrameVisibility frame;
+  const std::string early = input_error([&] { corrupt_reader.read_frame(1, fx.positions[1], frame); });
+  EXPECT_NE(early.find("corrupt.cones:frame 5"), std::string::npos) << early;
+  EXPECT_NE(early.find("ends early"), std::string::npos) << early;
+  corrupt_reader.read_frame(0, fx.positions[0], frame);  // the other frames stay readable
+  // Frame 5's cones read against frame 7's positions: another simulation.
+  EXPECT_NE(input_error([&] {
+              ConeCacheReader(dir / "good.cones").read_frame(1, fx.positions[2], frame);
+            }).find("other positions"),
+            std::string::npos);
+
+  std::string nan = good;
+  for (int k = 0; k < 8; ++k) nan[block + 8 + k] = char(0xFF);  // the first normal's x: a NaN
+  spit(dir / "nan.cones", nan);
+  ConeCacheReader nan_reader(dir / "nan.cones");
+  EXPECT_NE(input_error([&] { nan_reader.read_frame(1, fx.positions[1], frame); }).find("not finite"),
+            std::string::npos);
+}
+
+/// The acceptance check at the command line: cones once (`pleat visibility --cones`), then `pleat shade
+/// --cones` writes the same glb as `pleat shade` computing them, for both engines' caches; a cache of another
+/// mesh fails with one line and writes no glb.
+TEST(ConeCache, ShadingFromTheCacheEqualsShadingFromFreshCones) {
+  test::TempDir dir;
+  const std::string obj = (dir / "c.obj").string(), pc2 = (dir / "c.pc2").string();
+  ASSERT_EQ(test::run_pleat("generate roll -o " + obj + " --resolution 12 --frames 8").exit_code, 0);
+  const std::string input = obj + " --cache " + pc2 + " --frames 2:6";
+  for (const std::string engine : {"static", "kinetic"}) {
+    const auto v = test::run_pleat("visibility " + input + " -o " + (dir / "a.csv").string() + " --engine " +
+                                   engine + " --cones " + (dir / (engine + ".cones")).string());
+    ASSERT_EQ(v.exit_code, 0) << v.output;
+  }
+  const std::string light = " --light sky:0.5 --light dir:0.3,-1,0.2,E=2";
+  const auto fresh = test::run_pleat("shade " + input + " -o " + (dir / "fresh.glb").string() + light);
+  ASSERT_EQ(fresh.exit_code, 0) << fresh.output;
+  for (const std::string engine : {"static", "kinetic"}) {
+    const auto cached = test::run_pleat("shade " + input + " -o " + (dir / "cached.glb").string() + light +
+                                        " --cones " + (dir / (engine + ".cones")).string());
+    ASSERT_EQ(cached.exit_code, 0) << cached.output;
+    EXPECT_NE(cached.output.find("read from"), std::string::npos) << cached.output;
+    EXPECT_TRUE(slurp(dir / "fresh.glb") == slurp(dir / "cached.glb")) << engine << ": the glbs differ";
+  }
+  // Frames outside the cache, and a cache of another mesh: one line, exit 2, no glb.
+  const auto missing =
+      test::run_pleat("shade " + obj + " --cache " + pc2 + " --frames 0:4 -o " +
+                      (dir / "missing.glb").string() + " --cones " + (dir / "static.cones").string());
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("frame 0"), std::string::npos) << missing.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "missing.glb"));
+  const std::string other = (dir / "o.obj").string();
+  ASSERT_EQ(test::run_pleat("generate curtain -o " + other + " --resolution 12 --frames 8").exit_code, 0);
+  const auto wrong =
+      test::run_pleat("shade " + other + " --cache " + (dir / "o.pc2").string() + " --frames 2:6 -o " +
+                      (dir / "wrong.glb").string() + " --cones " + (dir / "static.cones").string());
+  EXPECT_EQ(wrong.exit_code, 2) << wrong.output;
+  EXPECT_NE(wrong.output.find("other positions"), std::string::npos) << wrong.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "wrong.glb"));
+}
+
+}  // namespace
+}  // namespace pleat
