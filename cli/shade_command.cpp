@@ -8,7 +8,10 @@
 // for each lighting setup (shading/shade.hpp), to_srgb, and the setup's glb writer (sim_io/gltf_format.hpp)
 // and renderer (shading/render.hpp). The cones are computed once per frame whatever the number of setups:
 // relighting costs only the shading pass.
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -74,6 +77,20 @@ std::filesystem::path setup_output(const std::filesystem::path& output, const st
   return p;
 }
 
+/// One side's cones as the glb's vertex attributes: A, and the bent normal with the cosine of the half-angle
+/// of the circular cone of the same solid angle (omega = 2 pi (1 - cos)).
+void side_visibility(const FrameVisibility& visibility, Side side, SideVisibility& out) {
+  const std::vector<ConeMeasures>& measures = visibility.measures[int(side)];
+  out.sky_visibility.resize(measures.size());
+  out.bent_cone.resize(measures.size());
+  for (std::size_t v = 0; v < measures.size(); ++v) {
+    const ConeMeasures& m = measures[v];
+    out.sky_visibility[v] = float(m.sky_visibility);
+    const double cosine = std::clamp(1.0 - m.solid_angle / (2.0 * M_PI), -1.0, 1.0);
+    out.bent_cone[v] = glm::vec4(glm::vec3(m.bent_normal), float(cosine));
+  }
+}
+
 std::vector<Lighting> gather_lightings(const ShadeOptions& options) {
   std::vector<Lighting> setups;
   if (!options.relight_file.empty()) {
@@ -116,7 +133,8 @@ void run_shade(const ShadeOptions& options) {
   create_parent_directory(output);
   for (const Lighting& setup : setups) {
     outputs.push_back(relight ? setup_output(output, setup.name) : output);
-    writers.push_back(std::make_unique<ShadedGlbWriter>(outputs.back(), sequence, frame_ids, fps));
+    writers.push_back(std::make_unique<ShadedGlbWriter>(outputs.back(), sequence, frame_ids, fps,
+                                                        /*with_visibility=*/true));
   }
 
   const bool render = !options.render_dir.empty();
@@ -154,6 +172,7 @@ void run_shade(const ShadeOptions& options) {
     engine.emplace(topology, options.plan.make(topology, sequence.frame(frame_ids.front())));
   }
   FrameVisibility from_cache;
+  std::array<SideVisibility, 2> sides;
   double cone_seconds = 0.0, shade_seconds = 0.0;
   Progress progress("shading frames", frame_ids.size());
   for (std::size_t j = 0; j < frame_ids.size(); ++j) {
@@ -162,6 +181,7 @@ void run_shade(const ShadeOptions& options) {
     if (cache) cache->read_frame(cached[j], frame, from_cache);
     const FrameVisibility& visibility = cache ? from_cache : engine->compute(frame);
     const auto t1 = std::chrono::steady_clock::now();
+    for (Side side : kBothSides) side_visibility(visibility, side, sides[int(side)]);
     const bool render_this = render && (j % static_cast<std::size_t>(options.render_every) == 0);
     if (render_this) {
       if (!scene)
@@ -175,7 +195,7 @@ void run_shade(const ShadeOptions& options) {
       shade_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
       const std::vector<glm::vec3> front = to_srgb(shaded.front(), tone);
       const std::vector<glm::vec3> back = to_srgb(shaded.back(), tone);
-      writers[s]->add_frame(front, back);
+      writers[s]->add_frame(front, back, sides[0], sides[1]);
       if (render_this) {
         char name[64];
         std::snprintf(name, sizeof name, "frame_%04zu.png", frame_ids[j]);

@@ -21,6 +21,21 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
+# Node.js and npm (the glTF validator in the tests): Debian's, unless a node with npm is already installed
+# (a NodeSource node bundles npm, and Debian's npm would conflict with it).
+if ! command -v npm >/dev/null || ! command -v node >/dev/null; then
+  echo "pleat setup: installing nodejs npm" >&2
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null
+fi
+# The Khronos glTF-Validator from the npm registry, pinned, under build/npm (tests/tools/validate_gltf.mjs).
+if [ ! -f build/npm/node_modules/gltf-validator/package.json ]; then
+  echo "pleat setup: installing gltf-validator from npm" >&2
+  npm install --no-save --silent --prefix build/npm gltf-validator@2.0.0-dev.3.10 >/dev/null
+fi
+
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "$jobs"

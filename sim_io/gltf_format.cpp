@@ -703,8 +703,8 @@ void flipbook_keys(std::size_t j, std::size_t n, double fps, std::vector<float>&
 }  // namespace
 
 ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
-                                 std::vector<std::size_t> frames, double fps)
-    : m_sequence(sequence), m_frames(std::move(frames)), m_file(path) {
+                                 std::vector<std::size_t> frames, double fps, bool with_visibility)
+    : m_sequence(sequence), m_frames(std::move(frames)), m_with_visibility(with_visibility), m_file(path) {
   if (m_frames.empty()) throw std::invalid_argument("ShadedGlbWriter: no frames");
   if (!(fps > 0.0) || !std::isfinite(fps))
     throw std::invalid_argument("ShadedGlbWriter: fps must be positive");
@@ -714,17 +714,16 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
   if (topology.triangles.empty()) throw std::invalid_argument("ShadedGlbWriter: the mesh has no triangles");
   const std::uint64_t V = topology.num_vertices, T = topology.triangles.size(), F = m_frames.size();
   const std::uint64_t index_bytes = 12 * T;
-  const std::uint64_t frame_bytes = 36 * V;
+  // Per frame: positions and both sides' colours (VEC3), then with visibility both sides' A (SCALAR) and
+  // bent cones (VEC4); one buffer view per element type and frame.
+  const std::uint64_t vec3_bytes = 36 * V, scalar_bytes = with_visibility ? 8 * V : 0,
+                      vec4_bytes = with_visibility ? 32 * V : 0;
+  const std::uint64_t frame_bytes = vec3_bytes + scalar_bytes + vec4_bytes;
   using nlohmann::json;
 
   json accessors = json::array(), buffer_views = json::array(), meshes = json::array(), nodes = json::array();
   buffer_views.push_back(
       {{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 2 * index_bytes}, {"target", 34963}});
-  buffer_views.push_back({{"buffer", 0},
-                          {"byteOffset", 2 * index_bytes},
-                          {"byteLength", F * frame_bytes},
-                          {"byteStride", 12},
-                          {"target", 34962}});
   accessors.push_back(
       {{"bufferView", 0}, {"byteOffset", 0}, {"componentType", 5125}, {"count", 3 * T}, {"type", "SCALAR"}});
   accessors.push_back({{"bufferView", 0},
@@ -742,30 +741,58 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
       lo = glm::min(lo, q);
       hi = glm::max(hi, q);
     }
-    const std::uint64_t offset = j * frame_bytes;
+    const std::uint64_t offset = 2 * index_bytes + j * frame_bytes;
+    const std::size_t vec3_view = buffer_views.size();
+    buffer_views.push_back({{"buffer", 0},
+                            {"byteOffset", offset},
+                            {"byteLength", vec3_bytes},
+                            {"byteStride", 12},
+                            {"target", 34962}});
     const std::size_t position = accessors.size();
-    accessors.push_back({{"bufferView", 1},
-                         {"byteOffset", offset},
+    accessors.push_back({{"bufferView", vec3_view},
+                         {"byteOffset", 0},
                          {"componentType", 5126},
                          {"count", V},
                          {"type", "VEC3"},
                          {"min", {lo.x, lo.y, lo.z}},
                          {"max", {hi.x, hi.y, hi.z}}});
-    accessors.push_back({{"bufferView", 1},
-                         {"byteOffset", offset + 12 * V},
-                         {"componentType", 5126},
-                         {"count", V},
-                         {"type", "VEC3"}});
-    accessors.push_back({{"bufferView", 1},
-                         {"byteOffset", offset + 24 * V},
-                         {"componentType", 5126},
-                         {"count", V},
-                         {"type", "VEC3"}});
-    json front = {{"attributes", {{"POSITION", position}, {"COLOR_0", position + 1}}},
-                  {"indices", 0},
-                  {"material", 0},
-                  {"mode", 4}};
-    json back = {{"attributes", {{"POSITION", position}, {"COLOR_0", position + 2}}},
+    for (std::uint64_t side = 0; side < 2; ++side)
+      accessors.push_back({{"bufferView", vec3_view},
+                           {"byteOffset", (1 + side) * 12 * V},
+                           {"componentType", 5126},
+                           {"count", V},
+                           {"type", "VEC3"}});
+    std::array<json, 2> sides{json::object({{"POSITION", position}, {"COLOR_0", position + 1}}),
+                              json::object({{"POSITION", position}, {"COLOR_0", position + 2}})};
+    if (with_visibility) {
+      const std::size_t scalar_view = buffer_views.size();
+      buffer_views.push_back({{"buffer", 0},
+                              {"byteOffset", offset + vec3_bytes},
+                              {"byteLength", scalar_bytes},
+                              {"byteStride", 4},
+                              {"target", 34962}});
+      buffer_views.push_back({{"buffer", 0},
+                              {"byteOffset", offset + vec3_bytes + scalar_bytes},
+                              {"byteLength", vec4_bytes},
+                              {"byteStride", 16},
+                              {"target", 34962}});
+      for (std::uint64_t side = 0; side < 2; ++side) {
+        sides[side]["_SKY_VISIBILITY"] = accessors.size();
+        accessors.push_back({{"bufferView", scalar_view},
+                             {"byteOffset", side * 4 * V},
+                             {"componentType", 5126},
+                             {"count", V},
+                             {"type", "SCALAR"}});
+        sides[side]["_BENT_CONE"] = accessors.size();
+        accessors.push_back({{"bufferView", scalar_view + 1},
+                             {"byteOffset", side * 16 * V},
+                             {"componentType", 5126},
+                             {"count", V},
+                             {"type", "VEC4"}});
+      }
+    }
+    json front = {{"attributes", sides[0]}, {"indices", 0}, {"material", 0}, {"mode", 4}};
+    json back = {{"attributes", sides[1]},
                  {"indices", 1},
                  {"material", 0},
                  {"mode", 4},
@@ -799,6 +826,7 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
 
   // Animation: per node a STEP scale sampler; its keys go after the frames in the binary chunk.
   std::uint64_t tail_offset = 2 * index_bytes + F * frame_bytes;
+  const std::size_t tail_view = buffer_views.size();
   if (F > 1) {
     json samplers = json::array(), channels = json::array();
     std::vector<float> times, scales;
@@ -806,14 +834,14 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
       flipbook_keys(j, F, fps, times, scales);
       const std::size_t input = accessors.size();
       const std::uint64_t at = m_tail.size();
-      accessors.push_back({{"bufferView", 2},
+      accessors.push_back({{"bufferView", tail_view},
                            {"byteOffset", at},
                            {"componentType", 5126},
                            {"count", times.size()},
                            {"type", "SCALAR"},
                            {"min", {times.front()}},
                            {"max", {times.back()}}});
-      accessors.push_back({{"bufferView", 2},
+      accessors.push_back({{"bufferView", tail_view},
                            {"byteOffset", at + 4 * times.size()},
                            {"componentType", 5126},
                            {"count", times.size()},
@@ -864,14 +892,26 @@ ShadedGlbWriter::~ShadedGlbWriter() = default;
 
 void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& front_srgb,
                                 const std::vector<glm::vec3>& back_srgb) {
+  if (m_with_visibility)
+    throw std::logic_error("ShadedGlbWriter::add_frame: this writer was made with visibility");
+  add_frame(front_srgb, back_srgb, {}, {});
+}
+
+void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& front_srgb,
+                                const std::vector<glm::vec3>& back_srgb, const SideVisibility& front,
+                                const SideVisibility& back) {
   if (m_next >= m_frames.size())
     throw std::logic_error("ShadedGlbWriter::add_frame: more frames than announced");
   const Index V = m_sequence.topology().num_vertices;
   if (front_srgb.size() != V || back_srgb.size() != V)
     throw std::invalid_argument("ShadedGlbWriter::add_frame: one colour per welded vertex and side");
+  if (m_with_visibility)
+    for (const SideVisibility* side : {&front, &back})
+      if (side->sky_visibility.size() != V || side->bent_cone.size() != V)
+        throw std::invalid_argument("ShadedGlbWriter::add_frame: one visibility per welded vertex and side");
   const Frame frame = m_sequence.frame(m_frames[m_next]);
   std::vector<float> values;
-  values.reserve(3 * std::size_t(V));
+  values.reserve(4 * std::size_t(V));
   for (const glm::dvec3& p : frame.positions)
     values.insert(values.end(), {float(p.x), float(p.y), float(p.z)});
   std::ostream& out = m_file.stream();
@@ -881,6 +921,14 @@ void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& front_srgb,
     for (const glm::vec3& c : *colours)
       values.insert(values.end(), {srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b)});
     put_floats(out, values);
+  }
+  if (m_with_visibility) {
+    for (const SideVisibility* side : {&front, &back}) put_floats(out, side->sky_visibility);
+    for (const SideVisibility* side : {&front, &back}) {
+      values.clear();
+      for (const glm::vec4& b : side->bent_cone) values.insert(values.end(), {b.x, b.y, b.z, b.w});
+      put_floats(out, values);
+    }
   }
   ++m_next;
 }

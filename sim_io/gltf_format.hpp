@@ -28,7 +28,12 @@
 // primitive (the same triangles reversed, back colours, same POSITION accessor) under one single-sided
 // material, so back-face culling shows each side its own shading; a doubleSided material could only show
 // one colour on both sides. The material is KHR_materials_unlit (the colours are already lit) with a
-// rough, non-metallic white fallback. COLOR_0 holds linear float RGB converted from the given sRGB.
+// rough, non-metallic white fallback. COLOR_0 holds linear float RGB converted from the given sRGB. With
+// visibility (ShadedGlbWriter's `with_visibility`), each primitive also carries its side's cones as two
+// application-specific attributes (glTF 2.0 §3.7.2.1: names start with an underscore): _SKY_VISIBILITY
+// (SCALAR float: A) and _BENT_CONE (VEC4 float: the unit bent normal, and the cosine of the half-angle of the
+// circular cone with the same solid angle as the visible set), for engines that light the cloth themselves.
+// Each frame's data is contiguous in the binary chunk with a buffer view per element type.
 // The reader above accepts this layout, so a written glb reads back as the same sequence (float32 positions).
 // Checked by hand on written files: Khronos glTF-Validator 2.0.0-dev.3.10 reports no issue; three.js r160
 // GLTFLoader + AnimationMixer shows exactly one frame at a time (MeshBasicMaterial with vertex colours,
@@ -39,6 +44,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 #include <vector>
 
 #include "sim_io/atomic_file.hpp"
@@ -49,24 +55,36 @@ namespace pleat {
 /// Loads a .gltf or .glb (see above); welds vertices that coincide in every frame.
 MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps = kDefaultSceneFps);
 
+/// One side's visibility per welded vertex, as the glb's _SKY_VISIBILITY and _BENT_CONE attributes.
+struct SideVisibility {
+  std::vector<float> sky_visibility;  ///< A in [0, 1]
+  std::vector<glm::vec4>
+      bent_cone;  ///< unit bent normal (xyz), cosine of the equal-solid-angle half-angle (w)
+};
+
 /// Streams a shaded flipbook .glb: the constructor reads the chosen frames' positions once (for the
 /// accessor bounds) and writes the JSON; add_frame() then appends one frame's data in order; finish() commits
 /// the file atomically. Destroyed before finish(), nothing is left on disk. Frame j plays at time j / fps.
 class ShadedGlbWriter {
  public:
+  /// `with_visibility`: every add_frame() brings both sides' visibility, written as vertex attributes.
   ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
-                  std::vector<std::size_t> frames, double fps);
+                  std::vector<std::size_t> frames, double fps, bool with_visibility = false);
   ~ShadedGlbWriter();
   ShadedGlbWriter(const ShadedGlbWriter&) = delete;
   ShadedGlbWriter& operator=(const ShadedGlbWriter&) = delete;
 
   /// Colours of the next frame, one sRGB colour (components in [0,1], clamped) per welded vertex and side.
   void add_frame(const std::vector<glm::vec3>& front_srgb, const std::vector<glm::vec3>& back_srgb);
+  /// The same with both sides' visibility (the writer must have been made `with_visibility`).
+  void add_frame(const std::vector<glm::vec3>& front_srgb, const std::vector<glm::vec3>& back_srgb,
+                 const SideVisibility& front, const SideVisibility& back);
   void finish();
 
  private:
   const MeshSequence& m_sequence;
   std::vector<std::size_t> m_frames;
+  bool m_with_visibility = false;
   std::size_t m_next = 0;
   std::size_t m_tail_bytes = 0;  // animation data written by finish()
   std::vector<unsigned char> m_tail;
