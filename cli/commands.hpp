@@ -10,5 +10,6 @@ void register_generate_command(CLI::App& app);
 void register_visibility_command(CLI::App& app);
 void register_shade_command(CLI::App& app);
 void register_compare_command(CLI::App& app);
+void register_view_command(CLI::App& app);
 
 }  // namespace pleat::cli

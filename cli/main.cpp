@@ -18,12 +18,14 @@ int main(int argc, char** argv) {
       "  pleat visibility curtain.obj --cache curtain.pc2 -o curtain.csv\n"
       "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --render renders/\n"
       "  pleat compare curtain.obj --cache curtain.pc2 --frame 20 --light sky:1 -o compare.png\n"
+      "  pleat view curtain.glb -o curtain_view          # a page that relights it live\n"
       "Run `pleat SUBCOMMAND --help` for each subcommand's options.");
   pleat::cli::register_info_command(app);
   pleat::cli::register_generate_command(app);
   pleat::cli::register_visibility_command(app);
   pleat::cli::register_shade_command(app);
   pleat::cli::register_compare_command(app);
+  pleat::cli::register_view_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

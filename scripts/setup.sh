@@ -8,7 +8,8 @@ packages=(cmake make g++ pkg-config
           libopenmesh-dev libglm-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
           libtinygltf-dev nlohmann-json3-dev libtbb-dev libembree-dev libstb-dev libcli11-dev
           libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev python3-matplotlib
-          clang libfuzzer-14-dev clang-format)  # the last three: scripts/check_sanitized.sh and the format check
+          clang libfuzzer-14-dev clang-format  # scripts/check_sanitized.sh and the format check
+          libjs-three chromium)  # pleat view's three.js, and the browser its test runs headless
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
