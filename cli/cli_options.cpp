@@ -39,6 +39,34 @@ void create_parent_directory(const std::filesystem::path& output) {
   if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
 }
 
+void InputOptions::add_to(CLI::App& command) {
+  command
+      .add_option("INPUT", input,
+                  "the cloth: .obj (with --cache), a numbered OBJ sequence (printf pattern like "
+                  "frames/f_%04d.obj, or a directory), .gltf or .glb")
+      ->required();
+  command.add_option("--cache", cache, "point cache for an .obj input: .pc2 or .mdd");
+}
+
+void add_frames_option(CLI::App& command, std::string& frames) {
+  command.add_option(
+      "--frames", frames,
+      "frames A:B (first A, up to but excluding B; either may be omitted; negative counts from "
+      "the end) or N");
+}
+
+void add_light_option(CLI::App& command, std::vector<std::string>& specs, const std::string& default_text) {
+  command
+      .add_option(
+          "--light", specs,
+          "a light (repeatable): sky:L | cloudy:L,up=X,Y,Z | dir:DX,DY,DZ,E=e (D: direction of travel) | "
+          "point:X,Y,Z,I=i | area:X,Y,Z;X,Y,Z;X,Y,Z[;...],L=l[,sided=1] (planar convex) | "
+          "env:FILE.hdr|.png[,scale=s,up=X,Y,Z,rotate=DEG,maxres=W]; any but env take rgb=R,G,B. " +
+              default_text)
+      ->allow_extra_args(
+          false);  // one spec per --light: `--light sky:1 cloth.obj` keeps cloth.obj positional
+}
+
 void PlanOptions::add_to(CLI::App& command) {
   command
       .add_option(

@@ -1,10 +1,12 @@
-// Options shared by the subcommands that compute cones: the frame range and the slicing plan.
+// Options shared by the subcommands, each declared once: the input cloth (INPUT and --cache), the frame range
+// (--frames), lights (--light) and the slicing plan.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "sim_io/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
@@ -14,6 +16,21 @@ namespace pleat::cli {
 /// Parses "A:B" (half-open, Python style: either end may be left out, negatives count from the end) or
 /// "N" (that frame only) against `count` frames into [first, last). Throws std::invalid_argument.
 void parse_frame_range(const std::string& text, std::size_t count, std::size_t& first, std::size_t& last);
+
+/// The cloth a subcommand reads: INPUT (an .obj with --cache, a numbered OBJ sequence, .gltf or .glb).
+struct InputOptions {
+  std::string input;
+  std::string cache;
+  /// Adds the required positional INPUT and --cache.
+  void add_to(CLI::App& command);
+};
+
+/// --frames A:B | N (parse_frame_range).
+void add_frames_option(CLI::App& command, std::string& frames);
+
+/// --light, repeatable, one spec each (shading/lights.hpp's syntax); `default_text` says what applies
+/// without.
+void add_light_option(CLI::App& command, std::vector<std::string>& specs, const std::string& default_text);
 
 /// Creates the directory an output file goes into, if missing (outputs are written atomically inside it).
 void create_parent_directory(const std::filesystem::path& output);

@@ -39,8 +39,7 @@ namespace pleat::cli {
 namespace {
 
 struct CompareOptions {
-  std::string input;
-  std::string cache;
+  InputOptions in;
   std::string frame = "0";
   std::vector<std::string> light_specs;
   std::string lights_file;
@@ -137,7 +136,7 @@ void run_compare(const CompareOptions& options) {
   if (std::filesystem::path(options.output).extension() != ".png")
     throw std::invalid_argument("-o: the comparison is a .png image, got '" + options.output + "'");
 
-  const MeshSequence sequence = load_sequence(options.input, options.cache);
+  const MeshSequence sequence = load_sequence(options.in.input, options.in.cache);
   const MeshTopology& topology = sequence.topology();
   std::size_t first = 0, last = 0;
   parse_frame_range(options.frame, sequence.num_frames(), first, last);
@@ -266,16 +265,10 @@ void register_compare_command(CLI::App& app) {
                          "Side-by-side PNG of pleat's cone shading, an Embree path-traced reference of the "
                          "same frame and lights, "
                          "and their per-vertex difference; prints the mean and 95th-percentile difference.");
-  cmd->add_option("input", options->input, "mesh or sequence (.obj [+ --cache], numbered OBJs, .gltf/.glb)")
-      ->required();
-  cmd->add_option("--cache", options->cache, "PC2 or MDD point cache for an OBJ input");
+  options->in.add_to(*cmd);
   cmd->add_option("--frame", options->frame, "the frame to compare (negative counts from the end)")
       ->capture_default_str();
-  cmd->add_option(
-         "--light", options->light_specs,
-         "a light (repeatable), as for `pleat shade`: sky:L | cloudy:L,up=X,Y,Z | dir:DX,DY,DZ,E=e | "
-         "point:X,Y,Z,I=i | area:X,Y,Z;X,Y,Z;X,Y,Z[;...],L=l | env:FILE[,scale=s,up=X,Y,Z]")
-      ->allow_extra_args(false);
+  add_light_option(*cmd, options->light_specs, "At least one (or --lights).");
   cmd->add_option("--lights", options->lights_file, "JSON lighting file (combined with --light)");
   cmd->add_option("-o,--output", options->output, "output .png")->required();
   cmd->add_option("--paths", options->paths, "path-traced samples per vertex and side")

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "sim_io/mesh_report.hpp"
@@ -20,8 +21,7 @@ namespace pleat::cli {
 namespace {
 
 struct InfoOptions {
-  std::string input;
-  std::string cache;
+  InputOptions in;
   bool check_intersections = false;
   bool json = false;
   double fps = kDefaultSceneFps;
@@ -40,7 +40,7 @@ std::string vec(const glm::dvec3& v) {
 void run_info(const InfoOptions& options) {
   LoadOptions load;
   load.scene_fps = options.fps;
-  const MeshSequence sequence = load_sequence(options.input, options.cache, load);
+  const MeshSequence sequence = load_sequence(options.in.input, options.in.cache, load);
 
   std::vector<std::size_t> intersecting_pairs;  // per frame, when checked
   Progress progress(options.check_intersections ? "checking frames" : "reading frames",
@@ -63,8 +63,8 @@ void run_info(const InfoOptions& options) {
 
   if (options.json) {
     nlohmann::json j = {
-        {"input", options.input},
-        {"cache", options.cache},
+        {"input", options.in.input},
+        {"cache", options.in.cache},
         {"input_vertices", report.input_vertices},
         {"welded_vertices", report.welded_vertices},
         {"welded_duplicates", report.welded_duplicates},
@@ -98,8 +98,8 @@ void run_info(const InfoOptions& options) {
   }
 
   std::ostringstream out;
-  out << "input               " << options.input << '\n';
-  if (!options.cache.empty()) out << "cache               " << options.cache << '\n';
+  out << "input               " << options.in.input << '\n';
+  if (!options.in.cache.empty()) out << "cache               " << options.in.cache << '\n';
   out << "vertices            " << report.welded_vertices << " welded, " << report.input_vertices
       << " input (" << report.welded_duplicates << " welded duplicates)\n";
   out << "faces               " << report.faces << " triangles (" << report.input_faces
@@ -143,11 +143,7 @@ void register_info_command(CLI::App& app) {
   auto options = std::make_shared<InfoOptions>();
   auto* cmd = app.add_subcommand(
       "info", "Describe a cloth mesh or sequence: counts, frame rate, bounds, topology checks.");
-  cmd->add_option("INPUT", options->input,
-                  ".obj (with --cache), a numbered OBJ sequence (printf pattern like frames/f_%04d.obj or a "
-                  "directory), .gltf or .glb")
-      ->required();
-  cmd->add_option("--cache", options->cache, "point cache for an .obj input: .pc2 or .mdd");
+  options->in.add_to(*cmd);
   cmd->add_flag("--check-intersections", options->check_intersections,
                 "also count self-intersecting face pairs in every frame (the algorithm requires none)");
   cmd->add_flag("--json", options->json, "print the report as JSON");

@@ -40,8 +40,7 @@ namespace pleat::cli {
 namespace {
 
 struct ShadeOptions {
-  std::string input;
-  std::string cache;
+  InputOptions in;
   std::string output;
   std::vector<std::string> light_specs;
   std::string lights_file;
@@ -111,7 +110,7 @@ std::vector<Lighting> gather_lightings(const ShadeOptions& options) {
 void run_shade(const ShadeOptions& options) {
   const std::vector<Lighting> setups = gather_lightings(options);
   const bool relight = !options.relight_file.empty();
-  const MeshSequence sequence = load_sequence(options.input, options.cache);
+  const MeshSequence sequence = load_sequence(options.in.input, options.in.cache);
   const MeshTopology& topology = sequence.topology();
   std::size_t first = 0, last = 0;
   parse_frame_range(options.frames, sequence.num_frames(), first, last);
@@ -239,19 +238,10 @@ void register_shade_command(CLI::App& app) {
       "shade",
       "Shade an animated cloth from its visibility cones (both sides, Stewart-Langer inter-reflection) under "
       "any lights, and write an animated .glb with sRGB vertex colours (and PNG renders).");
-  cmd->add_option("input", options->input, "mesh or sequence (.obj [+ --cache], numbered OBJs, .gltf/.glb)")
-      ->required();
-  cmd->add_option("--cache", options->cache, "PC2 or MDD point cache for an OBJ input");
+  options->in.add_to(*cmd);
   cmd->add_option("-o,--output", options->output, "output .glb (with --relight: OUT_<setup>.glb per setup)")
       ->required();
-  cmd->add_option(
-         "--light", options->light_specs,
-         "a light (repeatable): sky:L | cloudy:L,up=X,Y,Z | dir:DX,DY,DZ,E=e (D: direction of travel) | "
-         "point:X,Y,Z,I=i | area:X,Y,Z;X,Y,Z;X,Y,Z[;...],L=l[,sided=1] (planar convex) | "
-         "env:FILE.hdr|.png[,scale=s,up=X,Y,Z,rotate=DEG,maxres=W]; any but env take rgb=R,G,B. "
-         "Default: sky:1")
-      ->allow_extra_args(
-          false);  // one spec per --light: `--light sky:1 cloth.obj` keeps cloth.obj positional
+  add_light_option(*cmd, options->light_specs, "Default: sky:1");
   cmd->add_option(
       "--lights", options->lights_file,
       "JSON lighting file: {\"lights\": [\"sky:0.5\", {\"type\": \"point\", \"position\": [0,2,1], "
@@ -272,8 +262,7 @@ void register_shade_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--no-interreflection", options->no_interreflection, "direct light only: B = rho E / pi");
-  cmd->add_option("--frames", options->frames,
-                  "frames A:B (first A, up to but excluding B; either may be omitted) or N");
+  add_frames_option(*cmd, options->frames);
   cmd->add_option("--render", options->render_dir, "also write PNG images of the shaded frames into DIR");
   cmd->add_option("--width", options->width, "image width")
       ->capture_default_str()

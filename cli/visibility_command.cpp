@@ -20,8 +20,7 @@ namespace pleat::cli {
 namespace {
 
 struct VisibilityOptions {
-  std::string input;
-  std::string cache;
+  InputOptions in;
   std::string output;
   std::string engine = "kinetic";
   std::string cones;  // optional cone cache (.cones)
@@ -89,7 +88,7 @@ class Engine {
 };
 
 void run(const VisibilityOptions& options) {
-  const MeshSequence sequence = load_sequence(options.input, options.cache);
+  const MeshSequence sequence = load_sequence(options.in.input, options.in.cache);
   std::size_t first = 0, last = 0;
   parse_frame_range(options.frames, sequence.num_frames(), first, last);
   const MeshTopology& topology = sequence.topology();
@@ -107,12 +106,9 @@ void run(const VisibilityOptions& options) {
     cones.emplace(options.cones, topology, sequence.welded_of_input(), sequence.frame_rate(),
                   options.plan.describe(), std::move(frame_ids));
   }
-  nlohmann::json stats = {{"input", options.input},
-                          {"engine", options.engine},
-                          {"plan", options.plan.describe()},
-                          {"planes", plan.planes.size()},
-                          {"vertices", topology.num_vertices},
-                          {"faces", topology.triangles.size()},
+  nlohmann::json stats = {{"input", options.in.input},         {"engine", options.engine},
+                          {"plan", options.plan.describe()},   {"planes", plan.planes.size()},
+                          {"vertices", topology.num_vertices}, {"faces", topology.triangles.size()},
                           {"frames", nlohmann::json::array()}};
   VisibilityParams params;
   params.parallel = !options.serial;
@@ -157,16 +153,13 @@ void register_visibility_command(CLI::App& app) {
   auto options = std::make_shared<VisibilityOptions>();
   CLI::App* cmd =
       app.add_subcommand("visibility", "per-vertex sky visibility A (front, back) of every frame, as CSV");
-  cmd->add_option("INPUT", options->input, "mesh: .obj, OBJ sequence (pattern or directory), .gltf/.glb")
-      ->required();
-  cmd->add_option("--cache", options->cache, "point cache for an OBJ: .pc2 or .mdd");
+  options->in.add_to(*cmd);
   cmd->add_option("-o,--output", options->output, "the visibility CSV (frame,vertex,front,back)")->required();
   cmd->add_option("--engine", options->engine,
                   "kinetic (default: slices kept alive and repaired between frames) or static (full "
                   "recompute per frame); both give the same output")
       ->check(CLI::IsMember({"static", "kinetic"}));
-  cmd->add_option("--frames", options->frames,
-                  "frames A:B (first A, up to but excluding B; either may be omitted) or N");
+  add_frames_option(*cmd, options->frames);
   cmd->add_option("--stats", options->stats, "also write per-frame statistics as JSON");
   cmd->add_option("--cones", options->cones,
                   "also write every frame's 3D cones to a cone cache (.cones), for `pleat shade --cones`");

@@ -180,6 +180,22 @@ TEST(ConeCache, ShadingFromTheCacheEqualsShadingFromFreshCones) {
     EXPECT_NE(cached.output.find("read from"), std::string::npos) << cached.output;
     EXPECT_TRUE(slurp(dir / "fresh.glb") == slurp(dir / "cached.glb")) << engine << ": the glbs differ";
   }
+  // Several lighting setups (--relight) from the cache: each equals its freshly computed twin.
+  const std::string setups = (dir / "setups.json").string();
+  {
+    std::ofstream(setups) << R"({"setups": [{"name": "noon", "lights": ["sky:1"]},)"
+                          << R"( {"name": "dusk", "lights": ["sky:0.2", "dir:0.3,-1,0.2,E=2"]}]})";
+  }
+  const auto relit =
+      test::run_pleat("shade " + input + " -o " + (dir / "r.glb").string() + " --relight " + setups);
+  ASSERT_EQ(relit.exit_code, 0) << relit.output;
+  const auto relit_cached =
+      test::run_pleat("shade " + input + " -o " + (dir / "rc.glb").string() + " --relight " + setups +
+                      " --cones " + (dir / "static.cones").string());
+  ASSERT_EQ(relit_cached.exit_code, 0) << relit_cached.output;
+  for (const std::string name : {"noon", "dusk"})
+    EXPECT_TRUE(slurp(dir / ("r_" + name + ".glb")) == slurp(dir / ("rc_" + name + ".glb"))) << name;
+
   // Frames outside the cache, and a cache of another mesh: one line, exit 2, no glb.
   const auto missing =
       test::run_pleat("shade " + obj + " --cache " + pc2 + " --frames 0:4 -o " +

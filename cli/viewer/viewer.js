@@ -7,7 +7,8 @@
 // The sky term equals pleat shade's `--light sky:L` exactly; the sun term is an approximation (pleat tests the
 // sun against the cone's pieces, the viewer against the bent cone). Colours are computed on the CPU for the
 // shown frame whenever a control moves. URL parameters set the controls (frame, sky, sun, az, el, albedo,
-// exposure, baked=1); dump=1 writes the shown frame's sRGB colours into <pre id="dump"> (for tests).
+// exposure, baked=1); dump=1 writes the shown frame's sRGB colours into <pre id="dump"> (for tests). Drag
+// with the mouse to orbit; hold Shift and move the pointer to drag the sun across the sky.
 /* global THREE, PLEAT_GLB */
 (function () {
   "use strict";
@@ -150,6 +151,21 @@
     input.frame.max = String(frames.length - 1);
     input.frame.value = String(Math.min(Number(query.get("frame") || 0), frames.length - 1));
     for (const name of controls) input[name].addEventListener("input", show);
+    // Drag the sun: with Shift held, the pointer's position over the view sets its azimuth and elevation.
+    renderer.domElement.addEventListener("pointermove", function (event) {
+      if (!event.shiftKey) return;
+      input.az.value = String(Math.round(360 * (event.clientX / window.innerWidth) - 180));
+      input.el.value = String(Math.round(90 - 180 * (event.clientY / window.innerHeight)));
+      if (Number(input.sun.value) === 0) input.sun.value = "3";
+      show();
+    });
+    orbit.enabled = true;
+    window.addEventListener("keydown", function (event) {
+      if (event.key === "Shift") orbit.enabled = false;  // Shift + move drags the sun, not the camera
+    });
+    window.addEventListener("keyup", function (event) {
+      if (event.key === "Shift") orbit.enabled = true;
+    });
     baked.addEventListener("change", show);
     let timer = null;
     document.getElementById("play").addEventListener("click", function () {
