@@ -5,7 +5,7 @@
 // Per frame: compute_visibility with a slicing plan (cli_options.hpp; the paper's diffuse plan by default)
 // made once from the first selected frame (the planes stay fixed while the cloth moves), or the frame's cones
 // read from a cone cache (--cones, shading/cone_cache.hpp), then shade_frame
-// for each lighting setup (shading/shade.hpp), to_srgb, and the setup's glb writer (sim_io/gltf_format.hpp)
+// for each lighting setup (shading/shade.hpp), to_srgb, and the setup's glb writer (sim_io/gltf_writer.hpp)
 // and renderer (shading/render.hpp). The cones are computed once per frame whatever the number of setups:
 // relighting costs only the shading pass.
 #include <algorithm>
@@ -30,7 +30,7 @@
 #include "shading/lights.hpp"
 #include "shading/render.hpp"
 #include "shading/shade.hpp"
-#include "sim_io/gltf_format.hpp"
+#include "sim_io/gltf_writer.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"

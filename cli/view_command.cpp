@@ -1,5 +1,5 @@
 // `pleat view`: a self-contained page that plays a glb written by `pleat shade` and relights it live from the
-// cones the glb carries (_SKY_VISIBILITY, _BENT_CONE; sim_io/gltf_format.hpp).
+// cones the glb carries (_SKY_VISIBILITY, _BENT_CONE; sim_io/gltf_writer.hpp).
 //
 // DIR gets index.html and viewer.js (cli/viewer/, compiled in), three.js r111 with its GLTFLoader and
 // OrbitControls copied from Debian's libjs-three (PLEAT_THREE_JS_DIR), and scene.js holding the glb in

@@ -8,7 +8,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "sim_io/gltf_format.hpp"
+#include "sim_io/gltf_reader.hpp"
 #include "sim_io/input_error.hpp"
 #include "sim_io/mdd_format.hpp"
 #include "sim_io/obj_format.hpp"

@@ -4,7 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sim_io/gltf_format.hpp"
+#include "sim_io/gltf_reader.hpp"
+#include "sim_io/gltf_writer.hpp"
 #include "sim_io/mdd_format.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io/obj_sequence.hpp"

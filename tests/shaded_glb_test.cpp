@@ -1,5 +1,5 @@
 // The glb `pleat shade` writes carries each side's cones as vertex attributes (_SKY_VISIBILITY, _BENT_CONE:
-// sim_io/gltf_format.hpp) equal to the cones it shaded with, and the Khronos glTF-Validator reports no error
+// sim_io/gltf_writer.hpp) equal to the cones it shaded with, and the Khronos glTF-Validator reports no error
 // on it (npm gltf-validator, installed by scripts/setup.sh; tests/tools/validate_gltf.mjs).
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>

@@ -8,7 +8,8 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
-#include "sim_io/gltf_format.hpp"
+#include "sim_io/gltf_reader.hpp"
+#include "sim_io/gltf_writer.hpp"
 #include "sim_io/input_error.hpp"
 #include "sim_io/mesh_report.hpp"
 #include "sim_io/srgb.hpp"
