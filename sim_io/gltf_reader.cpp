@@ -495,24 +495,32 @@ std::vector<double> default_weights(const Model& m, const tinygltf::Node& node, 
   return w;
 }
 
-}  // namespace
-
-MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps) {
-  const std::string file = path.string();
-  Model model = load_model(path);
-  check_extensions(model, file);
-  const std::vector<MeshNode> mesh_nodes = scene_mesh_nodes(model, file);
-  if (mesh_nodes.empty()) throw InputError(file, "", "empty mesh: the scene has no mesh");
-
+/// The frames one layout of the default scene gives: the meshes' layouts, each frame's parts and its time
+/// (empty when the layout does not apply).
+struct FramesFound {
   std::vector<MeshLayout> layouts;
   std::vector<std::vector<Part>> frames;
   std::vector<double> times;
-  const auto node_world = [&](const MeshNode& mn, const std::vector<double>* scale) {
-    return mn.parent_world * local_matrix(model.nodes[std::size_t(mn.node)], scale);
-  };
+};
 
-  // 1. A morph-target weights animation on one of the scene's mesh nodes.
-  for (std::size_t a = 0; a < model.animations.size() && frames.empty(); ++a) {
+/// The scene's mesh nodes and how to place them.
+struct Scene {
+  const Model& model;
+  const std::string& file;
+  const std::vector<MeshNode>& mesh_nodes;
+  glm::dmat4 world(const MeshNode& mn, const std::vector<double>* scale) const {
+    return mn.parent_world * local_matrix(model.nodes[std::size_t(mn.node)], scale);
+  }
+};
+
+/// Layout 1: the first animation with a morph-target `weights` channel on a mesh node of the scene; one frame
+/// per keyframe.
+FramesFound read_morph_animation(const Scene& scene) {
+  const Model& model = scene.model;
+  const std::string& file = scene.file;
+  const std::vector<MeshNode>& mesh_nodes = scene.mesh_nodes;
+  FramesFound found;
+  for (std::size_t a = 0; a < model.animations.size() && found.frames.empty(); ++a) {
     const tinygltf::Animation& animation = model.animations[a];
     for (const tinygltf::AnimationChannel& channel : animation.channels) {
       if (channel.target_path != "weights") continue;
@@ -533,111 +541,139 @@ MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps) {
                              std::to_string(keys.size() * per_key) + " (" + std::to_string(keys.size()) +
                              " keys x " + std::to_string(layout.num_targets) + " targets" +
                              (cubic ? " x 3" : "") + ")");
-      const glm::dmat4 world = node_world(*mn, nullptr);
-      layouts.push_back(std::move(layout));
+      const glm::dmat4 world = scene.world(*mn, nullptr);
+      found.layouts.push_back(std::move(layout));
       for (std::size_t k = 0; k < keys.size(); ++k) {
         Part part;
         part.world = world;
         const std::size_t first =
-            k * per_key + (cubic ? layouts[0].num_targets : 0);  // cubic: (in, value, out)
+            k * per_key + (cubic ? found.layouts[0].num_targets : 0);  // cubic: (in, value, out)
         part.weights.assign(values.begin() + std::ptrdiff_t(first),
-                            values.begin() + std::ptrdiff_t(first + layouts[0].num_targets));
-        frames.push_back({std::move(part)});
-        times.push_back(double(keys[k]));
+                            values.begin() + std::ptrdiff_t(first + found.layouts[0].num_targets));
+        found.frames.push_back({std::move(part)});
+        found.times.push_back(double(keys[k]));
       }
       break;
     }
   }
+  return found;
+}
 
-  // 2. A flipbook: every mesh node has the same connectivity.
-  if (frames.empty() && mesh_nodes.size() >= 2) {
-    std::vector<MeshLayout> candidates;
-    bool same = true;
-    for (const MeshNode& mn : mesh_nodes) {
-      candidates.push_back(layout_of_mesh(model, model.nodes[std::size_t(mn.node)].mesh, file));
-      same = same && candidates.back().num_vertices == candidates.front().num_vertices &&
-             candidates.back().triangles == candidates.front().triangles;
-    }
-    // Scale channels of the first animation that has one for every mesh node (node -> channel).
-    std::optional<std::map<int, std::pair<std::size_t, const tinygltf::AnimationChannel*>>> scale_channels;
-    for (std::size_t a = 0; a < model.animations.size() && !scale_channels; ++a) {
-      std::map<int, std::pair<std::size_t, const tinygltf::AnimationChannel*>> found;
-      for (const auto& channel : model.animations[a].channels)
-        if (channel.target_path == "scale") found[channel.target_node] = {a, &channel};
-      if (std::all_of(mesh_nodes.begin(), mesh_nodes.end(),
-                      [&](const MeshNode& n) { return found.count(n.node) > 0; }))
-        scale_channels = std::move(found);
-    }
-    std::vector<int> mesh_indices;
-    for (const MeshNode& mn : mesh_nodes) mesh_indices.push_back(model.nodes[std::size_t(mn.node)].mesh);
-    std::sort(mesh_indices.begin(), mesh_indices.end());
-    const bool distinct_meshes =
-        std::adjacent_find(mesh_indices.begin(), mesh_indices.end()) == mesh_indices.end();
-    if (same && (scale_channels || distinct_meshes)) {
-      struct FlipFrame {
-        double time;
-        std::size_t node;
-        std::vector<double> scale;
-      };
-      std::vector<FlipFrame> order;
-      for (std::size_t i = 0; i < mesh_nodes.size(); ++i) {
-        FlipFrame f{double(i) / scene_fps, i, {}};
-        if (scale_channels) {
-          const auto [a, channel] = scale_channels->at(mesh_nodes[i].node);
-          const tinygltf::Animation& animation = model.animations[a];
-          const auto& sampler = sampler_of(animation, int(a), *channel, file);
-          const std::vector<float> keys = read_key_times(model, sampler.input, file);
-          const AccessorView values =
-              float_accessor(model, sampler.output, TINYGLTF_TYPE_VEC3, true, file, "scale animation output");
-          const bool cubic = sampler.interpolation == "CUBICSPLINE";
-          if (values.count != keys.size() * (cubic ? 3 : 1))
-            throw InputError(file, at_accessor(sampler.output),
-                             "scale output count does not match its keyframes");
-          bool visible = false;
-          for (std::size_t k = 0; k < keys.size() && !visible; ++k) {
-            const std::size_t e = cubic ? 3 * k + 1 : k;
-            const glm::dvec3 s(read_float(values, e, 0), read_float(values, e, 1), read_float(values, e, 2));
-            if (s != glm::dvec3(0.0)) {
-              visible = true;
-              f.time = keys[k];
-              f.scale = {s.x, s.y, s.z};
-            }
+/// Layout 2: two or more mesh nodes with the same connectivity, shown one at a time; ordered by when their
+/// animated scale first becomes non-zero, else in scene order at `scene_fps`.
+FramesFound read_flipbook(const Scene& scene, double scene_fps) {
+  const Model& model = scene.model;
+  const std::string& file = scene.file;
+  const std::vector<MeshNode>& mesh_nodes = scene.mesh_nodes;
+  FramesFound found;
+  std::vector<MeshLayout> candidates;
+  bool same = true;
+  for (const MeshNode& mn : mesh_nodes) {
+    candidates.push_back(layout_of_mesh(model, model.nodes[std::size_t(mn.node)].mesh, file));
+    same = same && candidates.back().num_vertices == candidates.front().num_vertices &&
+           candidates.back().triangles == candidates.front().triangles;
+  }
+  // Scale channels of the first animation that has one for every mesh node (node -> channel).
+  std::optional<std::map<int, std::pair<std::size_t, const tinygltf::AnimationChannel*>>> scale_channels;
+  for (std::size_t a = 0; a < model.animations.size() && !scale_channels; ++a) {
+    std::map<int, std::pair<std::size_t, const tinygltf::AnimationChannel*>> of_node;
+    for (const auto& channel : model.animations[a].channels)
+      if (channel.target_path == "scale") of_node[channel.target_node] = {a, &channel};
+    if (std::all_of(mesh_nodes.begin(), mesh_nodes.end(),
+                    [&](const MeshNode& n) { return of_node.count(n.node) > 0; }))
+      scale_channels = std::move(of_node);
+  }
+  std::vector<int> mesh_indices;
+  for (const MeshNode& mn : mesh_nodes) mesh_indices.push_back(model.nodes[std::size_t(mn.node)].mesh);
+  std::sort(mesh_indices.begin(), mesh_indices.end());
+  const bool distinct_meshes =
+      std::adjacent_find(mesh_indices.begin(), mesh_indices.end()) == mesh_indices.end();
+  if (same && (scale_channels || distinct_meshes)) {
+    struct FlipFrame {
+      double time;
+      std::size_t node;
+      std::vector<double> scale;
+    };
+    std::vector<FlipFrame> order;
+    for (std::size_t i = 0; i < mesh_nodes.size(); ++i) {
+      FlipFrame f{double(i) / scene_fps, i, {}};
+      if (scale_channels) {
+        const auto [a, channel] = scale_channels->at(mesh_nodes[i].node);
+        const tinygltf::Animation& animation = model.animations[a];
+        const auto& sampler = sampler_of(animation, int(a), *channel, file);
+        const std::vector<float> keys = read_key_times(model, sampler.input, file);
+        const AccessorView values =
+            float_accessor(model, sampler.output, TINYGLTF_TYPE_VEC3, true, file, "scale animation output");
+        const bool cubic = sampler.interpolation == "CUBICSPLINE";
+        if (values.count != keys.size() * (cubic ? 3 : 1))
+          throw InputError(file, at_accessor(sampler.output),
+                           "scale output count does not match its keyframes");
+        bool visible = false;
+        for (std::size_t k = 0; k < keys.size() && !visible; ++k) {
+          const std::size_t e = cubic ? 3 * k + 1 : k;
+          const glm::dvec3 s(read_float(values, e, 0), read_float(values, e, 1), read_float(values, e, 2));
+          if (s != glm::dvec3(0.0)) {
+            visible = true;
+            f.time = keys[k];
+            f.scale = {s.x, s.y, s.z};
           }
-          if (!visible)
-            throw InputError(file, "node " + std::to_string(mesh_nodes[i].node),
-                             "flipbook frame is never visible (its animated scale stays 0)");
         }
-        order.push_back(std::move(f));
+        if (!visible)
+          throw InputError(file, "node " + std::to_string(mesh_nodes[i].node),
+                           "flipbook frame is never visible (its animated scale stays 0)");
       }
-      std::stable_sort(order.begin(), order.end(),
-                       [](const FlipFrame& a, const FlipFrame& b) { return a.time < b.time; });
-      for (std::size_t j = 0; j < order.size(); ++j) {
-        layouts.push_back(std::move(candidates[order[j].node]));
-        Part part;
-        part.layout = j;
-        part.world =
-            node_world(mesh_nodes[order[j].node], order[j].scale.empty() ? nullptr : &order[j].scale);
-        frames.push_back({std::move(part)});
-        times.push_back(order[j].time);
-      }
+      order.push_back(std::move(f));
     }
-  }
-
-  // 3. Static: every mesh node merged, one frame.
-  if (frames.empty()) {
-    std::vector<Part> parts;
-    for (const MeshNode& mn : mesh_nodes) {
-      const tinygltf::Node& node = model.nodes[std::size_t(mn.node)];
-      layouts.push_back(layout_of_mesh(model, node.mesh, file));
+    std::stable_sort(order.begin(), order.end(),
+                     [](const FlipFrame& a, const FlipFrame& b) { return a.time < b.time; });
+    for (std::size_t j = 0; j < order.size(); ++j) {
+      found.layouts.push_back(std::move(candidates[order[j].node]));
       Part part;
-      part.layout = layouts.size() - 1;
-      part.weights = default_weights(model, node, layouts.back().num_targets);
-      part.world = node_world(mn, nullptr);
-      parts.push_back(std::move(part));
+      part.layout = j;
+      part.world = scene.world(mesh_nodes[order[j].node], order[j].scale.empty() ? nullptr : &order[j].scale);
+      found.frames.push_back({std::move(part)});
+      found.times.push_back(order[j].time);
     }
-    frames.push_back(std::move(parts));
-    times.push_back(0.0);
   }
+  return found;
+}
+
+/// Layout 3: every mesh node merged into one mesh, one frame at time 0.
+FramesFound read_static(const Scene& scene) {
+  const Model& model = scene.model;
+  const std::string& file = scene.file;
+  const std::vector<MeshNode>& mesh_nodes = scene.mesh_nodes;
+  FramesFound found;
+  std::vector<Part> parts;
+  for (const MeshNode& mn : mesh_nodes) {
+    const tinygltf::Node& node = model.nodes[std::size_t(mn.node)];
+    found.layouts.push_back(layout_of_mesh(model, node.mesh, file));
+    Part part;
+    part.layout = found.layouts.size() - 1;
+    part.weights = default_weights(model, node, found.layouts.back().num_targets);
+    part.world = scene.world(mn, nullptr);
+    parts.push_back(std::move(part));
+  }
+  found.frames.push_back(std::move(parts));
+  found.times.push_back(0.0);
+  return found;
+}
+
+}  // namespace
+
+MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps) {
+  const std::string file = path.string();
+  Model model = load_model(path);
+  check_extensions(model, file);
+  const std::vector<MeshNode> mesh_nodes = scene_mesh_nodes(model, file);
+  if (mesh_nodes.empty()) throw InputError(file, "", "empty mesh: the scene has no mesh");
+  const Scene scene{model, file, mesh_nodes};
+  FramesFound found = read_morph_animation(scene);
+  if (found.frames.empty() && mesh_nodes.size() >= 2) found = read_flipbook(scene, scene_fps);
+  if (found.frames.empty()) found = read_static(scene);
+  std::vector<MeshLayout>& layouts = found.layouts;
+  std::vector<std::vector<Part>>& frames = found.frames;
+  std::vector<double>& times = found.times;
 
   // Connectivity: the parts of the first frame, concatenated (every frame has the same parts' shapes).
   std::vector<Triangle> triangles;
