@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
 
 namespace pleat::cli {

@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
-#include "sim_io/input_error.hpp"
+#include "static_core/input_error.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{

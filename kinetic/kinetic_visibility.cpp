@@ -6,9 +6,9 @@
 #include <chrono>
 
 #include "kinetic/kinetic_slice.hpp"
-#include "sim_io/mesh_validation.hpp"
 #include "static_core/assert.hpp"
 #include "static_core/frame_assembly.hpp"
+#include "static_core/mesh_validation.hpp"
 
 namespace pleat {
 

@@ -11,14 +11,14 @@
 // random motions).
 // Slices are independent and processed in parallel (TBB). `topology` must outlive the engine.
 // The constructor validates the topology and the first frame, advance() each frame
-// (sim_io/mesh_validation.hpp: InputError; a rejected frame leaves the engine as it was).
+// (static_core/mesh_validation.hpp: InputError; a rejected frame leaves the engine as it was).
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <memory>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
 #include "static_core/visibility_cone.hpp"

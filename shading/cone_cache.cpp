@@ -8,7 +8,7 @@
 
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/byte_order.hpp"
-#include "sim_io/input_error.hpp"
+#include "static_core/input_error.hpp"
 
 namespace pleat {
 

@@ -39,7 +39,7 @@
 #include <string>
 #include <vector>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 #include "static_core/visibility_cone.hpp"
 
 namespace pleat {

@@ -27,7 +27,7 @@
 #include <span>
 #include <vector>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat {
 

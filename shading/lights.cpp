@@ -11,7 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "sim_io/input_error.hpp"
+#include "static_core/input_error.hpp"
 
 namespace pleat {
 

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "shading/ray_visibility.hpp"
-#include "sim_io/mesh_validation.hpp"
+#include "static_core/mesh_validation.hpp"
 
 namespace pleat {
 

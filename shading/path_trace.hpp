@@ -23,7 +23,7 @@
 
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat {
 
@@ -41,8 +41,8 @@ struct PathTracedFrame {
 
 /// Path-traces every vertex's outgoing radiance on both sides of `frame` (brings `scene` to it first).
 /// `normals`: the unit vertex normals (static_core's vertex_normals). Throws InputError on an invalid
-/// topology or frame (sim_io/mesh_validation.hpp), std::invalid_argument on other size mismatches, paths < 1
-/// or albedo outside [0, 1).
+/// topology or frame (static_core/mesh_validation.hpp), std::invalid_argument on other size mismatches, paths
+/// < 1 or albedo outside [0, 1).
 PathTracedFrame path_trace_vertices(EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
                                     const std::vector<glm::dvec3>& normals, const Lighting& lighting,
                                     const PathTraceParams& params = {});

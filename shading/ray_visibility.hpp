@@ -41,7 +41,7 @@
 #include <vector>
 
 #include "shading/embree_scene.hpp"
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat {
 

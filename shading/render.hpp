@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "shading/embree_scene.hpp"
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat {
 
@@ -81,8 +81,8 @@ struct RenderParams {
 
 /// Renders `frame` with an Embree scene that already holds it (reuse one scene across a sequence).
 /// front_srgb / back_srgb: one sRGB colour in [0,1] per vertex. Throws InputError on an invalid frame
-/// (sim_io/mesh_validation.hpp; the one-shot forms below also check the topology), std::invalid_argument on
-/// colour or image sizes.
+/// (static_core/mesh_validation.hpp; the one-shot forms below also check the topology), std::invalid_argument
+/// on colour or image sizes.
 Image render_image(const EmbreeScene& scene, const Frame& frame, std::span<const glm::vec3> front_srgb,
                    std::span<const glm::vec3> back_srgb, const Camera& camera, int width, int height,
                    const RenderParams& params = {});

@@ -12,8 +12,8 @@
 #include <string>
 
 #include "shading/cone_lighting.hpp"
-#include "sim_io/mesh_validation.hpp"
 #include "sim_io/srgb.hpp"
+#include "static_core/mesh_validation.hpp"
 
 namespace pleat {
 
@@ -29,7 +29,7 @@ glm::dvec3 stewart_langer_radiance(double albedo, const glm::dvec3& irradiance, 
 void shade_frame(const MeshTopology& topology, const Frame& frame, const FrameVisibility& visibility,
                  const Lighting& lighting, const ShadeParams& params, ShadedFrame& out) {
   // The frame only: shading reads positions, never triangles, and a topology check would cost several
-  // percent of a sky-only pass (sim_io/mesh_validation.hpp).
+  // percent of a sky-only pass (static_core/mesh_validation.hpp).
   validate_frame(topology, frame, "shade_frame");
   const std::size_t n = topology.num_vertices;
   if (visibility.normals.size() != n || visibility.cones[0].size() != n || visibility.cones[1].size() != n)

@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "shading/lights.hpp"
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 #include "static_core/visibility_cone.hpp"
 
 namespace pleat {
@@ -50,10 +50,10 @@ struct ShadedFrame {
 /// Stewart–Langer radiance for direct irradiance E and sky visibility A (see above); albedo in [0, 1).
 glm::dvec3 stewart_langer_radiance(double albedo, const glm::dvec3& irradiance, double sky_visibility);
 
-/// Shades every vertex on both sides. Throws InputError on an invalid frame (sim_io/mesh_validation.hpp; the
-/// triangles are not read, so not checked), std::invalid_argument on a visibility of another size or a bad
-/// albedo. When visibility.measures are present (compute_visibility fills
-/// them), A is read from them rather than recomputed (see cone_lighting.hpp's fast paths).
+/// Shades every vertex on both sides. Throws InputError on an invalid frame (static_core/mesh_validation.hpp;
+/// the triangles are not read, so not checked), std::invalid_argument on a visibility of another size or a
+/// bad albedo. When visibility.measures are present (compute_visibility fills them), A is read from them
+/// rather than recomputed (see cone_lighting.hpp's fast paths).
 ShadedFrame shade_frame(const MeshTopology& topology, const Frame& frame, const FrameVisibility& visibility,
                         const Lighting& lighting, const ShadeParams& params = {});
 /// The same into `out`, reusing its storage (no allocation per frame once sized).

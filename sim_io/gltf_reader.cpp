@@ -19,9 +19,9 @@
 #include <optional>
 #include <stdexcept>
 
-#include "sim_io/input_error.hpp"
 #include "sim_io/input_file.hpp"
 #include "sim_io/srgb.hpp"
+#include "static_core/input_error.hpp"
 
 namespace pleat {
 

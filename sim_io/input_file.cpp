@@ -7,7 +7,7 @@
 #include <iterator>
 
 #include "sim_io/byte_order.hpp"
-#include "sim_io/input_error.hpp"
+#include "static_core/input_error.hpp"
 
 namespace pleat {
 

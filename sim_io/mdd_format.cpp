@@ -6,8 +6,8 @@
 
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/byte_order.hpp"
-#include "sim_io/input_error.hpp"
 #include "sim_io/input_file.hpp"
+#include "static_core/input_error.hpp"
 
 namespace pleat {
 

@@ -11,8 +11,8 @@
 #include <functional>
 #include <glm/vec3.hpp>
 
-#include "sim_io/mesh.hpp"
 #include "sim_io/mesh_sequence.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat {
 

@@ -9,11 +9,11 @@
 #include <unordered_set>
 
 #include "sim_io/gltf_reader.hpp"
-#include "sim_io/input_error.hpp"
 #include "sim_io/mdd_format.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io/obj_sequence.hpp"
 #include "sim_io/pc2_format.hpp"
+#include "static_core/input_error.hpp"
 
 namespace pleat {
 

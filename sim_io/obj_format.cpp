@@ -8,8 +8,8 @@
 #include <string_view>
 
 #include "sim_io/atomic_file.hpp"
-#include "sim_io/input_error.hpp"
 #include "sim_io/input_file.hpp"
+#include "static_core/input_error.hpp"
 
 namespace pleat {
 

@@ -13,7 +13,7 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat {
 

@@ -6,8 +6,8 @@
 #include <map>
 #include <optional>
 
-#include "sim_io/input_error.hpp"
 #include "sim_io/obj_format.hpp"
+#include "static_core/input_error.hpp"
 
 namespace pleat {
 

@@ -4,7 +4,7 @@
 #include <utility>
 #include <vector>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat {
 

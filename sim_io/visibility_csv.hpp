@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "sim_io/atomic_file.hpp"
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat {
 

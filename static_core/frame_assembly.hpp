@@ -13,7 +13,7 @@
 #include <span>
 #include <vector>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/slice_cones.hpp"
 #include "static_core/slice_triangulation.hpp"

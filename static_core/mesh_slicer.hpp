@@ -14,7 +14,7 @@
 #include <span>
 #include <vector>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
 
 namespace pleat {

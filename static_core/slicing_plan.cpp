@@ -6,8 +6,8 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "sim_io/mesh_validation.hpp"
 #include "static_core/mesh_slicer.hpp"
+#include "static_core/mesh_validation.hpp"
 
 namespace pleat {
 namespace {

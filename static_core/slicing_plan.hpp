@@ -2,13 +2,13 @@
 //
 // A plan is a plain value computed once (usually from frame 0) and reused for every frame: the kinetic
 // layer keeps the planes fixed in space while the cloth moves through them. Every function below that takes
-// (topology, frame) validates them (sim_io/mesh_validation.hpp: InputError).
+// (topology, frame) validates them (static_core/mesh_validation.hpp: InputError).
 #pragma once
 
 #include <glm/vec3.hpp>
 #include <vector>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat {
 

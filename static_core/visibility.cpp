@@ -6,9 +6,9 @@
 #include <glm/geometric.hpp>
 #include <memory>
 
-#include "sim_io/mesh_validation.hpp"
 #include "static_core/frame_assembly.hpp"
 #include "static_core/mesh_slicer.hpp"
+#include "static_core/mesh_validation.hpp"
 #include "static_core/slice_cones.hpp"
 #include "static_core/slice_triangulation.hpp"
 

@@ -7,14 +7,14 @@
 // segments (holes subtracted), store them on mesh vertices (SlicingPlan::storage), fill vertices that got
 // none, and merge each vertex's 2D cones into 3D cones per side. Cost: O(sum over slices of n log n) in
 // practice. Precondition: the surface does not self-intersect (crossing chains are detected, counted and
-// handled). Input is validated where it enters (sim_io/mesh_validation.hpp): triangle indices in range, one
-// finite position per vertex; anything else throws InputError naming the entry, the frame and the vertex or
-// triangle.
+// handled). Input is validated where it enters (static_core/mesh_validation.hpp): triangle indices in range,
+// one finite position per vertex; anything else throws InputError naming the entry, the frame and the vertex
+// or triangle.
 #pragma once
 
 #include <memory>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility_cone.hpp"
 

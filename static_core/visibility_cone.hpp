@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 #include "static_core/spherical_polygon.hpp"
 
 namespace pleat {

@@ -10,7 +10,7 @@
 #include <iterator>
 
 #include "sim_io/cloth_generators.hpp"
-#include "sim_io/input_error.hpp"
+#include "static_core/input_error.hpp"
 #include "static_core/visibility.hpp"
 #include "test_support.hpp"
 

@@ -1,7 +1,7 @@
-// Every engine entry validates the cloth it is given (sim_io/mesh_validation.hpp): a frame with too few or
-// too many positions, a NaN or an infinite coordinate, and a triangle naming a vertex out of range each throw
-// InputError naming the entry, the place (frame and vertex, or triangle) and the problem, before any position
-// is read. A valid frame still gives the same result, also right after a rejected one.
+// Every engine entry validates the cloth it is given (static_core/mesh_validation.hpp): a frame with too few
+// or too many positions, a NaN or an infinite coordinate, and a triangle naming a vertex out of range each
+// throw InputError naming the entry, the place (frame and vertex, or triangle) and the problem, before any
+// position is read. A valid frame still gives the same result, also right after a rejected one.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,8 +15,8 @@
 #include "shading/path_trace.hpp"
 #include "shading/render.hpp"
 #include "shading/shade.hpp"
-#include "sim_io/input_error.hpp"
-#include "sim_io/mesh_validation.hpp"
+#include "static_core/input_error.hpp"
+#include "static_core/mesh_validation.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
 #include "test_support.hpp"

@@ -16,7 +16,7 @@
 #include "shading/lights.hpp"
 #include "shading/shade.hpp"
 #include "sim_io/cloth_generators.hpp"
-#include "sim_io/input_error.hpp"
+#include "static_core/input_error.hpp"
 #include "static_core/spherical_polygon.hpp"
 #include "static_core/visibility.hpp"
 #include "test_support.hpp"

@@ -10,10 +10,10 @@
 
 #include "sim_io/gltf_reader.hpp"
 #include "sim_io/gltf_writer.hpp"
-#include "sim_io/input_error.hpp"
 #include "sim_io/mesh_report.hpp"
 #include "sim_io/srgb.hpp"
 #include "sim_io_fixtures.hpp"
+#include "static_core/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

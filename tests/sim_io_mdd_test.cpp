@@ -1,10 +1,10 @@
 // MDD point caches (big-endian, times in seconds): round trip, byte layout, bad input.
 #include <gtest/gtest.h>
 
-#include "sim_io/input_error.hpp"
 #include "sim_io/mdd_format.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io_fixtures.hpp"
+#include "static_core/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

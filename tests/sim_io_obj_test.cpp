@@ -3,9 +3,9 @@
 
 #include <limits>
 
-#include "sim_io/input_error.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io_fixtures.hpp"
+#include "static_core/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

@@ -5,11 +5,11 @@
 
 #include <cstdlib>
 
-#include "sim_io/input_error.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io/pc2_format.hpp"
 #include "sim_io_fixtures.hpp"
+#include "static_core/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

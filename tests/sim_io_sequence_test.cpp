@@ -7,13 +7,13 @@
 #include <stdexcept>
 
 #include "sim_io/atomic_file.hpp"
-#include "sim_io/input_error.hpp"
 #include "sim_io/mesh_report.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io/obj_sequence.hpp"
 #include "sim_io/visibility_csv.hpp"
 #include "sim_io_fixtures.hpp"
+#include "static_core/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

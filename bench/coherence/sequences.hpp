@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat::bench {
 

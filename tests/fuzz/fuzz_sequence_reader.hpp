@@ -3,8 +3,8 @@
 
 #include <filesystem>
 
-#include "sim_io/input_error.hpp"
 #include "sim_io/mesh_sequence.hpp"
+#include "static_core/input_error.hpp"
 
 namespace pleat::fuzz {
 

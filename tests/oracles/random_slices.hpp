@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 #include "static_core/mesh_slicer.hpp"
 
 namespace pleat::test {

@@ -4,7 +4,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat::test {
 

@@ -1,4 +1,4 @@
-#include "sim_io/mesh_validation.hpp"
+#include "static_core/mesh_validation.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "sim_io/input_error.hpp"
+#include "static_core/input_error.hpp"
 
 namespace pleat {
 namespace {

@@ -10,7 +10,7 @@
 // a 3,025-vertex curtain: about 1 us per frame, 3.5 us per topology (5,832 triangles).
 #pragma once
 
-#include "sim_io/mesh.hpp"
+#include "static_core/mesh.hpp"
 
 namespace pleat {
 

@@ -1,7 +1,8 @@
 // The one error type for bad input: it names the file and the place (line, byte offset, accessor, frame).
 //
-// sim_io never prints and never aborts: it throws InputError at the boundary where input enters, and the
-// CLI turns it into one line on stderr and a non-zero exit.
+// The readers (sim_io) and the engines (mesh_validation.hpp) never print and never abort: they throw
+// InputError at the boundary where input enters, and the CLI turns it into one line on stderr and a non-zero
+// exit.
 #pragma once
 
 #include <stdexcept>
