@@ -30,7 +30,7 @@ std::filesystem::path make_temporary_sibling(const std::filesystem::path& path) 
     name += std::to_string(::getpid());
     name += '.';
     name += std::to_string(counter++);
-    const std::filesystem::path candidate = dir / name;
+    std::filesystem::path candidate = dir / name;
     const int fd = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) {
       ::close(fd);

@@ -584,6 +584,7 @@ FramesFound read_flipbook(const Scene& scene, double scene_fps) {
       scale_channels = std::move(of_node);
   }
   std::vector<int> mesh_indices;
+  mesh_indices.reserve(mesh_nodes.size());
   for (const MeshNode& mn : mesh_nodes) mesh_indices.push_back(model.nodes[std::size_t(mn.node)].mesh);
   std::sort(mesh_indices.begin(), mesh_indices.end());
   const bool distinct_meshes =

@@ -202,6 +202,7 @@ std::vector<std::filesystem::path> list_obj_directory(const std::filesystem::pat
   if (names.empty()) throw InputError(directory.string(), "", "no .obj files in the directory");
   std::sort(names.begin(), names.end(), natural_less);
   std::vector<std::filesystem::path> files;
+  files.reserve(names.size());
   for (const auto& n : names) files.push_back(directory / n);
   return files;
 }

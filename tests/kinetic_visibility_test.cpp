@@ -185,6 +185,7 @@ RC_GTEST_PROP(KineticVisibility, EqualsAFullRecomputeAtEveryFrameOnRandomCoheren
   }
   std::vector<std::pair<std::size_t, Index>> through;
   const int extra = *rc::gen::inRange(0, 4);
+  through.reserve(std::size_t(extra));
   for (int i = 0; i < extra; ++i)
     through.emplace_back(*rc::gen::inRange<std::size_t>(0, frames.size()),
                          *rc::gen::inRange<Index>(0, cloth.topology().num_vertices));

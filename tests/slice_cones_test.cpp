@@ -119,7 +119,7 @@ RC_GTEST_PROP(SliceCones, FunnelTreesMatchAngularSweepOnRandomChains, ()) {
   std::mt19937_64 rng(seed);
   for (int k = 0; k < 10; ++k) {
     const Slice slice = test::random_chain_slice(rng);
-    const std::string mismatch = compare_with_oracle(slice);
+    std::string mismatch = compare_with_oracle(slice);
     RC_ASSERT(mismatch == "");
   }
 }
@@ -136,7 +136,7 @@ std::string check_sliced_surface(std::uint64_t seed) {
     Slice slice;
     slice_mesh(surface.topology, edges, surface.frame, test::random_plane_through(rng, surface.frame), faces,
                scratch, slice);
-    const std::string mismatch = compare_with_oracle(slice);
+    std::string mismatch = compare_with_oracle(slice);
     if (!mismatch.empty()) return mismatch;
   }
   return {};

@@ -69,7 +69,7 @@ double changed_fraction(const Image& a, const Image& b) {
   for (std::size_t i = 0; i < a.rgb.size(); i += 3)
     changed += std::abs(a.rgb[i] - b.rgb[i]) > 8 || std::abs(a.rgb[i + 1] - b.rgb[i + 1]) > 8 ||
                std::abs(a.rgb[i + 2] - b.rgb[i + 2]) > 8;
-  return double(changed) / double(a.rgb.size() / 3);
+  return double(changed) / (double(a.rgb.size()) / 3.0);
 }
 
 float linear_to_srgb(float c) {

@@ -309,6 +309,7 @@ std::variant<std::vector<MethodRow>, std::string> run_cone_engines_in_child(cons
                                 std::to_string(threads)};
   if (keep_sky) args.emplace_back("--worker-keep-sky");
   std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   pid_t pid = 0;

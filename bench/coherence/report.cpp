@@ -392,7 +392,8 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
     if (!b || m.vertices > b->vertices) b = &m;
   }
   for (const auto& [seq, ab] : span) {
-    const auto [a, b] = ab;
+    const Measurement* a = ab.first;  // named copies: a lambda below captures them
+    const Measurement* b = ab.second;
     if (a == b) continue;
     auto slope = [&](const std::string& method, int rays) {
       const double ta = ms_of(a->row(method, 1, rays)), tb = ms_of(b->row(method, 1, rays));
