@@ -17,6 +17,11 @@
 //   --pleat_stage_resolutions=55,173,548  the curtain frames whose slice sets the stage micro-benchmarks
 //                                    use (allocation counts: resolutions up to 200 only)
 //   --pleat_embree=1                 0 skips the Embree reference rows
+//   --pleat_real=drape,pile,rucked   the real Blender sequences of data/ for the frame/real rows (their last
+//                                    sample, the most folded; "" for none): the pile regression benchmark of
+//                                    the static-core issue (no real sequence above 2x the drape's µs per
+//                                    slice vertex; compare the rows' s_per_slice_vertex)
+//   --pleat_data=DIR                 the repository's data/ (default: found from this source file's path)
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
@@ -38,6 +43,7 @@
 #include "shading/embree_scene.hpp"
 #include "shading/ray_visibility.hpp"
 #include "sim_io/cloth_generators.hpp"
+#include "sim_io/mesh_sequence.hpp"
 #include "static_core/cone_assembly.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/slice_cones.hpp"
@@ -101,6 +107,8 @@ struct Options {
   int large_repetitions = 2;
   std::vector<int> stage_resolutions{55, 173, 548};
   bool embree = true;
+  std::vector<std::string> real{"drape", "pile", "rucked"};
+  std::string data = std::string(PLEAT_BENCH_SOURCE_DIR) + "/data";
 };
 Options g_options;
 
@@ -137,6 +145,10 @@ bool parse_options(int& argc, char** argv) {
       for (const auto& s : split(v)) g_options.stage_resolutions.push_back(std::stoi(s));
     } else if (const char* v = value("--pleat_embree")) {
       g_options.embree = std::stoi(v) != 0;
+    } else if (const char* v = value("--pleat_real")) {
+      g_options.real = split(v);
+    } else if (const char* v = value("--pleat_data")) {
+      g_options.data = v;
     } else {
       argv[kept++] = argv[i];
     }
@@ -384,6 +396,33 @@ void frame_benchmark(benchmark::State& state, ClothKind kind, int resolution, in
   set_slice_counters(state, result.stats);
 }
 
+/// A real Blender sequence's last (most folded) sample with the default plan made on it.
+struct RealInput {
+  MeshSequence sequence;
+  Frame frame;
+  SlicingPlan plan;
+  explicit RealInput(const std::string& name)
+      : sequence(load_sequence(g_options.data + "/" + name + "/" + name + ".obj",
+                               g_options.data + "/" + name + "/" + name + ".pc2")),
+        frame(sequence.frame(sequence.num_frames() - 1)),
+        plan(make_diffuse_plan(sequence.topology(), frame, DiffusePlanParams{})) {}
+};
+
+void real_frame_benchmark(benchmark::State& state, std::string name) {
+  static std::map<std::string, std::unique_ptr<RealInput>> cache;
+  auto& in = cache[name];
+  if (!in) in = std::make_unique<RealInput>(name);
+  tbb::global_control control(tbb::global_control::max_allowed_parallelism, 1);
+  FrameVisibility result;
+  compute_visibility(in->sequence.topology(), in->frame, in->plan, {false}, result);
+  for (auto _ : state) {
+    compute_visibility(in->sequence.topology(), in->frame, in->plan, {false}, result);
+    benchmark::DoNotOptimize(result.measures[0].data());
+  }
+  state.counters["vertices"] = double(in->sequence.topology().num_vertices);
+  set_slice_counters(state, result.stats);
+}
+
 /// Embree per-vertex ray casting of the same frame: normals, BVH build, 256 rays per vertex and side.
 void embree_benchmark(benchmark::State& state, ClothKind kind, int resolution, int threads) {
   const Input& in = input(kind, resolution);
@@ -451,6 +490,11 @@ void allocation_benchmark(benchmark::State& state, int resolution) {
 std::string size_label(int resolution) { return std::to_string(cloth_vertex_count(resolution)); }
 
 void register_benchmarks() {
+  for (const std::string& name : g_options.real)
+    benchmark::RegisterBenchmark(("frame/real/" + name + "/threads:1").c_str(), real_frame_benchmark, name)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->MeasureProcessCPUTime();
   for (ClothKind kind : g_options.kinds)
     for (int resolution : g_options.resolutions) {
       const bool large = resolution > kLargeResolution;
