@@ -232,6 +232,8 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
     scratch.take_out.push_back(out);
   };
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f);
+  // More vertices to take out than the budget allows already: rebuild before removing any.
+  if (scratch.take_out.size() > budget) return RebuildReason::policy;
   while (!scratch.take_out.empty()) {
     // Remove the queued vertices at frame k's points (the triangulation is valid there), remembering their
     // neighbours: every face a removal creates has its vertices among them.
