@@ -5,6 +5,7 @@
 #   out/renders/*.png       images of every 10th frame (Embree ray-cast, both cloth sides shaded)
 #   out/drape.csv           per-vertex sky visibility A of both sides, every frame (frame,vertex,front,back)
 #   out/drape_stats.json    per-frame statistics of the cone computation
+#   out/view/index.html     a page that plays the animation and relights it live from its cones (pleat view)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -14,4 +15,5 @@ input=(data/drape/drape.obj --cache data/drape/drape.pc2)
 "$pleat" info "${input[@]}"
 "$pleat" shade "${input[@]}" -o out/drape.glb --light cloudy:1.0,up=0,1,0 --render out/renders --render-every 10
 "$pleat" visibility "${input[@]}" -o out/drape.csv --stats out/drape_stats.json
-echo "pleat demo: wrote $(pwd)/out/drape.glb, $(pwd)/out/renders/ ($(ls out/renders | wc -l) PNG images), $(pwd)/out/drape.csv"
+"$pleat" view out/drape.glb -o out/view
+echo "pleat demo: wrote $(pwd)/out/drape.glb, $(pwd)/out/renders/ ($(ls out/renders | wc -l) PNG images), $(pwd)/out/drape.csv; open $(pwd)/out/view/index.html in a browser"
