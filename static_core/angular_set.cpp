@@ -105,6 +105,54 @@ void intersect_wedges(std::span<const Wedge> a, std::span<const Wedge> b, WedgeS
   merge_into_wedges(s.z, out);
 }
 
+namespace {
+
+/// The signed turn from angle x to angle y the shorter way round, in [-pi, pi].
+double signed_turn(double x, double y) { return std::remainder(y - x, kTwoPi); }
+
+bool is_full_turn(std::span<const Wedge> w) {
+  return w.size() == 1 && w[0].width >= kTwoPi - kAngleTolerance;
+}
+
+}  // namespace
+
+bool blend_wedges(std::span<const Wedge> a, std::span<const Wedge> b, double t, WedgeScratch& s,
+                  std::vector<Wedge>& out) {
+  const std::size_t k = a.size();
+  if (b.size() != k) return false;
+  if (k == 0) return true;
+  if (is_full_turn(a) || is_full_turn(b)) {
+    if (!(is_full_turn(a) && is_full_turn(b))) return false;
+    out.push_back({0.0, kTwoPi});
+    return true;
+  }
+  // The cyclic shift r (a[i] with b[(i + r) % k]) that moves the ends least in total.
+  std::size_t shift = 0;
+  double least = INFINITY;
+  for (std::size_t r = 0; r < k; ++r) {
+    double cost = 0;
+    for (std::size_t i = 0; i < k && cost < least; ++i) {
+      const Wedge& x = a[i];
+      const Wedge& y = b[(i + r) % k];
+      cost += std::abs(signed_turn(x.start, y.start)) + std::abs(signed_turn(x.end(), y.end()));
+    }
+    if (cost < least) least = cost, shift = r;
+  }
+  s.a.clear();
+  for (std::size_t i = 0; i < k; ++i) {
+    const Wedge& x = a[i];
+    const Wedge& y = b[(i + shift) % k];
+    const double turn_start = signed_turn(x.start, y.start), turn_end = signed_turn(x.end(), y.end());
+    if (std::abs(turn_start) > kMaxBlendTurn || std::abs(turn_end) > kMaxBlendTurn) return false;
+    // The ends' shorter turns must describe y's own width (not y's complement or a wrapped-around one).
+    if (std::abs(x.width + turn_end - turn_start - y.width) > 1e-9) return false;
+    const double width = x.width + t * (y.width - x.width);
+    if (width > 0) s.a.push_back({wrap_angle(x.start + t * turn_start), width});
+  }
+  unite_wedges(s.a, s.intervals, out);
+  return true;
+}
+
 bool is_united(std::span<const Wedge> wedges) {
   for (std::size_t i = 0; i < wedges.size(); ++i) {
     if (!(wedges[i].width > 0) || wedges[i].start < 0 || wedges[i].start >= kTwoPi) return false;

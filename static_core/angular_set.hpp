@@ -60,6 +60,19 @@ bool is_united(std::span<const Wedge> wedges);
 /// The same set as intersect_wedges with the half-turn, in O(k).
 void clip_to_half_turn(std::span<const Wedge> wedges, double h, std::vector<Wedge>& out);
 
+/// The largest change of a wedge end that blend_wedges interpolates: beyond it the two sets are not the same
+/// wedges seen from two nearby points, and are not blended.
+inline constexpr double kMaxBlendTurn = kTwoPi / 4;
+
+/// Appends to `out` the set between the united sets `a` (at t = 0) and `b` (at t = 1): the wedges of `a` and
+/// `b` matched in counter-clockwise order (the cyclic shift that moves the ends least), each end moved the
+/// shorter way round from a's to b's by the fraction t in [0, 1], and the result united. Returns false, and
+/// appends nothing, when the sets cannot be matched so: different numbers of wedges, one a full turn and the
+/// other not, or an end that would turn by more than kMaxBlendTurn. Two empty sets blend to the empty set.
+/// O(k^2) for k wedges; no allocation once `scratch` has grown.
+bool blend_wedges(std::span<const Wedge> a, std::span<const Wedge> b, double t, WedgeScratch& scratch,
+                  std::vector<Wedge>& out);
+
 class AngularSet {
  public:
   AngularSet() = default;

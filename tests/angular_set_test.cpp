@@ -1,11 +1,14 @@
 // Angular sets (static_core/angular_set.hpp): the O(k) half-turn clip of the 3D assembly against the general
 // intersection (intersect_wedges) on random united sets, including wedges that wrap past 2pi, full turns,
-// ends exactly on the half-turn's ends, and half-turns that wrap.
+// ends exactly on the half-turn's ends, and half-turns that wrap; the blend of two sets (blend_wedges, the
+// interpolated-on-fan storage) against the set built directly from known end motions.
 #include "static_core/angular_set.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace pleat {
@@ -60,6 +63,95 @@ RC_GTEST_PROP(AngularSet, HalfTurnClipEqualsTheIntersection, ()) {
   RC_ASSERT(difference(clipped, expected) < 1e-12);
   for (const Wedge& w : clipped)
     RC_ASSERT(w.start >= 0 && w.start < kTwoPi && w.width > 0 && w.width <= kTwoPi / 2);
+}
+
+/// k disjoint wedges from 2k distinct angles round the circle, and for each end a motion small enough to keep
+/// the order: the sets at both ends of a blend, and what the blend must be in between.
+struct MovingWedges {
+  std::vector<Wedge> at0;
+  std::vector<std::pair<double, double>> moves;  // per wedge: the turn of its start and of its end
+  std::vector<Wedge> at(double t) const {
+    std::vector<Wedge> out;
+    for (std::size_t i = 0; i < at0.size(); ++i) {
+      const double start = at0[i].start + t * moves[i].first;
+      out.push_back({wrap_angle(start), at0[i].end() + t * moves[i].second - start});
+    }
+    return out;
+  }
+};
+
+MovingWedges gen_moving_wedges(int k) {
+  // 2k gaps of random positive weights round the circle from a random origin.
+  std::vector<double> gaps(2 * k);
+  double total = 0;
+  for (double& g : gaps) total += g = *rc::gen::inRange(1, 101);
+  double least = kTwoPi;
+  for (double& g : gaps) least = std::min(least, g *= kTwoPi / total);
+  double at = *rc::gen::inRange(0, 1 << 20) * (kTwoPi / (1 << 20));
+  MovingWedges m;
+  for (int i = 0; i < k; ++i) {
+    const double start = at;
+    at += gaps[2 * i];
+    m.at0.push_back({wrap_angle(start), gaps[2 * i]});
+    at += gaps[2 * i + 1];
+    // Each end moves by less than a third of the narrowest gap, so the order is kept.
+    auto move = [&] { return *rc::gen::inRange(-1000, 1001) / 1000.0 * least / 3.0; };
+    const double ds = move(), de = move();
+    m.moves.emplace_back(ds, de);
+  }
+  return m;
+}
+
+std::vector<Wedge> united(const std::vector<Wedge>& raw) {
+  std::vector<std::pair<double, double>> scratch;
+  std::vector<Wedge> out;
+  unite_wedges(raw, scratch, out);
+  return out;
+}
+
+RC_GTEST_PROP(AngularSet, BlendMovesEveryEndLinearly, ()) {
+  const MovingWedges m = gen_moving_wedges(*rc::gen::inRange(1, 6));
+  const std::vector<Wedge> a = united(m.at(0.0)), b = united(m.at(1.0));
+  RC_ASSERT(a.size() == m.at0.size() && b.size() == m.at0.size());
+  const double t = *rc::gen::element(0.0, 1.0, 0.5, *rc::gen::inRange(0, 1001) / 1000.0);
+  WedgeScratch scratch;
+  std::vector<Wedge> blend, reverse;
+  RC_ASSERT(blend_wedges(a, b, t, scratch, blend));
+  RC_ASSERT(is_united(blend));
+  RC_ASSERT(difference(blend, m.at(t)) < 1e-12);
+  RC_ASSERT(std::abs(AngularSet::from_wedges(blend).measure() -
+                     ((1 - t) * AngularSet::from_wedges(a).measure() +
+                      t * AngularSet::from_wedges(b).measure())) < 1e-12);
+  RC_ASSERT(blend_wedges(b, a, 1.0 - t, scratch, reverse));  // symmetric
+  RC_ASSERT(difference(blend, reverse) < 1e-12);
+  std::vector<Wedge> same;
+  RC_ASSERT(blend_wedges(a, a, t, scratch, same));
+  RC_ASSERT(difference(same, a) < 1e-12);
+}
+
+TEST(AngularSet, BlendRefusesSetsThatDoNotMatch) {
+  WedgeScratch scratch;
+  std::vector<Wedge> out;
+  const std::vector<Wedge> one{{1.0, 0.5}}, two{{1.0, 0.2}, {2.0, 0.3}}, full{{0.0, kTwoPi}};
+  EXPECT_FALSE(blend_wedges(one, two, 0.5, scratch, out));   // a wedge appears
+  EXPECT_FALSE(blend_wedges(one, full, 0.5, scratch, out));  // a full turn against a wedge
+  const std::vector<Wedge> far{{1.0 + kTwoPi / 2, 0.5}};
+  EXPECT_FALSE(blend_wedges(one, far, 0.5, scratch, out));  // ends that would turn by half a turn
+  const std::vector<Wedge> complement{{1.5, kTwoPi - 0.5}};
+  EXPECT_FALSE(blend_wedges(one, complement, 0.5, scratch, out));  // same ends, the other way round
+  EXPECT_TRUE(out.empty());
+  EXPECT_TRUE(blend_wedges(full, full, 0.3, scratch, out));
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].width, kTwoPi);
+  out.clear();
+  EXPECT_TRUE(blend_wedges({}, {}, 0.3, scratch, out));
+  EXPECT_TRUE(out.empty());
+  // Across 0: a wedge that wraps blends with one that no longer does.
+  const std::vector<Wedge> wraps{{6.2, 0.3}}, after{{0.1, 0.3}};
+  EXPECT_TRUE(blend_wedges(wraps, after, 0.5, scratch, out));
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_NEAR(std::remainder(out[0].start - (6.2 + 0.5 * (0.1 + kTwoPi - 6.2)), kTwoPi), 0.0, 1e-12);
+  EXPECT_NEAR(out[0].width, 0.3, 1e-12);
 }
 
 }  // namespace
