@@ -251,10 +251,13 @@ int run(int argc, char** argv) {
       double spacing_edges;
       ConeStorage storage;
     };
-    constexpr auto kPaper = ConeStorage::NearerEndpoint, kFan = ConeStorage::NearestOnFan;
-    for (const Setting& s : {Setting{6, 1.0, kPaper}, Setting{6, 0.5, kPaper}, Setting{12, 1.0, kPaper},
-                             Setting{6, 1.0, kFan}, Setting{8, 1.0, kFan}, Setting{8, 0.75, kFan},
-                             Setting{10, 1.0, kFan}, Setting{12, 1.0, kFan}, Setting{12, 0.5, kFan}}) {
+    constexpr auto kPaper = ConeStorage::NearerEndpoint, kFan = ConeStorage::NearestOnFan,
+                   kBlend = ConeStorage::InterpolatedOnFan;
+    for (const Setting& s :
+         {Setting{6, 1.0, kPaper}, Setting{6, 0.5, kPaper}, Setting{12, 1.0, kPaper}, Setting{6, 1.0, kFan},
+          Setting{8, 1.0, kFan}, Setting{8, 0.75, kFan}, Setting{10, 1.0, kFan}, Setting{12, 1.0, kFan},
+          Setting{12, 0.5, kFan}, Setting{6, 1.0, kBlend}, Setting{8, 1.0, kBlend}, Setting{8, 0.75, kBlend},
+          Setting{10, 1.0, kBlend}, Setting{12, 1.0, kBlend}}) {
       if (quick && s.orientations != 6) continue;
       const double spacing = s.spacing_edges * average_edge_length(topology, frame);
       SlicingPlan plan = make_diffuse_plan(topology, frame, {s.orientations, spacing, 0});

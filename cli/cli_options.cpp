@@ -74,7 +74,8 @@ void PlanOptions::add_to(CLI::App& command) {
           "plane orientations (6: the paper's axis-aligned ones; other counts are spread over the sphere)")
       ->check(CLI::Range(1, 1000));
   command
-      .add_option("--spacing", spacing, "distance between parallel planes (default: the average edge length)")
+      .add_option("--spacing", spacing,
+                  "distance between parallel planes (default: 3/4 of the average edge length)")
       ->check(CLI::NonNegativeNumber);
   command.add_option("--planes", planes_per_orientation, "planes per orientation (overrides --spacing)")
       ->check(CLI::NonNegativeNumber);
@@ -87,9 +88,11 @@ void PlanOptions::add_to(CLI::App& command) {
   command
       .add_option(
           "--cone-storage", storage,
-          "how 2D cones reach mesh vertices: nearest-on-fan (the nearest cut of a vertex's own edges per "
-          "orientation) or nearer-endpoint (the paper's: every plane's cut on edges the vertex is nearer to)")
-      ->check(CLI::IsMember({"nearest-on-fan", "nearer-endpoint"}))
+          "how 2D cones reach mesh vertices: interpolated-on-fan (per orientation, the cuts of a vertex's "
+          "own edges nearest below and above it, blended at its height), nearest-on-fan (the nearest cut "
+          "of its own edges per orientation) or nearer-endpoint (the paper's: every plane's cut on edges "
+          "the vertex is nearer to)")
+      ->check(CLI::IsMember({"interpolated-on-fan", "nearest-on-fan", "nearer-endpoint"}))
       ->capture_default_str();
   command.add_flag(
       "--paper", paper,
@@ -103,8 +106,7 @@ SlicingPlan PlanOptions::make(const MeshTopology& topology, const Frame& frame) 
   const int count = paper ? 6 : orientations;
   SlicingPlan plan = adaptive ? make_adaptive_plan(topology, frame, {count, max_missing})
                               : make_diffuse_plan(topology, frame, {count, spacing, planes_per_orientation});
-  plan.storage =
-      paper || storage == "nearer-endpoint" ? ConeStorage::NearerEndpoint : ConeStorage::NearestOnFan;
+  plan.storage = paper ? ConeStorage::NearerEndpoint : cone_storage_from_name(storage);
   return plan;
 }
 
@@ -118,7 +120,7 @@ std::string PlanOptions::describe() const {
     return std::to_string(count) + " orientations x " + std::to_string(planes_per_orientation) + " planes" +
            stored;
   return std::to_string(count) + " orientations, spacing " +
-         (spacing > 0 ? std::to_string(spacing) : std::string("= average edge length")) + stored;
+         (spacing > 0 ? std::to_string(spacing) : std::string("= 3/4 of the average edge length")) + stored;
 }
 
 }  // namespace pleat::cli

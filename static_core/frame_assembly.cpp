@@ -16,7 +16,7 @@ void store_cones(Index num_vertices, ConeStorage storage, const Frame& frame, co
                  std::vector<StoredCone>& stored, std::vector<std::int64_t>& best_of) {
   if (best_of.size() != 2 * std::size_t(num_vertices)) best_of.assign(2 * std::size_t(num_vertices), -1);
   stored.clear();
-  auto offer = [&](Index vertex, Index x, double distance) {
+  auto offer = [&](Index vertex, Index x, double distance, bool vertex_above) {
     for (int side = 0; side < 2; ++side) {
       std::int64_t& best = best_of[2 * std::size_t(vertex) + side];
       if (best >= 0 && stored[best].distance <= distance) continue;
@@ -24,17 +24,17 @@ void store_cones(Index num_vertices, ConeStorage storage, const Frame& frame, co
         best = static_cast<std::int64_t>(stored.size());
         stored.push_back({});
       }
-      stored[best] = {vertex, side, x, distance};
+      stored[best] = {vertex, side, x, distance, vertex_above};
     }
   };
   for (Index x = 0; x < slice.vertices.size(); ++x) {
     const SliceVertex& sv = slice.vertices[x];
     if (storage == ConeStorage::NearerEndpoint) {
-      offer(sv.nearer, x, sv.distance);
+      offer(sv.nearer, x, sv.distance, sv.nearer == sv.above);
     } else {
       const double length = glm::distance(frame.positions[sv.above], frame.positions[sv.below]);
-      offer(sv.above, x, sv.t * length);
-      offer(sv.below, x, (1.0 - sv.t) * length);
+      offer(sv.above, x, sv.t * length, true);
+      offer(sv.below, x, (1.0 - sv.t) * length, false);
     }
   }
   for (const StoredCone& s : stored) best_of[2 * std::size_t(s.vertex) + s.side] = -1;
@@ -53,9 +53,15 @@ struct FrameAssembler::Impl {
     std::uint32_t plane;
     std::uint32_t stored;
   };
+  struct Blend {
+    std::size_t cone, begin, count;  ///< ws.cones[cone] has ws.blended[begin, begin + count)
+  };
   struct Workspace {
     ConeAssemblyScratch scratch;
     std::vector<PlanarCone> cones;
+    std::vector<Wedge> blended;
+    std::vector<Blend> blends;
+    WedgeScratch wedge_scratch;
   };
 
   Impl(const MeshTopology& topology, const MeshEdges& edges, const SlicingPlan& plan,
@@ -114,20 +120,23 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
       const StoredCone& c = stored(p)[s];
       refs[cursor[key_of(c.side, plan.planes[p].orientation, c.vertex)]++] = {p, s};
     }
-  if (plan.storage == ConeStorage::NearestOnFan) {
-    // Keep only the nearest offer of each key (ties: the first, i.e. the lower plane): compact the CSR in
-    // place.
+  if (plan.storage != ConeStorage::NearerEndpoint) {
+    // Keep only the nearest offer of each key (ties: the first, i.e. the lower plane), or under
+    // InterpolatedOnFan the nearest from a plane below the vertex and then the nearest from a plane above it:
+    // compact the CSR in place.
+    const bool both_sides_of_vertex = plan.storage == ConeStorage::InterpolatedOnFan;
+    auto of = [&](std::uint32_t i) -> const StoredCone& { return stored(refs[i].plane)[refs[i].stored]; };
     std::uint32_t out = 0;
     for (std::size_t k = 0; k < keys; ++k) {
       const std::uint32_t begin = first[k], end = first[k + 1];
       first[k] = out;
-      if (begin == end) continue;
-      std::uint32_t best = begin;
-      for (std::uint32_t i = begin + 1; i < end; ++i)
-        if (stored(refs[i].plane)[refs[i].stored].distance <
-            stored(refs[best].plane)[refs[best].stored].distance)
-          best = i;
-      refs[out++] = refs[best];
+      std::int64_t best[2] = {-1, -1};  // [0]: from a plane below the vertex, [1]: above
+      for (std::uint32_t i = begin; i < end; ++i) {
+        std::int64_t& b = best[both_sides_of_vertex && !of(i).vertex_above ? 1 : 0];
+        if (b < 0 || of(i).distance < of(std::uint32_t(b)).distance) b = i;
+      }
+      for (std::int64_t b : best)
+        if (b >= 0) refs[out++] = refs[b];
     }
     first[keys] = out;
     refs.resize(out);
@@ -191,20 +200,52 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     result.cones[side].resize(n);
     result.measures[side].assign(n, {});
   }
+  auto cone_of = [&](const Ref& r, int side) {
+    return planes[r.plane]->cones.cone(stored(r.plane)[r.stored].slice_vertex, static_cast<Side>(side));
+  };
+  // Under InterpolatedOnFan, a key with offers from a plane below the vertex (lo) and one above it (hi): the
+  // blend of their cones at the vertex's height, or, where they do not match, the nearer plane's cone.
+  // Appends to ws.cones (a blended cone's wedges are placed once ws.blended stops growing). Planes of a
+  // pencil (not parallel) are not blended: the nearer cut's cone is taken, as under NearestOnFan.
+  auto blend_at_vertex = [&](const glm::dvec3& position, const Ref& lo, const Ref& hi, int side,
+                             Workspace& ws) {
+    const SlicingPlane &below = plan.planes[lo.plane], &above = plan.planes[hi.plane];
+    if (below.normal != above.normal || below.u != above.u || below.w != above.w) {
+      const Ref& nearer =
+          stored(hi.plane)[hi.stored].distance < stored(lo.plane)[lo.stored].distance ? hi : lo;
+      ws.cones.push_back({&plan.planes[nearer.plane], cone_of(nearer, side)});
+      return;
+    }
+    const double t = std::clamp(
+        (glm::dot(below.normal, position) - below.offset) / (above.offset - below.offset), 0.0, 1.0);
+    const std::size_t begin = ws.blended.size();
+    if (blend_wedges(cone_of(lo, side), cone_of(hi, side), t, ws.wedge_scratch, ws.blended)) {
+      ws.blends.push_back({ws.cones.size(), begin, ws.blended.size() - begin});
+      ws.cones.push_back({&below, {}});
+    } else {
+      const Ref& nearer = t <= 0.5 ? lo : hi;
+      ws.cones.push_back({&plan.planes[nearer.plane], cone_of(nearer, side)});
+    }
+  };
   auto assemble_vertex = [&](std::size_t v) {
     Workspace& ws = workspaces.local();
     for (int side = 0; side < 2; ++side) {
       ws.cones.clear();
+      ws.blended.clear();
+      ws.blends.clear();
       for (std::size_t o = 0; o < orientations; ++o) {
         const std::int32_t from = source[key_of(side, o, static_cast<Index>(v))];
         if (from < 0) continue;
         const std::size_t k = key_of(side, o, static_cast<Index>(from));
-        for (std::uint32_t i = first[k]; i < first[k + 1]; ++i) {
-          const StoredCone& s = stored(refs[i].plane)[refs[i].stored];
-          ws.cones.push_back({&plan.planes[refs[i].plane],
-                              planes[refs[i].plane]->cones.cone(s.slice_vertex, static_cast<Side>(side))});
+        if (plan.storage == ConeStorage::InterpolatedOnFan && first[k + 1] - first[k] == 2) {
+          blend_at_vertex(frame.positions[from], refs[first[k]], refs[first[k] + 1], side, ws);
+          continue;
         }
+        for (std::uint32_t i = first[k]; i < first[k + 1]; ++i)
+          ws.cones.push_back({&plan.planes[refs[i].plane], cone_of(refs[i], side)});
       }
+      for (const auto& [cone, begin, count] : ws.blends)  // ws.blended has stopped growing
+        ws.cones[cone].wedges = {ws.blended.data() + begin, count};
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];
       assemble_and_measure_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v],
                                 &result.measures[side][v]);

@@ -2,11 +2,12 @@
 // (Stewart 1999 §2.4; DESIGN.md §2.7–2.8), shared by the static engine and the kinetic one.
 //
 // Each plane's slice vertices hand their 2D cones to mesh vertices by the plan's ConeStorage rule (the
-// paper's: to the nearer endpoint of their edge, nearest per plane; the default: to both endpoints, nearest
-// per orientation). A vertex with no cone in an orientation borrows those of its nearest vertex along mesh
-// edges that has one (multi-source Dijkstra per orientation and side). Then every vertex's 2D cones are
-// merged into 3D cones per side and measured. Both engines hand this stage PlaneCones that are equal, so they
-// produce the same output. Internal header: static_core and kinetic only.
+// paper's: to the nearer endpoint of their edge, nearest per plane; on the fan: to both endpoints, nearest
+// per orientation, or the nearest below and above the vertex blended at its height). A vertex with no cone in
+// an orientation borrows those of its nearest vertex along mesh edges that has one (multi-source Dijkstra per
+// orientation and side). Then every vertex's 2D cones are merged into 3D cones per side and measured. Both
+// engines hand this stage PlaneCones that are equal, so they produce the same output. Internal header:
+// static_core and kinetic only.
 #pragma once
 
 #include <memory>
@@ -27,12 +28,14 @@ namespace pleat {
 /// where they entered.
 std::vector<glm::dvec3> area_weighted_normals(const MeshTopology& topology, const Frame& frame);
 
-/// A 2D cone handed to a mesh vertex: which side, which slice vertex of the plane, and its 3D distance.
+/// A 2D cone handed to a mesh vertex: which side, which slice vertex of the plane, its 3D distance, and
+/// whether the vertex lies on or above the plane (it is the `above` end of the slice vertex's edge).
 struct StoredCone {
   Index vertex = 0;
   int side = 0;
   Index slice_vertex = 0;
   double distance = 0.0;
+  bool vertex_above = false;
 };
 
 /// Everything one plane contributes to a frame.

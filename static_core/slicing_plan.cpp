@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/mesh_validation.hpp"
@@ -94,7 +95,8 @@ SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame,
   validate_mesh(topology, frame, "make_diffuse_plan");
   SlicingPlan plan;
   plan.orientations = diffuse_orientations(params.orientations);
-  double spacing = params.spacing > 0 ? params.spacing : mean_edge_length(topology, frame);
+  double spacing =
+      params.spacing > 0 ? params.spacing : params.spacing_in_edges * mean_edge_length(topology, frame);
   if (!(spacing > 0)) spacing = 1.0;
   for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
     const auto [lo, hi] = extent_along(frame, plan.orientations[o]);
@@ -104,7 +106,7 @@ SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame,
 }
 
 SlicingPlan make_paper_plan(const MeshTopology& topology, const Frame& frame) {
-  SlicingPlan plan = make_diffuse_plan(topology, frame, {6, 0.0, 0});
+  SlicingPlan plan = make_diffuse_plan(topology, frame, {6, 0.0, 0, 1.0});
   plan.storage = ConeStorage::NearerEndpoint;
   return plan;
 }
@@ -223,7 +225,22 @@ SlicingPlan make_area_light_plan(const MeshTopology& topology, const Frame& fram
 }
 
 const char* cone_storage_name(ConeStorage storage) {
-  return storage == ConeStorage::NearerEndpoint ? "nearer-endpoint" : "nearest-on-fan";
+  switch (storage) {
+    case ConeStorage::NearerEndpoint:
+      return "nearer-endpoint";
+    case ConeStorage::NearestOnFan:
+      return "nearest-on-fan";
+    case ConeStorage::InterpolatedOnFan:
+      return "interpolated-on-fan";
+  }
+  return "?";
+}
+
+ConeStorage cone_storage_from_name(std::string_view name) {
+  for (ConeStorage s :
+       {ConeStorage::NearerEndpoint, ConeStorage::NearestOnFan, ConeStorage::InterpolatedOnFan})
+    if (name == cone_storage_name(s)) return s;
+  throw std::invalid_argument("unknown cone storage rule '" + std::string(name) + "'");
 }
 
 }  // namespace pleat

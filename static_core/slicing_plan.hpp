@@ -6,6 +6,7 @@
 #pragma once
 
 #include <glm/vec3.hpp>
+#include <string_view>
 #include <vector>
 
 #include "static_core/mesh.hpp"
@@ -35,15 +36,25 @@ enum class ConeStorage {
   /// orientation whose planes cut its own edges, from the nearest such cut, so far fewer vertices borrow a
   /// neighbour's, and parallel planes' cones taken from different points are not merged into one vertex.
   NearestOnFan,
+  /// As NearestOnFan, but per orientation two cuts: the nearest in a plane below the vertex and the nearest
+  /// in a plane above it. When both exist (the planes are parallel), the vertex's 2D cone is the blend of
+  /// theirs at its own height (blend_wedges: each wedge end interpolated linearly in the vertex's offset
+  /// between the two planes), so the slice point's offset from the vertex cancels to first order and the
+  /// cone moves continuously as the vertex moves between planes; where the two cones cannot be matched (a
+  /// wedge appears or vanishes between the planes), the cone of the nearer plane.
+  InterpolatedOnFan,
 };
 
 struct SlicingPlan {
   std::vector<glm::dvec3> orientations;  ///< unit normals, one per family of planes
   std::vector<SlicingPlane> planes;
-  ConeStorage storage = ConeStorage::NearestOnFan;
+  ConeStorage storage = ConeStorage::InterpolatedOnFan;
 };
 
-const char* cone_storage_name(ConeStorage storage);  ///< "nearer-endpoint", "nearest-on-fan"
+/// "nearer-endpoint", "nearest-on-fan", "interpolated-on-fan".
+const char* cone_storage_name(ConeStorage storage);
+/// The rule of a name from cone_storage_name; throws std::invalid_argument for any other.
+ConeStorage cone_storage_from_name(std::string_view name);
 
 /// The plane through `point` with unit normal `normal` and a deterministic in-plane frame.
 SlicingPlane make_plane(const glm::dvec3& normal, double offset, int orientation);
@@ -54,8 +65,11 @@ struct DiffusePlanParams {
   /// cut cloth lying parallel to an axis plane (a pile on the ground) badly
   /// (bench/results/accuracy_budget.md).
   int orientations = 8;
-  double spacing = 0.0;            ///< distance between parallel planes; 0: the average edge length
+  double spacing = 0.0;  ///< distance between parallel planes; 0: spacing_in_edges average edge lengths
   int planes_per_orientation = 0;  ///< if > 0, overrides spacing
+  /// The default spacing in average edge lengths: 3/4, measured more accurate per unit cost than one edge
+  /// or more orientations (bench/results/accuracy_budget.md).
+  double spacing_in_edges = 0.75;
 };
 /// Uniform diffuse light: parallel families of planes over the frame's extent.
 SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame,

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <limits>
@@ -141,6 +143,84 @@ RC_GTEST_PROP(ConeStorage, NearestOnFanAssemblesTheNearestCutPerOrientation, ())
   }
   RC_TAG(checked * 4 > n ? "most vertices have a cut in every orientation" : "many vertices borrow");
   RC_ASSERT(checked > 0u);
+}
+
+RC_GTEST_PROP(ConeStorage, InterpolatedOnFanAssemblesTheBlendOfTheCutsBelowAndAbove, ()) {
+  const ClothKind kind =
+      *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
+  const ClothGenerator cloth(kind, {*rc::gen::inRange(6, 14), 12, 24.0, 0});
+  const Frame frame = cloth.frame(*rc::gen::inRange<std::size_t>(0, 12));
+  const MeshTopology& topology = cloth.topology();
+  SlicingPlan plan = make_diffuse_plan(topology, frame, {*rc::gen::element(6, 8), 0.0, 0});
+  plan.storage = ConeStorage::InterpolatedOnFan;
+  const FrameVisibility vis = compute_visibility(topology, frame, plan, {false});
+  const Planes planes = slice_all(topology, frame, plan);
+  // Brute force over all planes of an orientation: the cut of the vertex's own edges nearest to it among
+  // planes below it ([0], the vertex is its edge's `above` end) and among planes above it ([1]).
+  const std::size_t n = topology.num_vertices, orientations = plan.orientations.size();
+  struct Choice {
+    double distance = std::numeric_limits<double>::infinity();
+    std::size_t plane = 0;
+    Index x = 0;
+  };
+  std::vector<std::array<Choice, 2>> choice(n * orientations);
+  for (std::size_t p = 0; p < plan.planes.size(); ++p)
+    for (Index x = 0; x < planes.slices[p].vertices.size(); ++x) {
+      const SliceVertex& sv = planes.slices[p].vertices[x];
+      for (Index v : {sv.above, sv.below}) {
+        Choice& c = choice[v * orientations + std::size_t(plan.planes[p].orientation)][v == sv.above ? 0 : 1];
+        const double length = glm::distance(frame.positions[sv.above], frame.positions[sv.below]);
+        const double d = (v == sv.above ? sv.t : 1.0 - sv.t) * length;
+        if (d < c.distance) c = {d, p, x};
+      }
+    }
+  std::size_t checked = 0, blended = 0;
+  WedgeScratch scratch;
+  for (Index v = 0; v < n; ++v) {
+    bool complete = true;  // vertices that borrow in some orientation are the fill's business
+    for (std::size_t o = 0; o < orientations; ++o)
+      complete &= std::isfinite(choice[v * orientations + o][0].distance) ||
+                  std::isfinite(choice[v * orientations + o][1].distance);
+    if (!complete) continue;
+    for (Side side : kBothSides) {
+      std::vector<std::vector<Wedge>> blends(orientations);
+      std::vector<PlanarCone> cones;
+      for (std::size_t o = 0; o < orientations; ++o) {
+        const auto& [below, above] = choice[v * orientations + o];
+        auto cone = [&](const Choice& c) { return planes.cones[c.plane].cone(c.x, side); };
+        if (!std::isfinite(below.distance) || !std::isfinite(above.distance)) {
+          const Choice& c = std::isfinite(below.distance) ? below : above;
+          cones.push_back({&plan.planes[c.plane], cone(c)});
+          continue;
+        }
+        const SlicingPlane &lo = plan.planes[below.plane], &hi = plan.planes[above.plane];
+        RC_ASSERT(hi.offset > lo.offset);
+        // The slicer decides exactly which side of a plane the vertex is on; its height, in doubles, may
+        // round onto the plane, so the weight is clamped.
+        const double height = glm::dot(lo.normal, frame.positions[v]);
+        RC_ASSERT(height >= lo.offset - 1e-12 * (1 + std::abs(lo.offset)));
+        RC_ASSERT(height <= hi.offset + 1e-12 * (1 + std::abs(hi.offset)));
+        const double t = std::clamp((height - lo.offset) / (hi.offset - lo.offset), 0.0, 1.0);
+        if (blend_wedges(cone(below), cone(above), t, scratch, blends[o])) {
+          cones.push_back({&lo, blends[o]});
+          ++blended;
+        } else {
+          const Choice& c = t <= 0.5 ? below : above;
+          cones.push_back({&plan.planes[c.plane], cone(c)});
+        }
+      }
+      const glm::dvec3 side_normal = side_sign(side) * vis.normals[v];
+      const ConeMeasures m = measure_cone(assemble_cone(cones, side_normal), side_normal);
+      const ConeMeasures& e = vis.measure(side, v);
+      RC_ASSERT(std::abs(m.sky_visibility - e.sky_visibility) <= 1e-12);
+      RC_ASSERT(std::abs(m.solid_angle - e.solid_angle) <= 1e-9);
+      RC_ASSERT(glm::length(m.bent_normal - e.bent_normal) <= 1e-9);
+    }
+    ++checked;
+  }
+  RC_TAG(blended * 2 > checked * orientations ? "most cones blended" : "few cones blended");
+  RC_ASSERT(checked > 0u);
+  RC_ASSERT(blended > 0u);
 }
 
 TEST(ConeStorage, NearestOnFanLeavesFewerVerticesToBorrow) {
