@@ -43,7 +43,7 @@ struct PlanOptions {
   int planes_per_orientation = 0;
   bool adaptive = false;
   double max_missing = 0.05;
-  std::string storage = "nearest-on-fan";
+  std::string storage = "interpolated-on-fan";
   bool paper = false;
 
   void add_to(CLI::App& command);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <set>
+#include <utility>
 
 #include "oracles/test_meshes.hpp"
 #include "sim_io/cloth_generators.hpp"
@@ -29,7 +30,7 @@ TEST(SlicingPlan, DefaultDiffusePlanHasEightSpreadFamilies) {
   const ClothGenerator cloth(ClothKind::Curtain, {30, 2, 24.0, 0});
   const SlicingPlan plan = make_diffuse_plan(cloth.topology(), cloth.frame(0), {});
   ASSERT_EQ(plan.orientations.size(), 8u);
-  EXPECT_EQ(plan.storage, ConeStorage::NearestOnFan);
+  EXPECT_EQ(plan.storage, ConeStorage::InterpolatedOnFan);
   for (std::size_t a = 0; a < 8; ++a)
     for (std::size_t b = a + 1; b < 8; ++b)  // distinct families: no two normals parallel
       EXPECT_LT(std::abs(glm::dot(plan.orientations[a], plan.orientations[b])), 0.95) << a << " " << b;
@@ -41,17 +42,22 @@ TEST(SlicingPlan, DefaultDiffusePlanHasEightSpreadFamilies) {
 TEST(SlicingPlan, DiffusePlanHasThePapersSixFamiliesOneEdgeApart) {
   const ClothGenerator cloth(ClothKind::Curtain, {30, 2, 24.0, 0});
   const Frame frame = cloth.frame(0);
-  const SlicingPlan plan = make_diffuse_plan(cloth.topology(), frame, {6, 0.0, 0});
-  ASSERT_EQ(plan.orientations.size(), 6u);
-  EXPECT_NEAR(plan.orientations[3].x, std::sqrt(0.5), 1e-15);  // (1,1,0) normalized
-  const double spacing = average_edge_length(cloth.topology(), frame);
-  for (int o = 0; o < 6; ++o) {
-    std::vector<double> offsets;
-    for (const auto& p : plan.planes)
-      if (p.orientation == o) offsets.push_back(p.offset);
-    ASSERT_GE(offsets.size(), 1u);
-    std::sort(offsets.begin(), offsets.end());
-    for (std::size_t i = 1; i < offsets.size(); ++i) EXPECT_NEAR(offsets[i] - offsets[i - 1], spacing, 1e-12);
+  const double edge = average_edge_length(cloth.topology(), frame);
+  // The paper's spacing (one edge) on request, the default's (3/4 edge) otherwise.
+  for (const auto& [params, spacing] : {std::pair{DiffusePlanParams{6, 0.0, 0, 1.0}, edge},
+                                        std::pair{DiffusePlanParams{6, 0.0, 0}, 0.75 * edge}}) {
+    const SlicingPlan plan = make_diffuse_plan(cloth.topology(), frame, params);
+    ASSERT_EQ(plan.orientations.size(), 6u);
+    EXPECT_NEAR(plan.orientations[3].x, std::sqrt(0.5), 1e-15);  // (1,1,0) normalized
+    for (int o = 0; o < 6; ++o) {
+      std::vector<double> offsets;
+      for (const auto& p : plan.planes)
+        if (p.orientation == o) offsets.push_back(p.offset);
+      ASSERT_GE(offsets.size(), 1u);
+      std::sort(offsets.begin(), offsets.end());
+      for (std::size_t i = 1; i < offsets.size(); ++i)
+        EXPECT_NEAR(offsets[i] - offsets[i - 1], spacing, 1e-12);
+    }
   }
   const SlicingPlan counted = make_diffuse_plan(cloth.topology(), frame, {12, 0.0, 7});
   EXPECT_EQ(counted.orientations.size(), 12u);

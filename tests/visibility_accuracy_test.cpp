@@ -93,34 +93,36 @@ ErrorStats compare_with_rays(const MeshTopology& topology, const Frame& frame) {
 }
 
 TEST(VisibilityAccuracy, ConesAgreeWithRayCastingOnGeneratedCloth) {
-  // Bounds: measured on 2026-11-24 at resolution 40 (1,600 vertices: coarser than the benchmark's 3,025),
-  // mid-motion frame, the defaults: mean |dA| 0.009-0.035 and p95 0.03-0.135 over the four kinds, |bias| <=
-  // 0.009 (the paper's plan: 0.014-0.037 and 0.05-0.16). The bounds leave room for noise and guard against
-  // regressions.
+  // Bounds: measured on 2026-11-25 at resolution 40 (1,600 vertices: coarser than the benchmark's 3,025),
+  // mid-motion frame, the defaults (8 spread orientations 3/4 edge apart, interpolated-on-fan storage): mean
+  // |dA| 0.0075-0.029 and p95 0.026-0.122 over the four kinds, |bias| <= 0.005 (before, 1 edge apart and
+  // nearest-on-fan: 0.009-0.035 and 0.03-0.135; the paper's plan: 0.014-0.037 and 0.05-0.16). The bounds
+  // leave room for noise and guard against regressions.
   for (ClothKind kind : kAllClothKinds) {
     const ClothGenerator generator(kind, {40, 12, 24.0, 0});
     const ErrorStats e = compare_with_rays(generator.topology(), generator.frame(6));
     std::printf("%-8s mean |A_cone - A_rays| %.4f  p95 %.4f  bias %+.4f\n",
                 std::string(cloth_kind_name(kind)).c_str(), e.mean, e.p95, e.bias);
-    EXPECT_LT(e.mean, 0.045) << cloth_kind_name(kind);
-    EXPECT_LT(e.p95, 0.17) << cloth_kind_name(kind);
+    EXPECT_LT(e.mean, 0.04) << cloth_kind_name(kind);
+    EXPECT_LT(e.p95, 0.16) << cloth_kind_name(kind);
     EXPECT_LT(std::abs(e.bias), 0.02) << cloth_kind_name(kind);
   }
 }
 
 TEST(VisibilityAccuracy, ConesAgreeWithRayCastingOnTheBundledBlenderCloth) {
-  // Measured 2026-11-24 with the defaults (8 spread orientations, nearest-on-fan storage), 4096 rays: drape
-  // frames 20/60/99 mean 0.019/0.019/0.018, p95 0.057/0.056/0.054; pile (last frame) 0.018/0.070; rucked
-  // 0.029/0.091; |bias| <= 0.006. The bounds leave about 1.5x for noise and guard against regressions. The
-  // paper's plan (6 axis orientations, nearer-endpoint storage) had mean 0.035-0.041 and p95 0.12-0.14 on
-  // these.
+  // Measured 2026-11-25 with the defaults (8 spread orientations 3/4 edge apart, interpolated-on-fan
+  // storage), 4096 rays: drape frames 20/60/99 mean 0.017/0.017/0.016, p95 0.050/0.050/0.049; pile (last
+  // frame) 0.014/0.050; rucked 0.024/0.069; |bias| <= 0.006. The bounds leave about 1.4x for noise and guard
+  // against regressions. Before (1 edge apart, nearest-on-fan): drape 0.018-0.019 / 0.054-0.057, pile
+  // 0.018/0.070, rucked 0.029/0.091; the paper's plan (6 axis orientations, nearer-endpoint storage): mean
+  // 0.035-0.041 and p95 0.12-0.14.
   struct Case {
     const char* name;
     std::vector<int> frames;  // negative: from the end
     double mean, p95;
   };
-  for (const Case& c : {Case{"drape", {20, 60, 99}, 0.03, 0.10}, Case{"pile", {-1}, 0.03, 0.11},
-                        Case{"rucked", {-1}, 0.04, 0.13}}) {
+  for (const Case& c : {Case{"drape", {20, 60, 99}, 0.024, 0.07}, Case{"pile", {-1}, 0.02, 0.07},
+                        Case{"rucked", {-1}, 0.033, 0.095}}) {
     const std::string dir = std::string("data/") + c.name + "/" + c.name;
     const MeshSequence cloth =
         load_sequence(test::source_dir() / (dir + ".obj"), test::source_dir() / (dir + ".pc2"));
