@@ -192,13 +192,12 @@ Fingerprint& Fingerprint::add(const void* data, std::size_t size) {
   return *this;
 }
 
-std::uint64_t SharedSequence::input_fingerprint() const {
+std::uint64_t SharedSequence::topology_fingerprint() const {
   Fingerprint f;
   const MeshTopology& topology = sequence.topology();
-  f.add_value(topology.num_vertices);
+  f.add_value(topology.num_vertices).add_value(sequence.num_frames());
   f.add(topology.triangles.data(), topology.triangles.size() * sizeof(Triangle));
   f.add(sequence.welded_of_input().data(), sequence.welded_of_input().size() * sizeof(Index));
-  f.add(frame_fingerprints.data(), frame_fingerprints.size() * sizeof(std::uint64_t));
   return f.value();
 }
 
@@ -319,6 +318,8 @@ std::vector<std::size_t> split_by_cost(const std::vector<double>& cost, std::siz
   chunks = std::clamp<std::size_t>(chunks, 1, std::max<std::size_t>(n, 1));
   std::vector<double> prefix(n + 1, 0.0);
   for (std::size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + std::max(cost[i], 0.0);
+  if (!(prefix[n] > 0.0))  // nothing measured: by count
+    for (std::size_t i = 0; i < n; ++i) prefix[i + 1] = double(i + 1);
   std::vector<std::size_t> bounds{0};
   for (std::size_t c = 1; c < chunks; ++c) {
     const double target = prefix[n] * double(c) / double(chunks);
@@ -430,7 +431,7 @@ ChunkJob plan_chunks(const SharedSequence& input, std::size_t first, std::size_t
     for (std::size_t f = bounds[c]; f < bounds[c + 1]; ++f) chunk_cost[c] += cost[f - first];
 
   Fingerprint job_key;
-  job_key.add_value(options_key).add_value(input.input_fingerprint()).add_value(first).add_value(last);
+  job_key.add_value(options_key).add_value(input.topology_fingerprint()).add_value(first).add_value(last);
   job_key.add(bounds.data(), bounds.size() * sizeof(std::size_t));
   for (std::size_t c = 0; c < count; ++c) {
     Fingerprint key;

@@ -18,9 +18,13 @@
 //    them per rank. The cost of a frame is its number of slice vertices (count_slice_vertices), which the
 //    static core's time is proportional to (README: 2.3-4.1 us per slice vertex on every sequence measured).
 //  - Checkpoint: with --checkpoint DIR every finished chunk is kept as DIR/chunk_<first>_<last>.pleatchunk
-//    (written atomically by rank 0); a file is used again only when its job key (the command's
-//    output-determining options, the slicing plan's bytes, the topology, the frame range and the chunk
-//    bounds) and its chunk key (the job key and the fingerprints of the chunk's frames) both match.
+//    (written atomically by rank 0). A chunk file is used again only when its job key and its chunk key both
+//    match. Job key: the command's output-determining options, the slicing plan's bytes (made from the first
+//    requested frame, so a change there shows), the welded topology and vertex map, the frame count and range,
+//    and the chunk bounds (which follow from the frames' measured costs). Chunk key: the job key and the 64-bit
+//    fingerprints of the chunk's own frames (taken during the shared loading pass, no extra read). So a changed
+//    frame invalidates its chunk (and, through the plan or the bounds, more when it changes those); files of
+//    another job are removed, with a line on stderr.
 //  - run_chunks(): computes this rank's chunks and hands rank 0 every frame's bytes in frame order.
 //
 // MPI calls are made from the main thread only (TBB works inside each rank): MPI_THREAD_FUNNELED.
@@ -110,8 +114,9 @@ class Fingerprint {
 struct SharedSequence {
   MeshSequence sequence;
   std::vector<std::uint64_t> frame_fingerprints;  ///< one per frame of the input
-  /// Fingerprint of the topology, the map to input vertices and every frame: the input as computed on.
-  std::uint64_t input_fingerprint() const;
+  /// Fingerprint of the welded topology, the map to input vertices and the frame count (the frames have
+  /// their own): what every chunk depends on besides its own frames and the plan.
+  std::uint64_t topology_fingerprint() const;
 };
 SharedSequence load_shared(const std::filesystem::path& input, const std::filesystem::path& cache);
 
