@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -195,6 +197,53 @@ TEST(Distributed, AChangedInputOrPlanInvalidatesTheCheckpoint) {
   ASSERT_EQ(changed.exit_code, 0) << changed.output;
   EXPECT_NE(changed.output.find("3 chunks over 2 ranks, 2 kept from the checkpoint"), std::string::npos)
       << changed.output;
+}
+
+/// The generated curtain with vertex 0 split in two at its first face (as exporters split seams): the copy
+/// coincides with it in every frame (`split_from` = 7) or only up to frame `split_from`.
+std::string make_split_curtain(const TempDir& dir, int split_from) {
+  make_curtain(dir);
+  std::ifstream obj_in(dir / "c.obj");
+  std::ofstream obj_out(dir / "s.obj");
+  bool split = false;
+  for (std::string line; std::getline(obj_in, line);) {
+    if (!split && line == "f 1 2 12") line = "f 101 2 12", split = true;
+    obj_out << line << '\n';
+  }
+  EXPECT_TRUE(split);
+  std::ifstream first_vertex(dir / "c.obj");
+  std::string line;
+  while (std::getline(first_vertex, line) && line.rfind("v ", 0) != 0) {
+  }
+  obj_out << line << '\n';
+  obj_out.close();
+  const std::string pc2 = slurp(dir / "c.pc2");
+  std::string header = pc2.substr(0, 32);
+  const std::int32_t points = 101;
+  std::memcpy(header.data() + 16, &points, 4);
+  std::string out = header;
+  for (int f = 0; f < 7; ++f) {
+    std::string frame = pc2.substr(32 + std::size_t(f) * 1200, 1200);
+    std::string copy = frame.substr(0, 12);
+    if (f >= split_from) copy[11] ^= 0x10;  // a different z
+    out += frame + copy;
+  }
+  std::ofstream(dir / "s.pc2", std::ios::binary) << out;
+  return (dir / "s.obj").string() + " --cache " + (dir / "s.pc2").string();
+}
+
+TEST(Distributed, WeldingOverSharedLoadingEqualsOneProcess) {
+  for (int split_from : {7, 5}) {
+    TempDir dir;
+    const std::string input = make_split_curtain(dir, split_from);
+    const auto info = test::run_pleat("info " + input);
+    EXPECT_NE(info.output.find(split_from == 7 ? "1 welded" : "0 welded"), std::string::npos) << info.output;
+    const auto single = test::run_pleat("visibility " + input + " -o " + (dir / "one.csv").string());
+    ASSERT_EQ(single.exit_code, 0) << single.output;
+    const auto many = mpirun(3, "visibility " + input + " -o " + (dir / "three.csv").string());
+    ASSERT_EQ(many.exit_code, 0) << many.output;
+    EXPECT_TRUE(slurp(dir / "one.csv") == slurp(dir / "three.csv")) << "split from frame " << split_from;
+  }
 }
 
 TEST(Distributed, BadInputFailsOnceWithTheSingleProcessMessageAndNoOutput) {
