@@ -113,8 +113,8 @@ bool progress_wanted() {
   if (const char* forced = std::getenv("PLEAT_PROGRESS")) return std::string(forced) == "1";
   if (isatty(STDERR_FILENO) != 0) return true;
   if (!g_mpi) return false;
-  // Under mpirun a rank's stderr is a pipe to its launcher (mpirun itself on its node): show progress when the
-  // launcher's stderr is a terminal.
+  // Under mpirun a rank's stderr is a pipe to its launcher (mpirun itself on its node): show progress when
+  // the launcher's stderr is a terminal.
   char target[256] = {};
   const std::string link = "/proc/" + std::to_string(getppid()) + "/fd/2";
   const ssize_t n = ::readlink(link.c_str(), target, sizeof target - 1);
@@ -256,6 +256,14 @@ void all_reduce_bounds(double* lo, double* hi) {
   if (g_size == 1) return;
   check(MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD), "Allreduce");
   check(MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "Allreduce");
+}
+
+void all_reduce_bounds(std::vector<float>& lo, std::vector<float>& hi) {
+  if (g_size == 1) return;
+  check(MPI_Allreduce(MPI_IN_PLACE, lo.data(), int(lo.size()), MPI_FLOAT, MPI_MIN, MPI_COMM_WORLD),
+        "Allreduce");
+  check(MPI_Allreduce(MPI_IN_PLACE, hi.data(), int(hi.size()), MPI_FLOAT, MPI_MAX, MPI_COMM_WORLD),
+        "Allreduce");
 }
 
 void broadcast_plan(SlicingPlan& plan) {

@@ -20,11 +20,11 @@
 //  - Checkpoint: with --checkpoint DIR every finished chunk is kept as DIR/chunk_<first>_<last>.pleatchunk
 //    (written atomically by rank 0). A chunk file is used again only when its job key and its chunk key both
 //    match. Job key: the command's output-determining options, the slicing plan's bytes (made from the first
-//    requested frame, so a change there shows), the welded topology and vertex map, the frame count and range,
-//    and the chunk bounds (which follow from the frames' measured costs). Chunk key: the job key and the 64-bit
-//    fingerprints of the chunk's own frames (taken during the shared loading pass, no extra read). So a changed
-//    frame invalidates its chunk (and, through the plan or the bounds, more when it changes those); files of
-//    another job are removed, with a line on stderr.
+//    requested frame, so a change there shows), the welded topology and vertex map, the frame count and
+//    range, and the chunk bounds (which follow from the frames' measured costs). Chunk key: the job key and
+//    the 64-bit fingerprints of the chunk's own frames (taken during the shared loading pass, no extra read).
+//    So a changed frame invalidates its chunk (and, through the plan or the bounds, more when it changes
+//    those); files of another job are removed, with a line on stderr.
 //  - run_chunks(): computes this rank's chunks and hands rank 0 every frame's bytes in frame order.
 //
 // MPI calls are made from the main thread only (TBB works inside each rank): MPI_THREAD_FUNNELED.
@@ -122,6 +122,8 @@ SharedSequence load_shared(const std::filesystem::path& input, const std::filesy
 
 /// Every rank's bounding box lo/hi (3 doubles each) replaced by the box of all of them.
 void all_reduce_bounds(double* lo, double* hi);
+/// The same elementwise over arrays of float bounds (a rank leaves what it did not measure at +max / lowest).
+void all_reduce_bounds(std::vector<float>& lo, std::vector<float>& hi);
 
 /// The plan made by rank 0, sent to every rank (all ranks then slice with the same bits).
 void broadcast_plan(SlicingPlan& plan);

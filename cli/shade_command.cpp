@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -152,6 +153,30 @@ void run_shade(const ShadeOptions& options) {
   const ChunkJob job = plan_chunks(input, first, last, options.chunks, cache ? nullptr : &plan,
                                    options.checkpoint, options_key.value());
 
+  // One pass over the selected frames, each rank over its share: the exact float bounds of every frame for
+  // the glb's header, and the bounds of the whole selection for the auto-framed camera (it stays put while
+  // the cloth moves). Rank 0 thus writes the glb without reading any frame itself.
+  const std::size_t count = last - first;
+  std::vector<float> lows(3 * count, std::numeric_limits<float>::max());
+  std::vector<float> highs(3 * count, std::numeric_limits<float>::lowest());
+  SceneBounds selection;
+  together([&] {
+    const auto [a, b] = share_of(first, last, World::rank(), World::size());
+    for (std::size_t i = a; i < b; ++i) {
+      const Frame frame = sequence.frame(i);
+      const PositionBounds bounds = position_bounds(frame);
+      for (int k = 0; k < 3; ++k)
+        lows[3 * (i - first) + k] = bounds.lo[k], highs[3 * (i - first) + k] = bounds.hi[k];
+      selection.extend(frame);
+    }
+  });
+  all_reduce_bounds(lows, highs);
+  all_reduce_bounds(&selection.lo.x, &selection.hi.x);
+  std::vector<PositionBounds> frame_bounds(count);
+  for (std::size_t j = 0; j < count; ++j)
+    for (int k = 0; k < 3; ++k)
+      frame_bounds[j].lo[k] = lows[3 * j + k], frame_bounds[j].hi[k] = highs[3 * j + k];
+
   // Outputs: one glb per setup (streamed frame by frame, on rank 0), and optionally images (written by the
   // rank that shades the frame).
   const std::filesystem::path output(options.output);
@@ -163,8 +188,8 @@ void run_shade(const ShadeOptions& options) {
     if (!World::root()) return;
     create_parent_directory(output);
     for (const auto& path : outputs)
-      writers.push_back(
-          std::make_unique<ShadedGlbWriter>(path, sequence, frame_ids, fps, /*with_visibility=*/true));
+      writers.push_back(std::make_unique<ShadedGlbWriter>(path, sequence, frame_ids, fps,
+                                                          /*with_visibility=*/true, frame_bounds));
   });
 
   const bool render = !options.render_dir.empty();
@@ -177,19 +202,15 @@ void run_shade(const ShadeOptions& options) {
                                       : std::filesystem::path(options.render_dir));
         std::filesystem::create_directories(render_dirs.back());
       }
-      if (!options.camera.empty()) camera = parse_camera(options.camera);
+      if (!options.camera.empty()) {
+        camera = parse_camera(options.camera);
+      } else {
+        AutoFrameParams framing;
+        framing.up = parse_vec3(options.up, "--up");
+        framing.aspect = double(options.width) / options.height;
+        camera = auto_frame(selection, framing);
+      }
     });
-    if (!camera) {
-      // The whole selection, so the camera stays put while the cloth moves: each rank bounds its share.
-      SceneBounds bounds;
-      const auto [a, b] = share_of(first, last, World::rank(), World::size());
-      for (std::size_t i = a; i < b; ++i) bounds.extend(sequence.frame(i));
-      all_reduce_bounds(&bounds.lo.x, &bounds.hi.x);
-      AutoFrameParams framing;
-      framing.up = parse_vec3(options.up, "--up");
-      framing.aspect = double(options.width) / options.height;
-      camera = auto_frame(bounds, framing);
-    }
   }
 
   // One chunk: the cones of each frame, then every setup's shading (and images); the colours and the
@@ -217,6 +238,7 @@ void run_shade(const ShadeOptions& options) {
       }
       ByteWriter bytes;
       bytes.put(std::chrono::duration<double>(t1 - t0).count());
+      bytes.put_array(std::vector<glm::vec3>(frame.positions.begin(), frame.positions.end()));
       for (const SideVisibility& side : sides) bytes.put_array(side.sky_visibility).put_array(side.bent_cone);
       for (std::size_t s = 0; s < setups.size(); ++s) {
         const auto s0 = std::chrono::steady_clock::now();
@@ -244,6 +266,7 @@ void run_shade(const ShadeOptions& options) {
   const auto consume = [&](std::size_t, std::string_view payload) {
     ByteReader bytes(payload);
     cone_seconds += bytes.get<double>();
+    const auto positions = bytes.get_array<glm::vec3>();
     std::array<SideVisibility, 2> sides;
     for (SideVisibility& side : sides) {
       side.sky_visibility = bytes.get_array<float>();
@@ -253,7 +276,7 @@ void run_shade(const ShadeOptions& options) {
       shade_seconds += bytes.get<double>();
       const auto front = bytes.get_array<glm::vec3>();
       const auto back = bytes.get_array<glm::vec3>();
-      writers[s]->add_frame(front, back, sides[0], sides[1]);
+      writers[s]->add_frame(positions, front, back, sides[0], sides[1]);
     }
   };
   run_chunks(job, "shading frames", compute, consume);

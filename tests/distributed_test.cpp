@@ -111,17 +111,24 @@ TEST(Distributed, BothEnginesAtTwoAndThreeRanksWriteTheBytesOfOneProcess) {
   }
 }
 
-TEST(Distributed, ShadeAtTwoAndThreeRanksWritesTheGlbOfOneProcess) {
+TEST(Distributed, ShadeAtTwoAndThreeRanksWritesTheGlbAndImagesOfOneProcess) {
   TempDir dir;
   const std::string input = make_curtain(dir);
-  const std::string lights = " --light sky:0.5 --light point:0.5,-1,1.5,I=2 --frames 1:7 -q";
-  const auto single = test::run_pleat("shade " + input + " -o " + (dir / "one.glb").string() + lights);
+  const std::string lights =
+      " --light sky:0.5 --light point:0.5,-1,1.5,I=2 --frames 1:7 -q --render-every 2 --width 64 --height 48";
+  const auto single = test::run_pleat("shade " + input + " -o " + (dir / "one.glb").string() + lights +
+                                      " --render " + (dir / "one").string());
   ASSERT_EQ(single.exit_code, 0) << single.output;
+  const auto images = names_in(dir / "one");
+  ASSERT_EQ(images.size(), 3u);
   for (int ranks : {2, 3}) {
-    const std::string out = (dir / ("many" + std::to_string(ranks) + ".glb")).string();
-    const auto many = mpirun(ranks, "shade " + input + " -o " + out + lights);
+    const std::string out = (dir / ("many" + std::to_string(ranks))).string();
+    const auto many = mpirun(ranks, "shade " + input + " -o " + out + ".glb" + lights + " --render " + out);
     ASSERT_EQ(many.exit_code, 0) << many.output;
-    EXPECT_TRUE(slurp(dir / "one.glb") == slurp(out)) << ranks << " ranks";
+    EXPECT_TRUE(slurp(dir / "one.glb") == slurp(out + ".glb")) << ranks << " ranks";
+    ASSERT_EQ(names_in(out), images);
+    for (const std::string& image : images)
+      EXPECT_TRUE(slurp(dir / "one" / image) == slurp(std::filesystem::path(out) / image)) << image;
   }
 }
 
