@@ -28,6 +28,7 @@ namespace pleat::cli {
 namespace {
 
 bool g_mpi = false;
+std::chrono::steady_clock::time_point g_start = std::chrono::steady_clock::now();
 int g_rank = 0;
 int g_size = 1;
 
@@ -127,6 +128,7 @@ bool progress_wanted() {
 // ---- World ----
 
 void World::init(int& argc, char**& argv) {
+  g_start = std::chrono::steady_clock::now();
   if (!std::getenv("OMPI_COMM_WORLD_SIZE") && !std::getenv("PMIX_RANK")) return;
   int provided = 0;
   check(MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided), "Init");
@@ -145,6 +147,9 @@ void World::finalize() {
 }
 
 int World::rank() { return g_rank; }
+double World::seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - g_start).count();
+}
 int World::size() { return g_size; }
 
 void World::abort(int code) {

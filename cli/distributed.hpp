@@ -58,6 +58,8 @@ class World {
   static int size();
   static bool root() { return rank() == 0; }
   static bool distributed() { return size() > 1; }
+  /// Seconds since init() (each rank's own clock): when a frame finished, for --timings.
+  static double seconds();
   /// Ends every rank of the job with `code` (one rank's error, e.g. an engine failure mid-chunk).
   [[noreturn]] static void abort(int code);
 };

@@ -103,6 +103,7 @@ void run(const VisibilityOptions& options) {
           "ranks yet)");
   });
   const SharedSequence input = load_shared(options.in.input, options.in.cache);
+  const double loaded_at = World::seconds();  // this rank's start-up, for --timings
   const MeshSequence& sequence = input.sequence;
   std::size_t first = 0, last = 0;
   together([&] { parse_frame_range(options.frames, sequence.num_frames(), first, last); });
@@ -113,6 +114,7 @@ void run(const VisibilityOptions& options) {
     if (World::root()) plan = options.plan.make(topology, sequence.frame(first));
   });
   broadcast_plan(plan);
+  const double planned_at = World::seconds();
 
   Fingerprint options_key;  // what decides the output's bytes (the checkpoint's job key)
   options_key.add("visibility")
@@ -121,6 +123,7 @@ void run(const VisibilityOptions& options) {
       .add_value(plan_fingerprint(plan));
   const ChunkJob job =
       plan_chunks(input, first, last, options.chunks, &plan, options.checkpoint, options_key.value());
+  const double chunked_at = World::seconds();
 
   // Outputs, on rank 0 only: streamed in frame order, renamed into place at the end.
   std::optional<VisibilityCsvWriter> csv;
@@ -164,10 +167,13 @@ void run(const VisibilityOptions& options) {
         back[v] = vis.measure(Side::Back, v).sky_visibility;
       }
       if (cones) cones->add_frame(frame, vis);  // one process, one chunk only (checked above)
-      nlohmann::json timing = {{"frame", f}, {"seconds", seconds}, {"rank", World::rank()}};
-      if (f == chunk_first)
+      nlohmann::json timing = {
+          {"frame", f}, {"seconds", seconds}, {"rank", World::rank()}, {"finished_at", World::seconds()}};
+      if (f == chunk_first) {
         timing["chunk_start"] = true;
-      else if (engine.kinetic_stats())
+        timing["rank_startup"] = {
+            {"loaded_at", loaded_at}, {"planned_at", planned_at}, {"chunked_at", chunked_at}};
+      } else if (engine.kinetic_stats())
         timing["kinetic"] = kinetic_json(*engine.kinetic_stats());
       ByteWriter bytes;
       bytes.put_array(front).put_array(back);
@@ -177,7 +183,11 @@ void run(const VisibilityOptions& options) {
     }
   };
   std::size_t crossing_frames = 0;
+  double write_seconds = 0.0;  // rank 0's time to write the gathered frames (a serial part of the job)
+  std::size_t gathered_bytes = 0;
   const auto consume = [&](std::size_t f, std::string_view payload) {
+    const auto start = std::chrono::steady_clock::now();
+    gathered_bytes += payload.size();
     ByteReader bytes(payload);
     const auto front = bytes.get_array<double>();
     const auto back = bytes.get_array<double>();
@@ -185,14 +195,19 @@ void run(const VisibilityOptions& options) {
     csv->add_frame(f, front, back);
     stats["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
     timings["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
+    timings["frames"].back()["payload_bytes"] = payload.size();
+    write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   run_chunks(job, "visibility", compute, consume);
   if (!World::root()) return;
+  timings["rank0_write_seconds"] = write_seconds;
+  timings["gathered_bytes"] = gathered_bytes;
 
   if (!options.stats.empty()) write_file_atomically(options.stats, stats.dump(2) + "\n");
+  timings["seconds_total"] = World::seconds();
   if (!options.timings.empty()) write_file_atomically(options.timings, timings.dump(2) + "\n");
   if (cones) cones->commit();
-  csv->commit();
+  csv->commit();  // last: the CSV exists only when every other output was written
   std::cout << "wrote " << options.output << ": " << (last - first) << " frames x "
             << sequence.num_input_vertices() << " vertices (" << plan.planes.size()
             << " planes: " << options.plan.describe() << ")\n";

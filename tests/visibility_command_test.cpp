@@ -55,9 +55,9 @@ TEST(VisibilityCommand, KineticAndStaticEnginesWriteTheSameCsvOnTheBundledDrape)
   test::TempDir dir;
   const std::string input = std::string(PLEAT_SOURCE_DIR) + "/data/drape/drape.obj --cache " +
                             std::string(PLEAT_SOURCE_DIR) + "/data/drape/drape.pc2 --frames 0:12";
-  const auto kinetic = test::run_pleat("visibility " + input + " -o " + (dir / "k.csv").string() +
-                                       " --stats " + (dir / "k.json").string() + " --timings " +
-                                       (dir / "k_timings.json").string());
+  const auto kinetic =
+      test::run_pleat("visibility " + input + " -o " + (dir / "k.csv").string() + " --stats " +
+                      (dir / "k.json").string() + " --timings " + (dir / "k_timings.json").string());
   ASSERT_EQ(kinetic.exit_code, 0) << kinetic.output;
   const auto fixed =
       test::run_pleat("visibility " + input + " -o " + (dir / "s.csv").string() + " --engine static");

@@ -1,0 +1,206 @@
+#!/usr/bin/env python3
+"""Scale-out over MPI ranks (issue 16): measures `mpirun -np 1|2 pleat visibility` on a generated 300k-vertex
+curtain and models 8-256 ranks from what was measured. Writes bench/results/scaleout.md and
+bench/results/scaleout.png.
+
+Measured (one thread per rank, `--serial`, so that 2 ranks use the 2 cores and 1 rank one of them; the kinetic
+engine, the default), from `--timings` and the wall clock of each run:
+  t_k   seconds of a kinetic frame (median of the frames that are not a chunk's first),
+  t_s   seconds of a chunk's first frame (a static build: the per-chunk start-up),
+  S     a rank's start-up before its first frame (mesh, its share of the loading pass, plan, cost measure),
+        split into a fixed part and a part per frame of the cache read (from the 1- and 2-rank runs),
+  t_w   rank 0's seconds per frame to write the gathered frames (CSV formatting: a serial part),
+  b     bytes gathered per frame.
+Model for F frames (a 1,000-frame shot), P ranks, chunks of L frames (F/(P L) per rank):
+  T(P, L) = S_fixed + t_read F_cache / P                  (start-up, the rank's share of the loading pass)
+          + (F/P) t_k + ceil(F / (P L)) (t_s - t_k)        (its chunks: each starts with a static build)
+          + (F/P) t_w                                      (rank 0 writes its own frames as it goes)
+          + (F - F/P) max(t_w, b / bandwidth)              (then everybody else's, in frame order)
+The network bandwidth is not measured here (the 2 ranks share memory): 1.25 GB/s (10 GbE) is assumed.
+
+    bench/run_scaleout.py             # about 5 minutes on 2 cores
+    bench/run_scaleout.py --quick     # a 30k-vertex curtain: proves the pipeline end to end
+"""
+
+import argparse
+import datetime
+import json
+import math
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BANDWIDTH = 1.25e9  # bytes/s, assumed (10 GbE), not measured
+SHOT_FRAMES = 1000
+
+
+def cpu_name():
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
+
+
+def run_ranks(pleat, ranks, base, frames, work):
+    out = os.path.join(work, f"np{ranks}.csv")
+    timings = os.path.join(work, f"np{ranks}_timings.json")
+    command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks), pleat, "visibility",
+               base + ".obj", "--cache", base + ".pc2", "--frames", frames, "--serial", "-o", out,
+               "--timings", timings]
+    start = time.monotonic()
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
+    wall = time.monotonic() - start
+    return wall, json.load(open(timings)), out
+
+
+def model(F, P, L, m):
+    per_rank = F / P
+    chunks = math.ceil(F / (P * L))
+    return (m["S_fixed"] + m["t_read"] * m["cache_frames_per_shot"] / P + per_rank * m["t_k"]
+            + chunks * max(m["t_s"] - m["t_k"], 0.0) + per_rank * m["t_w"]
+            + (F - per_rank) * max(m["t_w"], m["b"] / BANDWIDTH))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    args = ap.parse_args()
+    pleat = os.path.join(args.build, "cli", "pleat")
+    work = os.path.join(args.build, "bench_scaleout")
+    os.makedirs(work, exist_ok=True)
+    resolution, cache_frames, frames = (174, 24, "0:4") if args.quick else (548, 24, "0:4")
+    base = os.path.join(work, f"curtain{resolution}")
+    if not os.path.exists(base + ".pc2"):
+        subprocess.run([pleat, "generate", "curtain", "-o", base + ".obj", "--resolution", str(resolution),
+                        "--frames", str(cache_frames)], check=True, stdout=subprocess.DEVNULL)
+    load_start = cut_load = None
+    runs = {}
+    for ranks in (1, 2):
+        print(f"[scaleout] {ranks} rank(s), {resolution}x{resolution} curtain, frames {frames}", file=sys.stderr)
+        runs[ranks] = run_ranks(pleat, ranks, base, frames, work)
+    same = open(runs[1][2], "rb").read() == open(runs[2][2], "rb").read()
+    vertices = resolution * resolution
+
+    fr1, fr2 = runs[1][1]["frames"], runs[2][1]["frames"]
+    kinetic = [f["seconds"] for f in fr1 + fr2 if not f.get("chunk_start")]
+    static = [f["seconds"] for f in fr1 + fr2 if f.get("chunk_start")]
+    t_k, t_s = statistics.median(kinetic), statistics.median(static)
+    # A rank's start-up: when its first frame finished, less that frame's time.
+    def startup(frames_):
+        by_rank = {}
+        for f in frames_:
+            by_rank.setdefault(f["rank"], []).append(f)
+        return {r: min(x["finished_at"] for x in fs) - next(x["seconds"] for x in fs if x.get("chunk_start"))
+                for r, fs in by_rank.items()}
+    s1, s2 = startup(fr1), startup(fr2)
+    S1, S2 = s1[0], max(s2.values())
+    # Start-up = fixed + t_read x (cache frames read by the rank): 1 rank reads all, 2 ranks half each.
+    t_read = max((S1 - S2) / (cache_frames - cache_frames / 2), 0.0)
+    S_fixed = max(S1 - t_read * cache_frames, 0.0)
+    n_frames = len(fr1)
+    t_w = runs[1][1]["rank0_write_seconds"] / n_frames
+    b = runs[1][1]["gathered_bytes"] / n_frames
+    m = {"t_k": t_k, "t_s": t_s, "S_fixed": S_fixed, "t_read": t_read, "t_w": t_w, "b": b,
+         # a production cache is validated once per frame of the cache: the shot's frames themselves
+         "cache_frames_per_shot": SHOT_FRAMES}
+
+    sizes = [1, 2, 4, 8, 16, 32, 64, 128, 256]
+    rows = []
+    for P in sizes:
+        per_rank = math.ceil(SHOT_FRAMES / P)
+        lengths = sorted({L for L in (1, 2, 4, 8, 16, 32, 64, 125, 250, 500, 1000) if L <= per_rank} | {per_rank})
+        best = min(lengths, key=lambda L: model(SHOT_FRAMES, P, L, m))
+        T = model(SHOT_FRAMES, P, best, m)
+        T1 = model(SHOT_FRAMES, 1, SHOT_FRAMES, m)
+        short = model(SHOT_FRAMES, P, min(4, per_rank), m)
+        serial = (SHOT_FRAMES - SHOT_FRAMES / P) * max(t_w, b / BANDWIDTH)
+        rows.append((P, best, T, T1 / T, short / T, serial / T))
+
+    # Plot: modelled wall time and speed-up, with the two measured points.
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    Ps = [r[0] for r in rows]
+    ax1.loglog(Ps, [r[2] / 60 for r in rows], "o-", label="model, best chunk length")
+    ax1.loglog(Ps, [model(SHOT_FRAMES, 1, SHOT_FRAMES, m) / 60 / P for P in Ps], "--", color="gray",
+               label="ideal (1 rank / P)")
+    scale = SHOT_FRAMES / n_frames
+    for P, marker in ((1, "s"), (2, "D")):
+        # measured wall time of the 4 frames, as that many 4-frame chunks of the shot would take
+        ax1.loglog([P], [runs[P][0] * scale / 60], marker, color="C3", markersize=8,
+                   label=f"measured {P} rank{'s' if P > 1 else ''} (x {scale:.0f} frames)")
+    ax1.set_xlabel("ranks (machines, one core each)")
+    ax1.set_ylabel("minutes for the shot")
+    ax1.set_title(f"{SHOT_FRAMES} frames x {vertices:,} vertices, kinetic engine")
+    ax1.legend(fontsize=8)
+    ax1.grid(True, which="both", alpha=0.3)
+    ax2.semilogx(Ps, [r[3] for r in rows], "o-", label="model: speed-up")
+    ax2.semilogx(Ps, Ps, "--", color="gray", label="ideal")
+    ax2.semilogx(Ps, [r[5] * 100 for r in rows], "s-", color="C2", label="rank 0's serial write, % of time")
+    ax2.set_yscale("log")
+    ax2.set_xlabel("ranks")
+    ax2.set_title("speed-up over one rank; where the time goes")
+    ax2.legend(fontsize=8)
+    ax2.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    results = os.path.join(ROOT, "bench", "results")
+    suffix = "_quick" if args.quick else ""
+    fig.savefig(os.path.join(results, f"scaleout{suffix}.png"), dpi=110)
+
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True).stdout.strip()
+    load = open("/proc/loadavg").read().split()[:3]
+    md = []
+    md.append("# Scale-out over MPI ranks\n")
+    md.append(f"Written by `bench/run_scaleout.py{' --quick' if args.quick else ''}` on commit {commit}, "
+              f"{datetime.date.today()}: {os.cpu_count()} cores ({cpu_name()}), **shared** with another job "
+              f"(load average at the end {' '.join(load)}); Open MPI {open_mpi_version()}. What was measured is "
+              f"1 and 2 ranks on this one machine, one thread per rank (`--serial`): 2 ranks are the 2 shared "
+              f"cores. Everything beyond is the model below, from these measurements.\n")
+    md.append(f"Input: `pleat generate curtain --resolution {resolution} --frames {cache_frames}` "
+              f"({vertices:,} vertices), `pleat visibility --frames {frames} --serial --timings`, kinetic engine. "
+              f"The 2-rank CSV is {'byte-identical' if same else 'NOT identical'} to the 1-rank one.\n")
+    md.append("## Measured\n")
+    md.append("| quantity | value |\n|---|---|")
+    md.append(f"| wall time, 1 rank, {n_frames} frames | {runs[1][0]:.1f} s |")
+    md.append(f"| wall time, 2 ranks, {n_frames} frames | {runs[2][0]:.1f} s (speed-up {runs[1][0] / runs[2][0]:.2f}) |")
+    md.append(f"| t_k: kinetic frame (median of {len(kinetic)}) | {t_k:.2f} s |")
+    md.append(f"| t_s: a chunk's first frame, a static build (median of {len(static)}) | {t_s:.2f} s |")
+    md.append(f"| per-chunk start-up beyond a kinetic frame, t_s - t_k | {t_s - t_k:+.2f} s |")
+    md.append(f"| rank start-up before its first frame, 1 rank (reads all {cache_frames} cache frames) | {S1:.2f} s |")
+    md.append(f"| rank start-up, 2 ranks (slowest; {cache_frames // 2} cache frames each) | {S2:.2f} s |")
+    md.append(f"| → fixed start-up S_fixed / per cache frame read t_read | {S_fixed:.2f} s / {t_read * 1e3:.0f} ms |")
+    md.append(f"| t_w: rank 0 writing one gathered frame (CSV) | {t_w * 1e3:.0f} ms |")
+    md.append(f"| b: bytes gathered per frame | {b / 1e6:.2f} MB |")
+    md.append("\n## Model: a 1,000-frame shot of this cloth\n")
+    md.append("T(P, L) = S_fixed + t_read·F/P + (F/P)·t_k + ⌈F/(P·L)⌉·(t_s − t_k) + (F/P)·t_w + "
+              "(F − F/P)·max(t_w, b/β), F = 1000, β = 1.25 GB/s assumed (10 GbE; not measured). "
+              "L* = the chunk length that minimises T among 1, 2, 4, …, F/P.\n")
+    md.append("| ranks P | best chunk length L* | modelled time | speed-up over 1 rank | time with L = 4 ÷ with L* | rank 0's serial write, share of time |")
+    md.append("|---|---|---|---|---|---|")
+    for P, best, T, speedup, short, serial in rows:
+        md.append(f"| {P} | {best} | {T / 60:.1f} min | {speedup:.1f} | {short:.3f} | {serial * 100:.0f}% |")
+    md.append("")
+    md.append(f"![scaleout](scaleout{suffix}.png)\n")
+    open(os.path.join(results, f"scaleout{suffix}.md"), "w").write("\n".join(md) + "\n")
+    json.dump({"measured": m, "wall": {str(k): v[0] for k, v in runs.items()}, "rows": rows},
+              open(os.path.join(results, f"scaleout{suffix}.json"), "w"), indent=2)
+    print("\n".join(md))
+
+
+def open_mpi_version():
+    out = subprocess.run(["mpirun", "--version"], capture_output=True, text=True).stdout
+    return out.split("\n")[0].split()[-1] if out else "?"
+
+
+if __name__ == "__main__":
+    main()
