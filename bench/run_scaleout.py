@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Scale-out over MPI ranks (issue 16): measures `mpirun -np 1|2 pleat visibility` on a generated 300k-vertex
 curtain and models 8-256 ranks from what was measured. Writes bench/results/scaleout.md and
 bench/results/scaleout.png.
@@ -12,13 +12,14 @@ engine, the default), from `--timings` and the wall clock of each run:
   t_w   rank 0's seconds per frame to write the gathered frames (CSV formatting: a serial part),
   b     bytes gathered per frame.
 Model for F frames (a 1,000-frame shot), P ranks, chunks of L frames (F/(P L) per rank):
-  T(P, L) = S_fixed + t_read F_cache / P                  (start-up, the rank's share of the loading pass)
+  T(P, L) = S_fixed + (t_read + t_measure) F / P         (start-up: its share of the loading pass and of the
+                                                           cost measure, no measure with one rank)
           + (F/P) t_k + ceil(F / (P L)) (t_s - t_k)        (its chunks: each starts with a static build)
           + (F/P) t_w                                      (rank 0 writes its own frames as it goes)
           + (F - F/P) max(t_w, b / bandwidth)              (then everybody else's, in frame order)
 The network bandwidth is not measured here (the 2 ranks share memory): 1.25 GB/s (10 GbE) is assumed.
 
-    bench/run_scaleout.py             # about 5 minutes on 2 cores
+    bench/run_scaleout.py             # about 5 minutes on 2 cores (Debian's /usr/bin/python3: matplotlib)
     bench/run_scaleout.py --quick     # a 30k-vertex curtain: proves the pipeline end to end
 """
 
@@ -63,7 +64,8 @@ def run_ranks(pleat, ranks, base, frames, work):
 def model(F, P, L, m):
     per_rank = F / P
     chunks = math.ceil(F / (P * L))
-    return (m["S_fixed"] + m["t_read"] * m["cache_frames_per_shot"] / P + per_rank * m["t_k"]
+    return (m["S_fixed"] + m["t_read"] * m["cache_frames_per_shot"] / P + (m["t_measure"] * per_rank if P > 1 else 0)
+            + per_rank * m["t_k"]
             + chunks * max(m["t_s"] - m["t_k"], 0.0) + per_rank * m["t_w"]
             + (F - per_rank) * max(m["t_w"], m["b"] / BANDWIDTH))
 
@@ -76,7 +78,7 @@ def main():
     pleat = os.path.join(args.build, "cli", "pleat")
     work = os.path.join(args.build, "bench_scaleout")
     os.makedirs(work, exist_ok=True)
-    resolution, cache_frames, frames = (174, 24, "0:4") if args.quick else (548, 24, "0:4")
+    resolution, cache_frames, frames = (174, 24, "0:4") if args.quick else (548, 24, "0:6")
     base = os.path.join(work, f"curtain{resolution}")
     if not os.path.exists(base + ".pc2"):
         subprocess.run([pleat, "generate", "curtain", "-o", base + ".obj", "--resolution", str(resolution),
@@ -93,22 +95,26 @@ def main():
     kinetic = [f["seconds"] for f in fr1 + fr2 if not f.get("chunk_start")]
     static = [f["seconds"] for f in fr1 + fr2 if f.get("chunk_start")]
     t_k, t_s = statistics.median(kinetic), statistics.median(static)
-    # A rank's start-up: when its first frame finished, less that frame's time.
+    # A rank's start-up phases (--timings, on each rank's chunk-start records): loading pass done, plan made,
+    # chunks planned (the cost measure of its share of the requested frames; none with one rank and no
+    # checkpoint).
     def startup(frames_):
-        by_rank = {}
-        for f in frames_:
-            by_rank.setdefault(f["rank"], []).append(f)
-        return {r: min(x["finished_at"] for x in fs) - next(x["seconds"] for x in fs if x.get("chunk_start"))
-                for r, fs in by_rank.items()}
+        return {f["rank"]: f["rank_startup"] for f in frames_ if f.get("chunk_start")}
     s1, s2 = startup(fr1), startup(fr2)
-    S1, S2 = s1[0], max(s2.values())
-    # Start-up = fixed + t_read x (cache frames read by the rank): 1 rank reads all, 2 ranks half each.
-    t_read = max((S1 - S2) / (cache_frames - cache_frames / 2), 0.0)
-    S_fixed = max(S1 - t_read * cache_frames, 0.0)
+    load1 = s1[0]["loaded_at"]
+    load2 = max(x["loaded_at"] for x in s2.values())
+    S1 = s1[0]["chunked_at"]
+    S2 = max(x["chunked_at"] for x in s2.values())
+    # Loading = fixed (MPI, the mesh) + t_read x (cache frames the rank reads): 1 rank reads all, 2 ranks half.
+    t_read = max((load1 - load2) / (cache_frames / 2), 0.0)
+    requested = len(fr1)
+    t_measure = max(max(x["chunked_at"] - x["planned_at"] for x in s2.values()) / (requested / 2), 0.0)
+    plan_seconds = max(x["planned_at"] - x["loaded_at"] for x in s2.values())
+    S_fixed = max(load2 - t_read * cache_frames / 2, 0.0) + plan_seconds
     n_frames = len(fr1)
     t_w = runs[1][1]["rank0_write_seconds"] / n_frames
     b = runs[1][1]["gathered_bytes"] / n_frames
-    m = {"t_k": t_k, "t_s": t_s, "S_fixed": S_fixed, "t_read": t_read, "t_w": t_w, "b": b,
+    m = {"t_k": t_k, "t_s": t_s, "S_fixed": S_fixed, "t_read": t_read, "t_measure": t_measure, "t_w": t_w, "b": b,
          # a production cache is validated once per frame of the cache: the shot's frames themselves
          "cache_frames_per_shot": SHOT_FRAMES}
 
@@ -176,13 +182,13 @@ def main():
     md.append(f"| t_k: kinetic frame (median of {len(kinetic)}) | {t_k:.2f} s |")
     md.append(f"| t_s: a chunk's first frame, a static build (median of {len(static)}) | {t_s:.2f} s |")
     md.append(f"| per-chunk start-up beyond a kinetic frame, t_s - t_k | {t_s - t_k:+.2f} s |")
-    md.append(f"| rank start-up before its first frame, 1 rank (reads all {cache_frames} cache frames) | {S1:.2f} s |")
-    md.append(f"| rank start-up, 2 ranks (slowest; {cache_frames // 2} cache frames each) | {S2:.2f} s |")
-    md.append(f"| → fixed start-up S_fixed / per cache frame read t_read | {S_fixed:.2f} s / {t_read * 1e3:.0f} ms |")
+    md.append(f"| rank start-up before its first frame, 1 rank: loading pass (all {cache_frames} cache frames) / total | {load1:.2f} s / {S1:.2f} s |")
+    md.append(f"| rank start-up, 2 ranks (slowest): loading pass ({cache_frames // 2} cache frames each) / plan / cost measure of its {requested // 2} frames / total | {load2:.2f} / {plan_seconds:.2f} / {S2 - max(x['planned_at'] for x in s2.values()):.2f} / {S2:.2f} s |")
+    md.append(f"| → fixed start-up S_fixed / per cache frame read t_read / per frame measured t_measure | {S_fixed:.2f} s / {t_read * 1e3:.0f} ms / {t_measure * 1e3:.0f} ms |")
     md.append(f"| t_w: rank 0 writing one gathered frame (CSV) | {t_w * 1e3:.0f} ms |")
     md.append(f"| b: bytes gathered per frame | {b / 1e6:.2f} MB |")
     md.append("\n## Model: a 1,000-frame shot of this cloth\n")
-    md.append("T(P, L) = S_fixed + t_read·F/P + (F/P)·t_k + ⌈F/(P·L)⌉·(t_s − t_k) + (F/P)·t_w + "
+    md.append("T(P, L) = S_fixed + t_read·F/P + t_measure·F/P + (F/P)·t_k + ⌈F/(P·L)⌉·(t_s − t_k) + (F/P)·t_w + "
               "(F − F/P)·max(t_w, b/β), F = 1000, β = 1.25 GB/s assumed (10 GbE; not measured). "
               "L* = the chunk length that minimises T among 1, 2, 4, …, F/P.\n")
     md.append("| ranks P | best chunk length L* | modelled time | speed-up over 1 rank | time with L = 4 ÷ with L* | rank 0's serial write, share of time |")

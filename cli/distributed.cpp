@@ -296,31 +296,34 @@ std::uint64_t plan_fingerprint(const SlicingPlan& plan) {
 
 // ---- Cost and chunks ----
 
-std::size_t count_slice_vertices(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan) {
+SliceVertexCounter::SliceVertexCounter(const MeshTopology& topology, const SlicingPlan& plan)
+    : m_orientations(plan.orientations), m_offsets(plan.orientations.size()) {
   // Planes per orientation as sorted offsets along its normal; an edge crosses the planes whose offsets lie
   // between its endpoints' heights (a vertex on a plane counts as above it, as the slicer perturbs it).
-  std::vector<std::vector<double>> offsets(plan.orientations.size());
-  for (const SlicingPlane& p : plan.planes) offsets[std::size_t(p.orientation)].push_back(p.offset);
-  for (auto& o : offsets) std::sort(o.begin(), o.end());
-  std::vector<std::pair<Index, Index>> edges;
-  edges.reserve(3 * topology.triangles.size());
+  for (const SlicingPlane& p : plan.planes) m_offsets[std::size_t(p.orientation)].push_back(p.offset);
+  for (auto& o : m_offsets) std::sort(o.begin(), o.end());
+  m_edges.reserve(3 * topology.triangles.size());
   for (const Triangle& t : topology.triangles)
     for (int k = 0; k < 3; ++k) {
       const Index a = t[k], b = t[(k + 1) % 3];
-      edges.emplace_back(std::min(a, b), std::max(a, b));
+      m_edges.emplace_back(std::min(a, b), std::max(a, b));
     }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::sort(m_edges.begin(), m_edges.end());
+  m_edges.erase(std::unique(m_edges.begin(), m_edges.end()), m_edges.end());
+}
+
+std::size_t SliceVertexCounter::count(const Frame& frame) const {
   std::size_t count = 0;
   std::vector<double> height(frame.positions.size());
-  for (std::size_t o = 0; o < offsets.size(); ++o) {
-    if (offsets[o].empty()) continue;
+  for (std::size_t o = 0; o < m_offsets.size(); ++o) {
+    const std::vector<double>& offsets = m_offsets[o];
+    if (offsets.empty()) continue;
     for (std::size_t v = 0; v < height.size(); ++v)
-      height[v] = glm::dot(plan.orientations[o], frame.positions[v]);
-    for (const auto& [a, b] : edges) {
+      height[v] = glm::dot(m_orientations[o], frame.positions[v]);
+    for (const auto& [a, b] : m_edges) {
       const auto [lo, hi] = std::minmax(height[a], height[b]);
-      count += std::size_t(std::upper_bound(offsets[o].begin(), offsets[o].end(), hi) -
-                           std::upper_bound(offsets[o].begin(), offsets[o].end(), lo));
+      count += std::size_t(std::upper_bound(offsets.begin(), offsets.end(), hi) -
+                           std::upper_bound(offsets.begin(), offsets.end(), lo));
     }
   }
   return count;
@@ -424,9 +427,8 @@ ChunkJob plan_chunks(const SharedSequence& input, std::size_t first, std::size_t
     const auto [a, b] = share_of(first, last, g_rank, g_size);
     std::fill(cost.begin(), cost.end(), 0.0);
     try {
-      for (std::size_t f = a; f < b; ++f)
-        cost[f - first] =
-            double(count_slice_vertices(input.sequence.topology(), input.sequence.frame(f), *cost_plan));
+      const SliceVertexCounter counter(input.sequence.topology(), *cost_plan);
+      for (std::size_t f = a; f < b; ++f) cost[f - first] = double(counter.count(input.sequence.frame(f)));
     } catch (...) {
       error = std::current_exception();
     }

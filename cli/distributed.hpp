@@ -15,7 +15,7 @@
 //    whole cache, and a 64-bit fingerprint of every frame's positions for the checkpoint.
 //  - split_by_cost() / assign_chunks(): contiguous chunks of nearly equal measured cost, and contiguous runs
 //  of
-//    them per rank. The cost of a frame is its number of slice vertices (count_slice_vertices), which the
+//    them per rank. The cost of a frame is its number of slice vertices (SliceVertexCounter), which the
 //    static core's time is proportional to (README: 2.3-4.1 us per slice vertex on every sequence measured).
 //  - Checkpoint: with --checkpoint DIR every finished chunk is kept as DIR/chunk_<first>_<last>.pleatchunk
 //    (written atomically by rank 0). A chunk file is used again only when its job key and its chunk key both
@@ -134,9 +134,18 @@ std::uint64_t plan_fingerprint(const SlicingPlan& plan);
 /// Frames [first, last) of `ranks` ranks: rank r's equal share by count.
 std::pair<std::size_t, std::size_t> share_of(std::size_t first, std::size_t last, int rank, int ranks);
 
-/// Number of slice vertices of `frame` under `plan` (mesh edges crossing each plane): the cost measure of a
-/// frame. O(E x orientations x log planes).
-std::size_t count_slice_vertices(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan);
+/// Number of slice vertices of a frame under `plan` (mesh edges crossing each plane): the cost measure of a
+/// frame. O(E x orientations x log planes) per frame.
+class SliceVertexCounter {
+ public:
+  SliceVertexCounter(const MeshTopology& topology, const SlicingPlan& plan);
+  std::size_t count(const Frame& frame) const;
+
+ private:
+  std::vector<glm::dvec3> m_orientations;
+  std::vector<std::vector<double>> m_offsets;  // per orientation, sorted
+  std::vector<std::pair<Index, Index>> m_edges;
+};
 
 /// Boundaries of `chunks` contiguous, non-empty chunks of the frames whose costs are `cost` (frame i of the
 /// range costs cost[i]), each of nearly equal total cost: chunk c is [bounds[c], bounds[c+1]) relative to
@@ -182,7 +191,7 @@ struct ChunkJob {
 };
 
 /// Plans the chunks of frames [first, last) for the command: with one rank and no checkpoint, one chunk (as
-/// before); else `chunks` chunks (0: one per rank) split by measured cost (count_slice_vertices of every
+/// before); else `chunks` chunks (0: one per rank) split by measured cost (SliceVertexCounter over every
 /// frame, each rank counting its share), checked against the checkpoint and assigned to ranks. Collective.
 /// `options_key` fingerprints the command's output-determining options; `cost_plan` may be null (then every
 /// frame costs the same).

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
 
@@ -76,6 +77,23 @@ TEST(Distributed, SplitByCostGivesContiguousNonEmptyChunksOfNearlyEqualCost) {
   // More chunks than frames: one frame each; no cost at all: by count.
   EXPECT_EQ(cli::split_by_cost({1, 2, 3}, 10), (std::vector<std::size_t>{0, 1, 2, 3}));
   EXPECT_EQ(cli::split_by_cost({0, 0, 0, 0}, 2), (std::vector<std::size_t>{0, 2, 4}));
+}
+
+TEST(Distributed, TheCostMeasureCountsTheSliceVerticesTheEngineMakes) {
+  TempDir dir;
+  make_curtain(dir);
+  ASSERT_EQ(
+      test::run_pleat("visibility " + (dir / "c.obj").string() + " --cache " + (dir / "c.pc2").string() +
+                      " -o " + (dir / "v.csv").string() + " --stats " + (dir / "s.json").string())
+          .exit_code,
+      0);
+  const auto stats = nlohmann::json::parse(slurp(dir / "s.json"));
+  const MeshSequence sequence = load_sequence(dir / "c.obj", dir / "c.pc2");
+  const SlicingPlan plan = make_diffuse_plan(sequence.topology(), sequence.frame(0), DiffusePlanParams{});
+  const cli::SliceVertexCounter counter(sequence.topology(), plan);
+  ASSERT_EQ(stats["frames"].size(), sequence.num_frames());
+  for (std::size_t f = 0; f < sequence.num_frames(); ++f)
+    EXPECT_EQ(counter.count(sequence.frame(f)), stats["frames"][f]["slice_vertices"].get<std::size_t>()) << f;
 }
 
 TEST(Distributed, AssignChunksGivesEachRankAContiguousRunOfTheMissingChunks) {
