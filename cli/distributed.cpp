@@ -415,7 +415,7 @@ ChunkJob plan_chunks(const SharedSequence& input, std::size_t first, std::size_t
   job.first = first, job.last = last;
   const std::size_t n = last - first;
   std::vector<double> cost(n, 1.0);
-  if (g_size == 1 && checkpoint_dir.empty()) {
+  if (g_size == 1 && checkpoint_dir.empty() && chunks <= 1) {  // as before MPI: one chunk
     job.bounds = {first, last};
     job.owner = {0};
     return job;

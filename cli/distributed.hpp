@@ -190,11 +190,11 @@ struct ChunkJob {
   std::size_t kept_chunks = 0;  ///< chunks read from the checkpoint
 };
 
-/// Plans the chunks of frames [first, last) for the command: with one rank and no checkpoint, one chunk (as
-/// before); else `chunks` chunks (0: one per rank) split by measured cost (SliceVertexCounter over every
-/// frame, each rank counting its share), checked against the checkpoint and assigned to ranks. Collective.
-/// `options_key` fingerprints the command's output-determining options; `cost_plan` may be null (then every
-/// frame costs the same).
+/// Plans the chunks of frames [first, last) for the command: with one rank, no checkpoint and no --chunks,
+/// one chunk (as before); else `chunks` chunks (0: one per rank) split by measured cost (SliceVertexCounter
+/// over every frame, each rank counting its share), checked against the checkpoint and assigned to ranks.
+/// Collective. `options_key` fingerprints the command's output-determining options; `cost_plan` may be null
+/// (then every frame costs the same).
 ChunkJob plan_chunks(const SharedSequence& input, std::size_t first, std::size_t last, std::size_t chunks,
                      const SlicingPlan* cost_plan, const std::string& checkpoint_dir,
                      std::uint64_t options_key);
