@@ -488,8 +488,13 @@ namespace {
 // Rank 0's view of the progress: frames done per rank, printed as one line.
 class RankProgress {
  public:
+  // Collective: rank 0 decides whether progress is shown, and every rank learns it (the other ranks then
+  // send rank 0 one message per frame, which it receives to the last).
   RankProgress(std::string what, const ChunkJob& job)
-      : m_what(std::move(what)), m_enabled(progress_wanted()), m_total(g_size, 0), m_done(g_size, 0) {
+      : m_what(std::move(what)), m_total(g_size, 0), m_done(g_size, 0) {
+    int enabled = g_rank == 0 && progress_wanted() ? 1 : 0;
+    if (g_size > 1) check(MPI_Bcast(&enabled, 1, MPI_INT, 0, MPI_COMM_WORLD), "Bcast");
+    m_enabled = enabled != 0;
     for (std::size_t c = 0; c + 1 < job.bounds.size(); ++c)
       if (job.owner[c] >= 0) m_total[std::size_t(job.owner[c])] += job.bounds[c + 1] - job.bounds[c];
     m_start = std::chrono::steady_clock::now();
@@ -499,18 +504,17 @@ class RankProgress {
     m_done[std::size_t(rank)] = done;
     print(false);
   }
-  void drain() {  // progress messages of the other ranks, without waiting
+  void drain(bool wait = false) {  // progress messages of the other ranks; with `wait`, all of them
     if (!m_enabled || g_size == 1) return;
-    for (;;) {
-      int flag = 0;
-      MPI_Status status;
-      check(MPI_Iprobe(MPI_ANY_SOURCE, kProgressTag, MPI_COMM_WORLD, &flag, &status), "Iprobe");
-      if (!flag) break;
-      std::uint64_t done = 0;
-      check(MPI_Recv(&done, 1, MPI_UINT64_T, status.MPI_SOURCE, kProgressTag, MPI_COMM_WORLD,
-                     MPI_STATUS_IGNORE),
-            "Recv");
-      m_done[std::size_t(status.MPI_SOURCE)] = done;
+    for (int r = 1; r < g_size; ++r) {
+      while (m_done[std::size_t(r)] < m_total[std::size_t(r)]) {
+        int flag = 1;
+        if (!wait) check(MPI_Iprobe(r, kProgressTag, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE), "Iprobe");
+        if (!flag) break;
+        std::uint64_t done = 0;
+        check(MPI_Recv(&done, 1, MPI_UINT64_T, r, kProgressTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "Recv");
+        m_done[std::size_t(r)] = done;
+      }
     }
     print(false);
   }
@@ -621,7 +625,6 @@ void run_chunks(const ChunkJob& job, const std::string& what, const ComputeChunk
   // checkpoint, finished chunks of other ranks are saved as they arrive (drained between rank 0's own
   // frames), so that a rank lost later does not lose them; without one, they wait in their senders' memory.
   std::map<std::size_t, std::vector<std::pair<std::size_t, std::string>>> received;
-  std::map<std::size_t, std::size_t> rank_done;
   auto receive_one = [&](bool wait) {
     MPI_Status status;
     int flag = 1;
@@ -641,7 +644,6 @@ void run_chunks(const ChunkJob& job, const std::string& what, const ComputeChunk
     const auto frame = header.get<std::uint64_t>();
     auto& frames = received[c];
     frames.emplace_back(frame, buffer.substr(2 * sizeof(std::uint64_t)));
-    if (!progress.enabled()) progress.set(status.MPI_SOURCE, ++rank_done[std::size_t(status.MPI_SOURCE)]);
     if (job.checkpoint && frames.size() == job.bounds[c + 1] - job.bounds[c]) {
       ChunkFile file(*job.checkpoint, job.bounds[c], job.bounds[c + 1], job.chunk_keys[c]);
       for (const auto& [f, bytes] : frames) file.add(f, bytes);
@@ -687,6 +689,7 @@ void run_chunks(const ChunkJob& job, const std::string& what, const ComputeChunk
       received.erase(c);
     }
   }
+  progress.drain(/*wait=*/true);
   progress.finish();
 }
 

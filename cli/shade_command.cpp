@@ -148,6 +148,10 @@ void run_shade(const ShadeOptions& options) {
 
   Fingerprint options_key;  // what decides the outputs' bytes (the checkpoint's job key)
   options_key.add("shade").add_value(plan_fingerprint(plan)).add(options.cones);
+  if (cache) {  // a rewritten cone cache: its size and time of last write change
+    options_key.add_value(std::uint64_t(std::filesystem::file_size(options.cones)));
+    options_key.add_value(std::filesystem::last_write_time(options.cones).time_since_epoch().count());
+  }
   for (const Lighting& setup : setups) options_key.add(setup.name).add(setup.describe());
   options_key.add_value(options.albedo).add_value(options.exposure).add_value(options.no_interreflection);
   const ChunkJob job = plan_chunks(input, first, last, options.chunks, cache ? nullptr : &plan,

@@ -148,6 +148,14 @@ TEST(Distributed, ShadeAtTwoAndThreeRanksWritesTheGlbAndImagesOfOneProcess) {
     for (const std::string& image : images)
       EXPECT_TRUE(slurp(dir / "one" / image) == slurp(std::filesystem::path(out) / image)) << image;
   }
+  // With a checkpoint: a rerun keeps every chunk and writes the same glb.
+  const std::string checkpointed = "shade " + input + " -o " + (dir / "ck.glb").string() + lights +
+                                   " --chunks 3 --checkpoint " + (dir / "ck").string();
+  ASSERT_EQ(mpirun(2, checkpointed).exit_code, 0);
+  std::filesystem::remove(dir / "ck.glb");
+  const auto rerun = mpirun(3, checkpointed);
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.output;
+  EXPECT_TRUE(slurp(dir / "one.glb") == slurp(dir / "ck.glb"));
 }
 
 TEST(Distributed, AKilledRankFailsTheJobAndLeavesNoOutput) {
