@@ -48,8 +48,9 @@ extern "C" void on_termination(int signal) {
   remove_uncommitted_files();
   static const char message[] =
       "pleat: error: the job was stopped (a rank failed or was killed); no output was written\n";
-  if (g_rank == 0) [[maybe_unused]]
-    ssize_t n = ::write(STDERR_FILENO, message, sizeof message - 1);
+  if (g_rank == 0) {
+    [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, message, sizeof message - 1);
+  }
   ::_exit(128 + signal);
 }
 
