@@ -96,6 +96,37 @@ TEST(Distributed, TheCostMeasureCountsTheSliceVerticesTheEngineMakes) {
     EXPECT_EQ(counter.count(sequence.frame(f)), stats["frames"][f]["slice_vertices"].get<std::size_t>()) << f;
 }
 
+/// A frame source that records which frames were read.
+class RecordingSource : public FrameSource {
+ public:
+  explicit RecordingSource(std::vector<std::size_t>* reads) : m_reads(reads) {}
+  std::size_t num_frames() const override { return 6; }
+  double frame_time(std::size_t i) const override { return double(i); }
+  std::vector<glm::dvec3> read_frame(std::size_t i) const override {
+    m_reads->push_back(i);
+    return {{0, 0, 0}, {1, 0, double(i)}, {0, 1, 0}};
+  }
+
+ private:
+  std::vector<std::size_t>* m_reads;
+};
+
+TEST(Distributed, ALoadScanReadsOnlyItsShareOfTheFrames) {
+  std::vector<std::size_t> reads;
+  LoadScan scan;
+  scan.range = [](std::size_t n) { return cli::share_of(0, n, 1, 3); };  // rank 1 of 3: frames 2 and 3
+  bool merged = false;
+  scan.merge = [&](std::vector<Index>& classes, std::exception_ptr error) {
+    EXPECT_FALSE(error);
+    EXPECT_EQ(classes, (std::vector<Index>{0, 1, 2}));
+    merged = true;
+  };
+  const MeshSequence sequence("t", {{0, 1, 2}}, 3, std::make_unique<RecordingSource>(&reads), scan);
+  EXPECT_EQ(reads, (std::vector<std::size_t>{2, 3}));
+  EXPECT_TRUE(merged);
+  EXPECT_EQ(sequence.num_frames(), 6u);
+}
+
 TEST(Distributed, AssignChunksGivesEachRankAContiguousRunOfTheMissingChunks) {
   const std::vector<double> cost = {1, 1, 1, 1, 1, 1};
   const std::vector<bool> todo = {true, false, true, true, false, true};
