@@ -46,12 +46,18 @@ def sequences(scratch, generator):
 
 def frame_times(exe, base, frames, scratch):
     stats = os.path.join(scratch, "stats.json")
+    timings = os.path.join(scratch, "timings.json")
+    # Since the MPI scale-out, the seconds are in --timings (--stats holds only what the frames determine);
+    # older executables have them in --stats.
+    has_timings = "--timings" in subprocess.run([exe, "visibility", "--help"], capture_output=True, text=True).stdout
     subprocess.run([exe, "visibility", base + ".obj", "--cache", base + ".pc2", "--engine", "static", "--serial",
-                    "--frames", frames, "-o", os.path.join(scratch, "out.csv"), "--stats", stats],
+                    "--frames", frames, "-o", os.path.join(scratch, "out.csv"), "--stats", stats]
+                   + (["--timings", timings] if has_timings else []),
                    check=True, stdout=subprocess.DEVNULL)
     fr = json.load(open(stats))["frames"]
-    kept = fr[1:] if len(fr) > 1 else fr
-    return [f["seconds"] for f in kept], [f["slice_vertices"] for f in kept]
+    seconds = [f["seconds"] for f in json.load(open(timings if has_timings else stats))["frames"]]
+    kept = slice(1, None) if len(fr) > 1 else slice(None)
+    return seconds[kept], [f["slice_vertices"] for f in fr][kept]
 
 
 def main():

@@ -27,10 +27,10 @@ run() {  # name obj pc2 frames
     for x in "${settings[@]}"; do
       if [ "$x" = static ]; then
         "$pleat" visibility "$obj" --cache "$pc2" -o "$work/out.csv" --serial --frames "$frames" --engine static \
-          --stats "$work/$name.$x.$r.json" 2>/dev/null
+          --timings "$work/$name.$x.$r.json" 2>/dev/null
       else
         "$pleat" visibility "$obj" --cache "$pc2" -o "$work/out.csv" --serial --frames "$frames" \
-          --max-edit-fraction "$x" --stats "$work/$name.$x.$r.json" 2>/dev/null
+          --max-edit-fraction "$x" --timings "$work/$name.$x.$r.json" 2>/dev/null
       fi
       echo "[kinetic_policy] $name X=$x run $r" >&2
     done

@@ -4,9 +4,28 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "cli/distributed.hpp"
 #include "static_core/input_error.hpp"
 
+namespace {
+
+// Under mpirun: an error every rank learnt of (JobError) is printed once by rank 0 and every rank exits with
+// its code; an error of one rank alone ends the whole job (rank 0's temporary outputs are removed).
+int fail(const std::string& message, int code, bool agreed) {
+  using pleat::cli::World;
+  if (!agreed && World::distributed()) {
+    std::cerr << "pleat: error: rank " << World::rank() << ": " << message << '\n';
+    World::abort(code);
+  }
+  if (World::root()) std::cerr << "pleat: error: " << message << '\n';
+  World::finalize();
+  return code;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  pleat::cli::World::init(argc, argv);  // MPI only when launched by mpirun
   CLI::App app{
       "pleat — visibility cones on animated cloth (Stewart 1999, kept alive frame to frame), and shading "
       "from them.\n"};
@@ -29,13 +48,17 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // Every rank parses the same arguments: one of them says what is wrong.
+    const int code = pleat::cli::World::root() ? app.exit(e) : e.get_exit_code();
+    pleat::cli::World::finalize();
+    return code;
+  } catch (const pleat::cli::JobError& e) {
+    return fail(e.what(), e.code(), true);
   } catch (const pleat::InputError& e) {
-    std::cerr << "pleat: error: " << e.what() << '\n';
-    return 2;
+    return fail(e.what(), 2, false);
   } catch (const std::exception& e) {
-    std::cerr << "pleat: error: " << e.what() << '\n';
-    return 1;
+    return fail(e.what(), 1, false);
   }
+  pleat::cli::World::finalize();
   return 0;
 }

@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -24,7 +25,7 @@
 
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
-#include "cli/progress.hpp"
+#include "cli/distributed.hpp"
 #include "shading/cone_cache.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
@@ -59,6 +60,8 @@ struct ShadeOptions {
   int turntable = 0;
   PlanOptions plan;
   bool quiet = false;
+  std::string checkpoint;
+  std::size_t chunks = 0;
 };
 
 glm::dvec3 parse_vec3(const std::string& text, const char* option) {
@@ -108,12 +111,14 @@ std::vector<Lighting> gather_lightings(const ShadeOptions& options) {
 }
 
 void run_shade(const ShadeOptions& options) {
-  const std::vector<Lighting> setups = gather_lightings(options);
+  std::vector<Lighting> setups;
+  together([&] { setups = gather_lightings(options); });
   const bool relight = !options.relight_file.empty();
-  const MeshSequence sequence = load_sequence(options.in.input, options.in.cache);
+  const SharedSequence input = load_shared(options.in.input, options.in.cache);
+  const MeshSequence& sequence = input.sequence;
   const MeshTopology& topology = sequence.topology();
   std::size_t first = 0, last = 0;
-  parse_frame_range(options.frames, sequence.num_frames(), first, last);
+  together([&] { parse_frame_range(options.frames, sequence.num_frames(), first, last); });
   std::vector<std::size_t> frame_ids;
   for (std::size_t i = first; i < last; ++i) frame_ids.push_back(i);
 
@@ -124,93 +129,162 @@ void run_shade(const ShadeOptions& options) {
   ToneMapParams tone;
   tone.exposure = options.exposure;
 
-  // Outputs: one glb per setup (streamed frame by frame), and optionally images.
+  // The cones: from a cone cache (checked against the mesh and every selected frame before anything is
+  // written; each rank opens it and reads its own frames), or computed per frame with a plan made by rank 0
+  // from the first selected frame.
+  std::optional<ConeCacheReader> cache;
+  std::vector<std::size_t> cached;
+  SlicingPlan plan;
+  together([&] {
+    if (!options.cones.empty()) {
+      cache.emplace(options.cones);
+      cache->check_mesh(topology, sequence.welded_of_input());
+      for (std::size_t i : frame_ids) cached.push_back(cache->index_of_frame(i));
+    } else if (World::root()) {
+      plan = options.plan.make(topology, sequence.frame(frame_ids.front()));
+    }
+  });
+  if (!cache) broadcast_plan(plan);
+
+  Fingerprint options_key;  // what decides the outputs' bytes (the checkpoint's job key)
+  options_key.add("shade").add_value(plan_fingerprint(plan)).add(options.cones);
+  if (cache) {  // a rewritten cone cache: its size and time of last write change
+    options_key.add_value(std::uint64_t(std::filesystem::file_size(options.cones)));
+    options_key.add_value(std::filesystem::last_write_time(options.cones).time_since_epoch().count());
+  }
+  for (const Lighting& setup : setups) options_key.add(setup.name).add(setup.describe());
+  options_key.add_value(options.albedo).add_value(options.exposure).add_value(options.no_interreflection);
+  const ChunkJob job = plan_chunks(input, first, last, options.chunks, cache ? nullptr : &plan,
+                                   options.checkpoint, options_key.value());
+
+  // One pass over the selected frames, each rank over its share: the exact float bounds of every frame for
+  // the glb's header, and the bounds of the whole selection for the auto-framed camera (it stays put while
+  // the cloth moves). Rank 0 thus writes the glb without reading any frame itself.
+  const std::size_t count = last - first;
+  std::vector<float> lows(3 * count, std::numeric_limits<float>::max());
+  std::vector<float> highs(3 * count, std::numeric_limits<float>::lowest());
+  SceneBounds selection;
+  together([&] {
+    const auto [a, b] = share_of(first, last, World::rank(), World::size());
+    for (std::size_t i = a; i < b; ++i) {
+      const Frame frame = sequence.frame(i);
+      const PositionBounds bounds = position_bounds(frame);
+      for (int k = 0; k < 3; ++k)
+        lows[3 * (i - first) + k] = bounds.lo[k], highs[3 * (i - first) + k] = bounds.hi[k];
+      selection.extend(frame);
+    }
+  });
+  all_reduce_bounds(lows, highs);
+  all_reduce_bounds(&selection.lo.x, &selection.hi.x);
+  std::vector<PositionBounds> frame_bounds(count);
+  for (std::size_t j = 0; j < count; ++j)
+    for (int k = 0; k < 3; ++k)
+      frame_bounds[j].lo[k] = lows[3 * j + k], frame_bounds[j].hi[k] = highs[3 * j + k];
+
+  // Outputs: one glb per setup (streamed frame by frame, on rank 0), and optionally images (written by the
+  // rank that shades the frame).
   const std::filesystem::path output(options.output);
   std::vector<std::filesystem::path> outputs;
   std::vector<std::unique_ptr<ShadedGlbWriter>> writers;
   const double fps = sequence.frame_rate() > 0.0 ? sequence.frame_rate() : kDefaultSceneFps;
-  create_parent_directory(output);
-  for (const Lighting& setup : setups) {
-    outputs.push_back(relight ? setup_output(output, setup.name) : output);
-    writers.push_back(std::make_unique<ShadedGlbWriter>(outputs.back(), sequence, frame_ids, fps,
-                                                        /*with_visibility=*/true));
-  }
+  for (const Lighting& setup : setups) outputs.push_back(relight ? setup_output(output, setup.name) : output);
+  together([&] {
+    if (!World::root()) return;
+    create_parent_directory(output);
+    for (const auto& path : outputs)
+      writers.push_back(std::make_unique<ShadedGlbWriter>(path, sequence, frame_ids, fps,
+                                                          /*with_visibility=*/true, frame_bounds));
+  });
 
   const bool render = !options.render_dir.empty();
   std::optional<Camera> camera;
-  std::unique_ptr<EmbreeScene> scene;
   std::vector<std::filesystem::path> render_dirs;
   if (render) {
-    for (const Lighting& setup : setups) {
-      render_dirs.push_back(relight ? std::filesystem::path(options.render_dir) / setup.name
-                                    : std::filesystem::path(options.render_dir));
-      std::filesystem::create_directories(render_dirs.back());
-    }
-    if (!options.camera.empty()) {
-      camera = parse_camera(options.camera);
-    } else {
-      SceneBounds bounds;  // the whole selection, so the camera stays put while the cloth moves
-      for (std::size_t i : frame_ids) bounds.extend(sequence.frame(i));
-      AutoFrameParams framing;
-      framing.up = parse_vec3(options.up, "--up");
-      framing.aspect = double(options.width) / options.height;
-      camera = auto_frame(bounds, framing);
-    }
+    together([&] {
+      for (const Lighting& setup : setups) {
+        render_dirs.push_back(relight ? std::filesystem::path(options.render_dir) / setup.name
+                                      : std::filesystem::path(options.render_dir));
+        std::filesystem::create_directories(render_dirs.back());
+      }
+      if (!options.camera.empty()) {
+        camera = parse_camera(options.camera);
+      } else {
+        AutoFrameParams framing;
+        framing.up = parse_vec3(options.up, "--up");
+        framing.aspect = double(options.width) / options.height;
+        camera = auto_frame(selection, framing);
+      }
+    });
   }
 
-  // The cones: from a cone cache (checked against the mesh and every selected frame before anything is
-  // written), or computed per frame.
-  std::optional<ConeCacheReader> cache;
-  std::vector<std::size_t> cached;
-  std::optional<StaticVisibility> engine;  // reused across frames
-  if (!options.cones.empty()) {
-    cache.emplace(options.cones);
-    cache->check_mesh(topology, sequence.welded_of_input());
-    for (std::size_t i : frame_ids) cached.push_back(cache->index_of_frame(i));
-  } else {
-    engine.emplace(topology, options.plan.make(topology, sequence.frame(frame_ids.front())));
-  }
-  FrameVisibility from_cache;
-  std::array<SideVisibility, 2> sides;
-  double cone_seconds = 0.0, shade_seconds = 0.0;
-  Progress progress("shading frames", frame_ids.size());
-  for (std::size_t j = 0; j < frame_ids.size(); ++j) {
-    const Frame frame = sequence.frame(frame_ids[j]);
-    const auto t0 = std::chrono::steady_clock::now();
-    if (cache) cache->read_frame(cached[j], frame, from_cache);
-    const FrameVisibility& visibility = cache ? from_cache : engine->compute(frame);
-    const auto t1 = std::chrono::steady_clock::now();
-    for (Side side : kBothSides) side_visibility(visibility, side, sides[int(side)]);
-    const bool render_this = render && (j % static_cast<std::size_t>(options.render_every) == 0);
-    if (render_this) {
-      if (!scene)
-        scene = std::make_unique<EmbreeScene>(topology, frame);
-      else
-        scene->update(frame);
-    }
-    for (std::size_t s = 0; s < setups.size(); ++s) {
-      const auto s0 = std::chrono::steady_clock::now();
-      const ShadedFrame shaded = shade_frame(topology, frame, visibility, setups[s], shade_params);
-      shade_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
-      const std::vector<glm::vec3> front = to_srgb(shaded.front(), tone);
-      const std::vector<glm::vec3> back = to_srgb(shaded.back(), tone);
-      writers[s]->add_frame(front, back, sides[0], sides[1]);
+  // One chunk: the cones of each frame, then every setup's shading (and images); the colours and the
+  // visibility attributes go to rank 0 as bytes.
+  const auto compute = [&](std::size_t chunk_first, std::size_t chunk_last, const EmitFrame& emit) {
+    std::optional<StaticVisibility> engine;  // reused across the chunk's frames
+    if (!cache) engine.emplace(topology, plan);
+    std::unique_ptr<EmbreeScene> scene;
+    FrameVisibility from_cache;
+    std::array<SideVisibility, 2> sides;
+    for (std::size_t f = chunk_first; f < chunk_last; ++f) {
+      const std::size_t j = f - first;
+      const Frame frame = sequence.frame(f);
+      const auto t0 = std::chrono::steady_clock::now();
+      if (cache) cache->read_frame(cached[j], frame, from_cache);
+      const FrameVisibility& visibility = cache ? from_cache : engine->compute(frame);
+      const auto t1 = std::chrono::steady_clock::now();
+      for (Side side : kBothSides) side_visibility(visibility, side, sides[int(side)]);
+      const bool render_this = render && (j % static_cast<std::size_t>(options.render_every) == 0);
       if (render_this) {
-        char name[64];
-        std::snprintf(name, sizeof name, "frame_%04zu.png", frame_ids[j]);
-        if (options.turntable > 0 && frame_ids.size() == 1) {
-          render_turntable(render_dirs[s], "turntable", topology, frame, front, back, *camera,
-                           options.turntable, options.width, options.height);
-        } else {
-          write_png(render_dirs[s] / name,
-                    render_image(*scene, frame, front, back, *camera, options.width, options.height));
+        if (!scene)
+          scene = std::make_unique<EmbreeScene>(topology, frame);
+        else
+          scene->update(frame);
+      }
+      ByteWriter bytes;
+      bytes.put(std::chrono::duration<double>(t1 - t0).count());
+      bytes.put_array(std::vector<glm::vec3>(frame.positions.begin(), frame.positions.end()));
+      for (const SideVisibility& side : sides) bytes.put_array(side.sky_visibility).put_array(side.bent_cone);
+      for (std::size_t s = 0; s < setups.size(); ++s) {
+        const auto s0 = std::chrono::steady_clock::now();
+        const ShadedFrame shaded = shade_frame(topology, frame, visibility, setups[s], shade_params);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+        const std::vector<glm::vec3> front = to_srgb(shaded.front(), tone);
+        const std::vector<glm::vec3> back = to_srgb(shaded.back(), tone);
+        bytes.put(seconds).put_array(front).put_array(back);
+        if (render_this) {
+          char name[64];
+          std::snprintf(name, sizeof name, "frame_%04zu.png", f);
+          if (options.turntable > 0 && frame_ids.size() == 1) {
+            render_turntable(render_dirs[s], "turntable", topology, frame, front, back, *camera,
+                             options.turntable, options.width, options.height);
+          } else {
+            write_png(render_dirs[s] / name,
+                      render_image(*scene, frame, front, back, *camera, options.width, options.height));
+          }
         }
       }
+      emit(f, bytes.take());
     }
-    cone_seconds += std::chrono::duration<double>(t1 - t0).count();
-    progress.advance();
-  }
-  progress.finish();
+  };
+  double cone_seconds = 0.0, shade_seconds = 0.0;
+  const auto consume = [&](std::size_t, std::string_view payload) {
+    ByteReader bytes(payload);
+    cone_seconds += bytes.get<double>();
+    const auto positions = bytes.get_array<glm::vec3>();
+    std::array<SideVisibility, 2> sides;
+    for (SideVisibility& side : sides) {
+      side.sky_visibility = bytes.get_array<float>();
+      side.bent_cone = bytes.get_array<glm::vec4>();
+    }
+    for (std::size_t s = 0; s < setups.size(); ++s) {
+      shade_seconds += bytes.get<double>();
+      const auto front = bytes.get_array<glm::vec3>();
+      const auto back = bytes.get_array<glm::vec3>();
+      writers[s]->add_frame(positions, front, back, sides[0], sides[1]);
+    }
+  };
+  run_chunks(job, "shading frames", compute, consume);
+  if (!World::root()) return;
   for (auto& writer : writers) writer->finish();
 
   if (!options.quiet) {
@@ -219,6 +293,10 @@ void run_shade(const ShadeOptions& options) {
     out << "shaded " << frame_ids.size() << " frames of " << topology.num_vertices << " vertices: cones "
         << (cache ? "read from " + options.cones + " in " : std::string()) << 1e3 * cone_seconds / n
         << " ms/frame, shading " << 1e3 * shade_seconds / (n * setups.size()) << " ms/frame per setup\n";
+    if (job.bounds.size() > 2 || World::distributed())
+      out << "  " << job.bounds.size() - 1 << " chunks over " << World::size() << " ranks"
+          << (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "")
+          << "\n";
     for (std::size_t s = 0; s < setups.size(); ++s) {
       out << "wrote " << outputs[s].string();
       if (render) out << " and images in " << render_dirs[s].string();
@@ -282,6 +360,12 @@ void register_shade_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   options->plan.add_to(*cmd);
   cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
+  cmd->add_option("--checkpoint", options->checkpoint,
+                  "keep every finished chunk in DIR; a rerun of the same command computes only the missing "
+                  "chunks (a changed input, plan or option invalidates them)");
+  cmd->add_option("--chunks", options->chunks,
+                  "split the frames into this many contiguous chunks of nearly equal cost (default: one per "
+                  "rank under mpirun; one without)");
   cmd->footer(
       "Examples:\n"
       "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --light cloudy:1,up=0,1,0 --render "

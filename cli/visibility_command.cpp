@@ -8,7 +8,7 @@
 
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
-#include "cli/progress.hpp"
+#include "cli/distributed.hpp"
 #include "kinetic/kinetic_visibility.hpp"
 #include "shading/cone_cache.hpp"
 #include "sim_io/atomic_file.hpp"
@@ -26,14 +26,21 @@ struct VisibilityOptions {
   std::string cones;  // optional cone cache (.cones)
   std::string frames;
   std::string stats;
+  std::string timings;
+  std::string checkpoint;
+  std::size_t chunks = 0;
   PlanOptions plan;
   bool serial = false;
   kinetic::KineticPolicy policy;
 };
 
-nlohmann::json stats_json(std::size_t frame, double seconds, const VisibilityStats& s) {
+// What --stats records per frame is what the frame and the plan determine, so that it is the same byte for
+// byte whatever the engine, the number of ranks or the chunk boundaries (issue 16): counts of slices,
+// regions, windows, crossings. How the run went -- the time of each frame, the rank and chunk that computed
+// it, the kinetic engine's counters (which depend on where its chunk started: a chunk's first frame is a
+// static build) -- goes to --timings.
+nlohmann::json stats_json(std::size_t frame, const VisibilityStats& s) {
   return {{"frame", frame},
-          {"seconds", seconds},
           {"slices", s.slices},
           {"slice_vertices", s.slice_vertices},
           {"regions", s.regions},
@@ -88,58 +95,126 @@ class Engine {
 };
 
 void run(const VisibilityOptions& options) {
-  const MeshSequence sequence = load_sequence(options.in.input, options.in.cache);
+  const bool chunked = World::distributed() || !options.checkpoint.empty();
+  together([&] {
+    if (chunked && !options.cones.empty())
+      throw std::invalid_argument(
+          "--cones is written by a single process without --checkpoint (the cone cache is not gathered over "
+          "ranks yet)");
+  });
+  const SharedSequence input = load_shared(options.in.input, options.in.cache);
+  const double loaded_at = World::seconds();  // this rank's start-up, for --timings
+  const MeshSequence& sequence = input.sequence;
   std::size_t first = 0, last = 0;
-  parse_frame_range(options.frames, sequence.num_frames(), first, last);
+  together([&] { parse_frame_range(options.frames, sequence.num_frames(), first, last); });
   const MeshTopology& topology = sequence.topology();
-  const Frame first_frame = sequence.frame(first);
-  const SlicingPlan plan = options.plan.make(topology, first_frame);
+  // The plan is made from the first requested frame, as by one process, on rank 0, and sent to the others.
+  SlicingPlan plan;
+  together([&] {
+    if (World::root()) plan = options.plan.make(topology, sequence.frame(first));
+  });
+  broadcast_plan(plan);
+  const double planned_at = World::seconds();
 
-  create_parent_directory(options.output);
-  if (!options.stats.empty()) create_parent_directory(options.stats);
-  VisibilityCsvWriter csv(options.output, sequence.welded_of_input());
+  Fingerprint options_key;  // what decides the output's bytes (the checkpoint's job key)
+  options_key.add("visibility")
+      .add(options.engine)
+      .add(options.plan.describe())
+      .add_value(plan_fingerprint(plan));
+  const ChunkJob job =
+      plan_chunks(input, first, last, options.chunks, &plan, options.checkpoint, options_key.value());
+  const double chunked_at = World::seconds();
+
+  // Outputs, on rank 0 only: streamed in frame order, renamed into place at the end.
+  std::optional<VisibilityCsvWriter> csv;
   std::optional<ConeCacheWriter> cones;
-  if (!options.cones.empty()) {
-    create_parent_directory(options.cones);
-    std::vector<std::uint32_t> frame_ids;
-    for (std::size_t f = first; f < last; ++f) frame_ids.push_back(std::uint32_t(f));
-    cones.emplace(options.cones, topology, sequence.welded_of_input(), sequence.frame_rate(),
-                  options.plan.describe(), std::move(frame_ids));
-  }
   nlohmann::json stats = {{"input", options.in.input},         {"engine", options.engine},
                           {"plan", options.plan.describe()},   {"planes", plan.planes.size()},
                           {"vertices", topology.num_vertices}, {"faces", topology.triangles.size()},
                           {"frames", nlohmann::json::array()}};
+  nlohmann::json timings = {{"ranks", World::size()},
+                            {"chunks", job.bounds.size() - 1},
+                            {"chunks_from_checkpoint", job.kept_chunks},
+                            {"frames", nlohmann::json::array()}};
+  together([&] {
+    if (!World::root()) return;
+    create_parent_directory(options.output);
+    if (!options.stats.empty()) create_parent_directory(options.stats);
+    if (!options.timings.empty()) create_parent_directory(options.timings);
+    csv.emplace(options.output, sequence.welded_of_input());
+    if (!options.cones.empty()) {
+      create_parent_directory(options.cones);
+      std::vector<std::uint32_t> frame_ids;
+      for (std::size_t f = first; f < last; ++f) frame_ids.push_back(std::uint32_t(f));
+      cones.emplace(options.cones, topology, sequence.welded_of_input(), sequence.frame_rate(),
+                    options.plan.describe(), std::move(frame_ids));
+    }
+  });
+
   VisibilityParams params;
   params.parallel = !options.serial;
-  Progress progress("visibility", last - first);
-  std::size_t crossing_frames = 0;
-  Engine engine(options.engine, topology, plan, params.parallel, options.policy);
-  for (std::size_t f = first; f < last; ++f) {
-    const Frame frame = f == first ? first_frame : sequence.frame(f);
-    const auto start = std::chrono::steady_clock::now();
-    const FrameVisibility& vis = engine.next(frame);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // One chunk: a fresh engine (the kinetic one starts with a static build), every frame's result as bytes.
+  const auto compute = [&](std::size_t chunk_first, std::size_t chunk_last, const EmitFrame& emit) {
+    Engine engine(options.engine, topology, plan, params.parallel, options.policy);
     std::vector<double> front(topology.num_vertices), back(topology.num_vertices);
-    for (Index v = 0; v < topology.num_vertices; ++v) {
-      front[v] = vis.measure(Side::Front, v).sky_visibility;
-      back[v] = vis.measure(Side::Back, v).sky_visibility;
+    for (std::size_t f = chunk_first; f < chunk_last; ++f) {
+      const Frame frame = sequence.frame(f);
+      const auto start = std::chrono::steady_clock::now();
+      const FrameVisibility& vis = engine.next(frame);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      for (Index v = 0; v < topology.num_vertices; ++v) {
+        front[v] = vis.measure(Side::Front, v).sky_visibility;
+        back[v] = vis.measure(Side::Back, v).sky_visibility;
+      }
+      if (cones) cones->add_frame(frame, vis);  // one process, one chunk only (checked above)
+      nlohmann::json timing = {
+          {"frame", f}, {"seconds", seconds}, {"rank", World::rank()}, {"finished_at", World::seconds()}};
+      if (f == chunk_first) {
+        timing["chunk_start"] = true;
+        timing["rank_startup"] = {
+            {"loaded_at", loaded_at}, {"planned_at", planned_at}, {"chunked_at", chunked_at}};
+      } else if (engine.kinetic_stats())
+        timing["kinetic"] = kinetic_json(*engine.kinetic_stats());
+      ByteWriter bytes;
+      bytes.put_array(front).put_array(back);
+      bytes.put<std::uint64_t>(vis.stats.crossing_slices);
+      bytes.put_string(stats_json(f, vis.stats).dump()).put_string(timing.dump());
+      emit(f, bytes.take());
     }
-    csv.add_frame(f, front, back);
-    if (cones) cones->add_frame(frame, vis);
-    nlohmann::json frame_stats = stats_json(f, seconds, vis.stats);
-    if (f != first && engine.kinetic_stats()) frame_stats["kinetic"] = kinetic_json(*engine.kinetic_stats());
-    stats["frames"].push_back(frame_stats);
-    crossing_frames += vis.stats.crossing_slices > 0;
-    progress.advance();
-  }
-  progress.finish();
+  };
+  std::size_t crossing_frames = 0;
+  double write_seconds = 0.0;  // rank 0's time to write the gathered frames (a serial part of the job)
+  std::size_t gathered_bytes = 0;
+  const auto consume = [&](std::size_t f, std::string_view payload) {
+    const auto start = std::chrono::steady_clock::now();
+    gathered_bytes += payload.size();
+    ByteReader bytes(payload);
+    const auto front = bytes.get_array<double>();
+    const auto back = bytes.get_array<double>();
+    crossing_frames += bytes.get<std::uint64_t>() > 0;
+    csv->add_frame(f, front, back);
+    stats["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
+    timings["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
+    timings["frames"].back()["payload_bytes"] = payload.size();
+    write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  run_chunks(job, "visibility", compute, consume);
+  if (!World::root()) return;
+  timings["rank0_write_seconds"] = write_seconds;
+  timings["gathered_bytes"] = gathered_bytes;
+
   if (!options.stats.empty()) write_file_atomically(options.stats, stats.dump(2) + "\n");
+  timings["seconds_total"] = World::seconds();
+  if (!options.timings.empty()) write_file_atomically(options.timings, timings.dump(2) + "\n");
   if (cones) cones->commit();
-  csv.commit();
+  csv->commit();  // last: the CSV exists only when every other output was written
   std::cout << "wrote " << options.output << ": " << (last - first) << " frames x "
             << sequence.num_input_vertices() << " vertices (" << plan.planes.size()
             << " planes: " << options.plan.describe() << ")\n";
+  if (job.bounds.size() > 2 || World::distributed())
+    std::cout << "  " << job.bounds.size() - 1 << " chunks over " << World::size() << " ranks"
+              << (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "")
+              << "\n";
   if (cones) std::cout << "wrote " << options.cones << ": the 3D cones of every frame\n";
   if (crossing_frames > 0)
     std::cout << "warning: chains cross in " << crossing_frames
@@ -160,7 +235,19 @@ void register_visibility_command(CLI::App& app) {
                   "recompute per frame); both give the same output")
       ->check(CLI::IsMember({"static", "kinetic"}));
   add_frames_option(*cmd, options->frames);
-  cmd->add_option("--stats", options->stats, "also write per-frame statistics as JSON");
+  cmd->add_option(
+      "--stats", options->stats,
+      "also write per-frame statistics as JSON (what the frame and plan determine: slices, regions, "
+      "windows, crossings; the same at any number of ranks)");
+  cmd->add_option("--timings", options->timings,
+                  "also write how the run went as JSON: seconds per frame, the rank that computed it, the "
+                  "kinetic engine's counters");
+  cmd->add_option("--checkpoint", options->checkpoint,
+                  "keep every finished chunk in DIR; a rerun of the same command computes only the missing "
+                  "chunks (a changed input, plan or option invalidates them)");
+  cmd->add_option("--chunks", options->chunks,
+                  "split the frames into this many contiguous chunks of nearly equal cost (default: one per "
+                  "rank under mpirun; one without)");
   cmd->add_option("--cones", options->cones,
                   "also write every frame's 3D cones to a cone cache (.cones), for `pleat shade --cones`");
   cmd->add_option(

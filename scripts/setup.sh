@@ -9,6 +9,7 @@ packages=(cmake make g++ pkg-config
           libtinygltf-dev nlohmann-json3-dev libtbb-dev libembree-dev libstb-dev libcli11-dev
           libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev python3-matplotlib
           clang libfuzzer-14-dev clang-format  # scripts/check_sanitized.sh and the format check
+          openmpi-bin libopenmpi-dev  # mpirun -np N pleat visibility|shade (cli/distributed.hpp)
           libjs-three chromium)  # pleat view's three.js, and the browser its test runs headless
 missing=()
 for p in "${packages[@]}"; do

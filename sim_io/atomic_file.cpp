@@ -42,7 +42,37 @@ std::filesystem::path make_temporary_sibling(const std::filesystem::path& path) 
   throw write_error(path, "cannot create a temporary file: too many name collisions");
 }
 
+// The live temporary files, for remove_uncommitted_files() from a signal handler: fixed slots of plain
+// characters (no allocation there); a temporary whose path does not fit is simply not listed.
+struct TemporarySlot {
+  std::atomic<bool> used{false};
+  char path[4096];
+};
+TemporarySlot g_temporaries[64];
+
+int register_temporary(const std::filesystem::path& path) {
+  const std::string& text = path.native();
+  if (text.size() >= sizeof g_temporaries[0].path) return -1;
+  for (int i = 0; i < 64; ++i) {
+    bool expected = false;
+    if (g_temporaries[i].used.load() || !g_temporaries[i].used.compare_exchange_strong(expected, true))
+      continue;
+    std::memcpy(g_temporaries[i].path, text.c_str(), text.size() + 1);
+    return i;
+  }
+  return -1;
+}
+
+void unregister_temporary(int slot) {
+  if (slot >= 0) g_temporaries[slot].used.store(false);
+}
+
 }  // namespace
+
+void remove_uncommitted_files() noexcept {
+  for (TemporarySlot& slot : g_temporaries)
+    if (slot.used.load()) ::unlink(slot.path);
+}
 
 AtomicFile::AtomicFile(std::filesystem::path path) : m_path(std::move(path)) {
   if (m_path.empty() || m_path.filename().empty()) throw write_error(m_path, "no file name");
@@ -53,10 +83,12 @@ AtomicFile::AtomicFile(std::filesystem::path path) : m_path(std::move(path)) {
     std::filesystem::remove(m_temporary, ignored);
     throw write_error(m_path, "cannot open the temporary file " + m_temporary.string());
   }
+  m_slot = register_temporary(m_temporary);
 }
 
 AtomicFile::~AtomicFile() {
   if (m_committed) return;
+  unregister_temporary(m_slot);
   m_out.close();
   std::error_code ignored;
   std::filesystem::remove(m_temporary, ignored);
@@ -69,6 +101,8 @@ void AtomicFile::commit() {
   m_out.close();
   if (m_out.fail()) throw write_error(m_path, "I/O error while closing");
   std::error_code ec;
+  unregister_temporary(m_slot);
+  m_slot = -1;
   std::filesystem::rename(m_temporary, m_path, ec);
   if (ec) throw write_error(m_path, "cannot rename the temporary file into place: " + ec.message());
   m_committed = true;

@@ -33,6 +33,7 @@ class AtomicFile {
   std::filesystem::path m_temporary;
   std::ofstream m_out;
   bool m_committed = false;
+  int m_slot = -1;  // in the list remove_uncommitted_files() empties
 };
 
 /// Writes `path` atomically with the bytes `write` puts on the (binary) stream; rethrows what `write` throws.
@@ -41,5 +42,9 @@ void write_file_atomically(const std::filesystem::path& path,
 
 /// Convenience: writes a whole byte/text buffer atomically.
 void write_file_atomically(const std::filesystem::path& path, const std::string& content);
+
+/// Removes the temporary file of every AtomicFile not yet committed (or destroyed). Async-signal-safe (only
+/// unlink): for a termination signal handler, where destructors do not run (cli/distributed.cpp).
+void remove_uncommitted_files() noexcept;
 
 }  // namespace pleat

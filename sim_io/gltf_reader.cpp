@@ -662,7 +662,7 @@ FramesFound read_static(const Scene& scene) {
 
 }  // namespace
 
-MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps) {
+MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps, const LoadScan& scan) {
   const std::string file = path.string();
   Model model = load_model(path);
   check_extensions(model, file);
@@ -690,7 +690,7 @@ MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps) {
   if (triangles.empty()) throw InputError(file, "", "empty mesh: no triangles");
   auto source = std::make_unique<GltfSource>(file, std::move(model), std::move(layouts), std::move(frames),
                                              std::move(times));
-  return MeshSequence(file, std::move(triangles), Index(num_vertices), std::move(source));
+  return MeshSequence(file, std::move(triangles), Index(num_vertices), std::move(source), scan);
 }
 
 }  // namespace pleat

@@ -27,6 +27,7 @@
 namespace pleat {
 
 /// Loads a .gltf or .glb (see above); welds vertices that coincide in every frame.
-MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps = kDefaultSceneFps);
+MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps = kDefaultSceneFps,
+                       const LoadScan& scan = {});
 
 }  // namespace pleat

@@ -58,9 +58,27 @@ void flipbook_keys(std::size_t j, std::size_t n, double fps, std::vector<float>&
 
 }  // namespace
 
+PositionBounds position_bounds(const Frame& frame) {
+  PositionBounds b{glm::vec3(std::numeric_limits<float>::max()),
+                   glm::vec3(std::numeric_limits<float>::lowest())};
+  for (const glm::dvec3& p : frame.positions) {
+    const glm::vec3 q(p);
+    b.lo = glm::min(b.lo, q);
+    b.hi = glm::max(b.hi, q);
+  }
+  return b;
+}
+
 ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
                                  std::vector<std::size_t> frames, double fps, bool with_visibility)
+    : ShadedGlbWriter(path, sequence, std::move(frames), fps, with_visibility, {}) {}
+
+ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
+                                 std::vector<std::size_t> frames, double fps, bool with_visibility,
+                                 const std::vector<PositionBounds>& bounds)
     : m_sequence(sequence), m_frames(std::move(frames)), m_with_visibility(with_visibility), m_file(path) {
+  if (!bounds.empty() && bounds.size() != m_frames.size())
+    throw std::invalid_argument("ShadedGlbWriter: one bounds per frame");
   if (m_frames.empty()) throw std::invalid_argument("ShadedGlbWriter: no frames");
   if (!(fps > 0.0) || !std::isfinite(fps))
     throw std::invalid_argument("ShadedGlbWriter: fps must be positive");
@@ -90,13 +108,7 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
   json children = json::array();
   for (std::size_t j = 0; j < F; ++j) {
     // Exact float bounds of the positions as they will be stored.
-    const Frame frame = sequence.frame(m_frames[j]);
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
-    for (const glm::dvec3& p : frame.positions) {
-      const glm::vec3 q(p);
-      lo = glm::min(lo, q);
-      hi = glm::max(hi, q);
-    }
+    const auto [lo, hi] = bounds.empty() ? position_bounds(sequence.frame(m_frames[j])) : bounds[j];
     const std::uint64_t offset = 2 * index_bytes + j * frame_bytes;
     const std::size_t vec3_view = buffer_views.size();
     buffer_views.push_back({{"buffer", 0},
@@ -258,6 +270,17 @@ void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& front_srgb,
                                 const SideVisibility& back) {
   if (m_next >= m_frames.size())
     throw std::logic_error("ShadedGlbWriter::add_frame: more frames than announced");
+  const Frame frame = m_sequence.frame(m_frames[m_next]);
+  std::vector<glm::vec3> positions(frame.positions.begin(), frame.positions.end());
+  add_frame(positions, front_srgb, back_srgb, front, back);
+}
+
+void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& positions,
+                                const std::vector<glm::vec3>& front_srgb,
+                                const std::vector<glm::vec3>& back_srgb, const SideVisibility& front,
+                                const SideVisibility& back) {
+  if (m_next >= m_frames.size())
+    throw std::logic_error("ShadedGlbWriter::add_frame: more frames than announced");
   const Index V = m_sequence.topology().num_vertices;
   if (front_srgb.size() != V || back_srgb.size() != V)
     throw std::invalid_argument("ShadedGlbWriter::add_frame: one colour per welded vertex and side");
@@ -265,11 +288,11 @@ void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& front_srgb,
     for (const SideVisibility* side : {&front, &back})
       if (side->sky_visibility.size() != V || side->bent_cone.size() != V)
         throw std::invalid_argument("ShadedGlbWriter::add_frame: one visibility per welded vertex and side");
-  const Frame frame = m_sequence.frame(m_frames[m_next]);
+  if (positions.size() != V)
+    throw std::invalid_argument("ShadedGlbWriter::add_frame: one position per welded vertex");
   std::vector<float> values;
   values.reserve(4 * std::size_t(V));
-  for (const glm::dvec3& p : frame.positions)
-    values.insert(values.end(), {float(p.x), float(p.y), float(p.z)});
+  for (const glm::vec3& p : positions) values.insert(values.end(), {p.x, p.y, p.z});
   std::ostream& out = m_file.stream();
   put_floats(out, values);
   for (const auto* colours : {&front_srgb, &back_srgb}) {

@@ -41,6 +41,12 @@ struct SideVisibility {
       bent_cone;  ///< unit bent normal (xyz), cosine of the equal-solid-angle half-angle (w)
 };
 
+/// Exact float bounds of a frame's positions as a glb stores them (its POSITION accessor's min and max).
+struct PositionBounds {
+  glm::vec3 lo, hi;
+};
+PositionBounds position_bounds(const Frame& frame);
+
 /// Streams a shaded flipbook .glb: the constructor reads the chosen frames' positions once (for the
 /// accessor bounds) and writes the JSON; add_frame() then appends one frame's data in order; finish() commits
 /// the file atomically. Destroyed before finish(), nothing is left on disk. Frame j plays at time j / fps.
@@ -49,6 +55,11 @@ class ShadedGlbWriter {
   /// `with_visibility`: every add_frame() brings both sides' visibility, written as vertex attributes.
   ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
                   std::vector<std::size_t> frames, double fps, bool with_visibility = false);
+  /// The same with each frame's position_bounds() given (frame j: bounds[j]), so the constructor reads no
+  /// frame: for a writer whose frames' positions come from elsewhere (other processes, cli/distributed.hpp).
+  ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
+                  std::vector<std::size_t> frames, double fps, bool with_visibility,
+                  const std::vector<PositionBounds>& bounds);
   ~ShadedGlbWriter();
   ShadedGlbWriter(const ShadedGlbWriter&) = delete;
   ShadedGlbWriter& operator=(const ShadedGlbWriter&) = delete;
@@ -58,6 +69,10 @@ class ShadedGlbWriter {
   /// The same with both sides' visibility (the writer must have been made `with_visibility`).
   void add_frame(const std::vector<glm::vec3>& front_srgb, const std::vector<glm::vec3>& back_srgb,
                  const SideVisibility& front, const SideVisibility& back);
+  /// The same with the frame's positions as stored (float, per welded vertex) given instead of read.
+  void add_frame(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& front_srgb,
+                 const std::vector<glm::vec3>& back_srgb, const SideVisibility& front,
+                 const SideVisibility& back);
   void finish();
 
  private:

@@ -88,7 +88,7 @@ struct MeshSequence::Impl {
 };
 
 MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangles, Index num_input_vertices,
-                           std::unique_ptr<FrameSource> frames) {
+                           std::unique_ptr<FrameSource> frames, const LoadScan& scan) {
   auto impl = std::make_shared<Impl>();
   impl->name = std::move(name);
   const std::string& n = impl->name;
@@ -113,25 +113,39 @@ MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangl
 
   // Welding by partition refinement: two input vertices stay in one class while they coincide in every
   // frame read so far. Every frame is read once (validating it) even after no class can split any more.
+  // With a LoadScan, this process reads only its share of the frames and scan.merge combines the classes.
   std::vector<Index> cls(num_input_vertices, 0);
   Index num_classes = 1;
   std::unordered_map<WeldKey, Index, WeldKeyHash> next;
-  for (std::size_t i = 0; i < num_frames; ++i) {
-    const std::vector<glm::dvec3> positions = frames->read_frame(i);
-    check_frame_size(n, i, positions.size(), num_input_vertices);
-    for (Index v = 0; v < num_input_vertices; ++v)
-      for (int k = 0; k < 3; ++k)
-        if (!std::isfinite(positions[v][k]))
-          throw InputError(n, frame_place(i) + ", vertex " + std::to_string(v), "non-finite coordinate");
-    if (num_classes == num_input_vertices) continue;
-    next.clear();
-    next.reserve(num_input_vertices);
-    for (Index v = 0; v < num_input_vertices; ++v) {
-      const glm::dvec3& p = positions[v];
-      const WeldKey key{cls[v], coordinate_bits(p.x), coordinate_bits(p.y), coordinate_bits(p.z)};
-      cls[v] = next.try_emplace(key, Index(next.size())).first->second;
+  std::exception_ptr scan_error;
+  try {
+    const auto [scan_first, scan_last] =
+        scan.range ? scan.range(num_frames) : std::pair<std::size_t, std::size_t>(0, num_frames);
+    for (std::size_t i = scan_first; i < std::min(num_frames, scan_last); ++i) {
+      const std::vector<glm::dvec3> positions = frames->read_frame(i);
+      check_frame_size(n, i, positions.size(), num_input_vertices);
+      for (Index v = 0; v < num_input_vertices; ++v)
+        for (int k = 0; k < 3; ++k)
+          if (!std::isfinite(positions[v][k]))
+            throw InputError(n, frame_place(i) + ", vertex " + std::to_string(v), "non-finite coordinate");
+      if (scan.on_frame) scan.on_frame(i, positions);
+      if (num_classes == num_input_vertices) continue;
+      next.clear();
+      next.reserve(num_input_vertices);
+      for (Index v = 0; v < num_input_vertices; ++v) {
+        const glm::dvec3& p = positions[v];
+        const WeldKey key{cls[v], coordinate_bits(p.x), coordinate_bits(p.y), coordinate_bits(p.z)};
+        cls[v] = next.try_emplace(key, Index(next.size())).first->second;
+      }
+      num_classes = Index(next.size());
     }
-    num_classes = Index(next.size());
+  } catch (...) {
+    if (!scan.merge) throw;
+    scan_error = std::current_exception();
+  }
+  if (scan.merge) {
+    scan.merge(cls, scan_error);
+    num_classes = cls.empty() ? 0 : *std::max_element(cls.begin(), cls.end()) + 1;
   }
   // Welded vertices numbered by first appearance in input order.
   std::vector<Index> welded_of_class(num_classes, Index(-1));
@@ -255,12 +269,12 @@ MeshSequence load_sequence(const std::filesystem::path& input, const std::filesy
     if (!cache.empty())
       throw InputError(cache.string(), "", "a cache goes with a single .obj, not with an OBJ sequence");
     const auto files = is_directory ? list_obj_directory(input) : expand_frame_pattern(name);
-    return load_obj_sequence(name, files, options.scene_fps);
+    return load_obj_sequence(name, files, options.scene_fps, options.scan);
   }
   if (extension == ".gltf" || extension == ".glb") {
     if (!cache.empty())
       throw InputError(cache.string(), "", "a cache goes with a single .obj, not with glTF");
-    return load_gltf(input, options.scene_fps);
+    return load_gltf(input, options.scene_fps, options.scan);
   }
   if (extension != ".obj")
     throw InputError(
@@ -274,7 +288,7 @@ MeshSequence load_sequence(const std::filesystem::path& input, const std::filesy
     std::vector<std::vector<glm::dvec3>> frames;
     frames.push_back(std::move(mesh.positions));
     return MeshSequence(name, std::move(mesh.triangles), num_vertices,
-                        make_memory_source(std::move(frames), {0.0}));
+                        make_memory_source(std::move(frames), {0.0}), options.scan);
   }
   const std::string cache_extension = lower_extension(cache);
   std::unique_ptr<FrameSource> source;
@@ -296,7 +310,8 @@ MeshSequence load_sequence(const std::filesystem::path& input, const std::filesy
                      "vertex-count mismatch: the cache has " + std::to_string(cache_points) + " points, " +
                          name + " has " + std::to_string(num_vertices) + " vertices");
   // Name the sequence after the cache: frame-level errors (NaN, truncation) are about its bytes.
-  return MeshSequence(cache.string(), std::move(mesh.triangles), num_vertices, std::move(source));
+  return MeshSequence(cache.string(), std::move(mesh.triangles), num_vertices, std::move(source),
+                      options.scan);
 }
 
 }  // namespace pleat

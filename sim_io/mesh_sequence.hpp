@@ -2,9 +2,13 @@
 // on demand (a sequence larger than memory streams), frame times, and the map back to the input's order.
 #pragma once
 
+#include <cstddef>
+#include <exception>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "static_core/mesh.hpp"
@@ -29,14 +33,30 @@ class FrameSource {
 std::unique_ptr<FrameSource> make_memory_source(std::vector<std::vector<glm::dvec3>> frames,
                                                 std::vector<double> times);
 
+/// How the loading pass (validation and welding, one read of every frame) is shared by cooperating processes
+/// (cli/distributed.hpp): each reads only the frames `range` gives it and `merge` combines what they found,
+/// so no process reads the whole cache. The default reads every frame.
+struct LoadScan {
+  /// [first, last) of the frames this process reads, given the number of frames; empty: all of them.
+  std::function<std::pair<std::size_t, std::size_t>(std::size_t num_frames)> range;
+  /// Sees each frame this process reads, in input order, after it was validated (e.g. to fingerprint it).
+  std::function<void(std::size_t frame, const std::vector<glm::dvec3>& positions)> on_frame;
+  /// Called once by every process after its scan, with its weld classes (labels numbered by first appearance
+  /// in input order; equal labels: coincide in every frame it read) and what its scan threw (null if
+  /// nothing). Must leave the classes over all frames, or throw the error of the lowest frame any process
+  /// met. A collective operation: every process calls it, whatever happened.
+  std::function<void(std::vector<Index>& classes, std::exception_ptr error)> merge;
+};
+
 class MeshSequence {
  public:
   /// Welds input vertices whose positions coincide exactly in every frame (glTF exporters split them at UV
   /// seams): one streaming pass over all frames, which also validates each of them (vertex count, finite
   /// coordinates through the source) and that times are finite and strictly increasing. O(V) memory,
   /// O(V) expected time per frame. Throws InputError naming `name` and the frame.
+  /// `scan` shares that pass between processes (LoadScan).
   MeshSequence(std::string name, std::vector<Triangle> input_triangles, Index num_input_vertices,
-               std::unique_ptr<FrameSource> frames);
+               std::unique_ptr<FrameSource> frames, const LoadScan& scan = {});
   /// An in-memory sequence (generators, tests): no welding.
   MeshSequence(std::string name, MeshTopology topology, std::vector<Frame> frames);
 
@@ -76,6 +96,7 @@ MeshSequence load_sequence(const std::filesystem::path& input, const std::filesy
 
 struct LoadOptions {
   double scene_fps = kDefaultSceneFps;  ///< seconds per frame for formats that store frame numbers only
+  LoadScan scan;                        ///< which frames this process validates and welds over
 };
 MeshSequence load_sequence(const std::filesystem::path& input, const std::filesystem::path& cache,
                            const LoadOptions& options);

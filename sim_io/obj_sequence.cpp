@@ -208,14 +208,14 @@ std::vector<std::filesystem::path> list_obj_directory(const std::filesystem::pat
 }
 
 MeshSequence load_obj_sequence(const std::string& name, const std::vector<std::filesystem::path>& files,
-                               double scene_fps) {
+                               double scene_fps, const LoadScan& scan) {
   if (files.empty()) throw InputError(name, "", "no frames");
   ObjMesh first = read_obj(files.front());
   const auto num_vertices = Index(first.positions.size());
   std::vector<Triangle> triangles = first.triangles;
   auto source =
       std::make_unique<ObjSequenceSource>(files, std::move(first.triangles), num_vertices, scene_fps);
-  return MeshSequence(name, std::move(triangles), num_vertices, std::move(source));
+  return MeshSequence(name, std::move(triangles), num_vertices, std::move(source), scan);
 }
 
 void write_obj_sequence(const std::string& pattern, const MeshSequence& sequence, int first_number) {

@@ -28,7 +28,7 @@ std::vector<std::filesystem::path> list_obj_directory(const std::filesystem::pat
 /// Loads (and welds) the sequence of OBJ files. Throws InputError naming the file that differs in
 /// connectivity from the first, or holds bad data.
 MeshSequence load_obj_sequence(const std::string& name, const std::vector<std::filesystem::path>& files,
-                               double scene_fps = kDefaultSceneFps);
+                               double scene_fps = kDefaultSceneFps, const LoadScan& scan = {});
 
 /// Writes one OBJ per frame of `sequence` (welded vertices) named by the printf `pattern` with numbers
 /// first_number, first_number + 1, ...; each file atomically.

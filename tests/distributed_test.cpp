@@ -1,0 +1,338 @@
+// Scale-out over MPI ranks (cli/distributed.hpp, issue 16): the chunk split and assignment, and the
+// executable under `mpirun --oversubscribe -np 2|3` on one machine: the same bytes as one process for both
+// engines and for shading, a killed rank leaves no output, a rerun with --checkpoint computes only the
+// missing chunks, bad input fails once with the single process's message.
+#include "cli/distributed.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <string>
+
+#include "test_support.hpp"
+
+namespace pleat {
+namespace {
+
+using test::CommandResult;
+using test::TempDir;
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+CommandResult run(const std::string& command) {
+  CommandResult result;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::array<char, 4096> buffer{};
+  std::size_t n = 0;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+/// `mpirun -np N pleat ARGS` on this machine, as root or not; `env` (NAME=VALUE) is passed to every rank.
+CommandResult mpirun(int ranks, const std::string& args, const std::string& env = "") {
+  return run("mpirun --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) +
+             (env.empty() ? "" : " -x " + env) + " " + PLEAT_EXECUTABLE + " " + args);
+}
+
+/// Files of `dir` (names), to check that a failed run left nothing behind.
+std::vector<std::string> names_in(const std::filesystem::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+/// A generated curtain of 7 frames (uneven over 2 and 3 ranks) in `dir`: "c.obj --cache c.pc2".
+std::string make_curtain(const TempDir& dir, int resolution = 10, int frames = 7) {
+  const auto made = test::run_pleat("generate curtain -o " + (dir / "c.obj").string() + " --resolution " +
+                                    std::to_string(resolution) + " --frames " + std::to_string(frames));
+  EXPECT_EQ(made.exit_code, 0) << made.output;
+  return (dir / "c.obj").string() + " --cache " + (dir / "c.pc2").string();
+}
+
+TEST(Distributed, SplitByCostGivesContiguousNonEmptyChunksOfNearlyEqualCost) {
+  const std::vector<double> cost = {1, 1, 1, 1, 8, 1, 1, 1, 1, 8};
+  const auto bounds = cli::split_by_cost(cost, 4);
+  ASSERT_EQ(bounds.size(), 5u);
+  EXPECT_EQ(bounds.front(), 0u);
+  EXPECT_EQ(bounds.back(), cost.size());
+  for (std::size_t c = 0; c + 1 < bounds.size(); ++c) EXPECT_LT(bounds[c], bounds[c + 1]);
+  EXPECT_EQ(bounds[1], 4u);  // the first chunk ends before the expensive frame 4 (total 24: 6 each)
+  EXPECT_EQ(bounds[3], 9u);  // the expensive frame 9 is a chunk of its own
+  // More chunks than frames: one frame each; no cost at all: by count.
+  EXPECT_EQ(cli::split_by_cost({1, 2, 3}, 10), (std::vector<std::size_t>{0, 1, 2, 3}));
+  EXPECT_EQ(cli::split_by_cost({0, 0, 0, 0}, 2), (std::vector<std::size_t>{0, 2, 4}));
+}
+
+TEST(Distributed, TheCostMeasureCountsTheSliceVerticesTheEngineMakes) {
+  TempDir dir;
+  make_curtain(dir);
+  ASSERT_EQ(
+      test::run_pleat("visibility " + (dir / "c.obj").string() + " --cache " + (dir / "c.pc2").string() +
+                      " -o " + (dir / "v.csv").string() + " --stats " + (dir / "s.json").string())
+          .exit_code,
+      0);
+  const auto stats = nlohmann::json::parse(slurp(dir / "s.json"));
+  const MeshSequence sequence = load_sequence(dir / "c.obj", dir / "c.pc2");
+  const SlicingPlan plan = make_diffuse_plan(sequence.topology(), sequence.frame(0), DiffusePlanParams{});
+  const cli::SliceVertexCounter counter(sequence.topology(), plan);
+  ASSERT_EQ(stats["frames"].size(), sequence.num_frames());
+  for (std::size_t f = 0; f < sequence.num_frames(); ++f)
+    EXPECT_EQ(counter.count(sequence.frame(f)), stats["frames"][f]["slice_vertices"].get<std::size_t>()) << f;
+}
+
+/// A frame source that records which frames were read.
+class RecordingSource : public FrameSource {
+ public:
+  explicit RecordingSource(std::vector<std::size_t>* reads) : m_reads(reads) {}
+  std::size_t num_frames() const override { return 6; }
+  double frame_time(std::size_t i) const override { return double(i); }
+  std::vector<glm::dvec3> read_frame(std::size_t i) const override {
+    m_reads->push_back(i);
+    return {{0, 0, 0}, {1, 0, double(i)}, {0, 1, 0}};
+  }
+
+ private:
+  std::vector<std::size_t>* m_reads;
+};
+
+TEST(Distributed, ALoadScanReadsOnlyItsShareOfTheFrames) {
+  std::vector<std::size_t> reads;
+  LoadScan scan;
+  scan.range = [](std::size_t n) { return cli::share_of(0, n, 1, 3); };  // rank 1 of 3: frames 2 and 3
+  bool merged = false;
+  scan.merge = [&](std::vector<Index>& classes, std::exception_ptr error) {
+    EXPECT_FALSE(error);
+    EXPECT_EQ(classes, (std::vector<Index>{0, 1, 2}));
+    merged = true;
+  };
+  const MeshSequence sequence("t", {{0, 1, 2}}, 3, std::make_unique<RecordingSource>(&reads), scan);
+  EXPECT_EQ(reads, (std::vector<std::size_t>{2, 3}));
+  EXPECT_TRUE(merged);
+  EXPECT_EQ(sequence.num_frames(), 6u);
+}
+
+TEST(Distributed, AssignChunksGivesEachRankAContiguousRunOfTheMissingChunks) {
+  const std::vector<double> cost = {1, 1, 1, 1, 1, 1};
+  const std::vector<bool> todo = {true, false, true, true, false, true};
+  const auto owner = cli::assign_chunks(cost, todo, 2);
+  EXPECT_EQ(owner, (std::vector<int>{0, -1, 0, 1, -1, 1}));
+  EXPECT_EQ(cli::assign_chunks({5, 1, 1, 1, 1, 1}, std::vector<bool>(6, true), 2),
+            (std::vector<int>{0, 1, 1, 1, 1, 1}));  // balanced by cost, not count
+}
+
+TEST(Distributed, BothEnginesAtTwoAndThreeRanksWriteTheBytesOfOneProcess) {
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  for (const std::string engine : {"kinetic", "static"}) {
+    const std::string one = (dir / ("one_" + engine)).string();
+    const auto single = test::run_pleat("visibility " + input + " --engine " + engine + " -o " + one +
+                                        ".csv --stats " + one + ".json --frames 0:7");
+    ASSERT_EQ(single.exit_code, 0) << single.output;
+    int run_index = 0;
+    for (const auto& [ranks, extra] : {std::pair{2, ""}, std::pair{3, ""}, std::pair{2, " --chunks 5"}}) {
+      const std::string out = (dir / (engine + std::to_string(run_index++))).string();
+      const auto many =
+          mpirun(ranks, "visibility " + input + " --engine " + engine + " -o " + out + ".csv --stats " + out +
+                            ".json --timings " + out + "_timings.json --frames 0:7" + extra);
+      ASSERT_EQ(many.exit_code, 0) << many.output;
+      EXPECT_TRUE(slurp(one + ".csv") == slurp(out + ".csv"))
+          << engine << " at " << ranks << " ranks" << extra;
+      EXPECT_TRUE(slurp(one + ".json") == slurp(out + ".json"))
+          << engine << " at " << ranks << " ranks" << extra;
+      EXPECT_NE(slurp(out + "_timings.json").find("\"chunk_start\""), std::string::npos);
+    }
+  }
+}
+
+TEST(Distributed, ShadeAtTwoAndThreeRanksWritesTheGlbAndImagesOfOneProcess) {
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  const std::string lights =
+      " --light sky:0.5 --light point:0.5,-1,1.5,I=2 --frames 1:7 -q --render-every 2 --width 64 --height 48";
+  const auto single = test::run_pleat("shade " + input + " -o " + (dir / "one.glb").string() + lights +
+                                      " --render " + (dir / "one").string());
+  ASSERT_EQ(single.exit_code, 0) << single.output;
+  const auto images = names_in(dir / "one");
+  ASSERT_EQ(images.size(), 3u);
+  for (int ranks : {2, 3}) {
+    const std::string out = (dir / ("many" + std::to_string(ranks))).string();
+    const auto many = mpirun(ranks, "shade " + input + " -o " + out + ".glb" + lights + " --render " + out);
+    ASSERT_EQ(many.exit_code, 0) << many.output;
+    EXPECT_TRUE(slurp(dir / "one.glb") == slurp(out + ".glb")) << ranks << " ranks";
+    ASSERT_EQ(names_in(out), images);
+    for (const std::string& image : images)
+      EXPECT_TRUE(slurp(dir / "one" / image) == slurp(std::filesystem::path(out) / image)) << image;
+  }
+  // With a checkpoint: a rerun keeps every chunk and writes the same glb.
+  const std::string checkpointed = "shade " + input + " -o " + (dir / "ck.glb").string() + lights +
+                                   " --chunks 3 --checkpoint " + (dir / "ck").string();
+  ASSERT_EQ(mpirun(2, checkpointed).exit_code, 0);
+  std::filesystem::remove(dir / "ck.glb");
+  const auto rerun = mpirun(3, checkpointed);
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.output;
+  EXPECT_TRUE(slurp(dir / "one.glb") == slurp(dir / "ck.glb"));
+}
+
+TEST(Distributed, AKilledRankFailsTheJobAndLeavesNoOutput) {
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  std::filesystem::create_directories(dir / "out");
+  const auto before = names_in(dir / "out");
+  for (const std::string command : {"visibility", "shade"}) {
+    const std::string out = (dir / "out" / (command == "shade" ? "v.glb" : "v.csv")).string();
+    const std::string extra = command == "visibility" ? " --stats " + (dir / "out/s.json").string() : "";
+    const auto killed = mpirun(2, command + " " + input + " -o " + out + extra, "PLEAT_TEST_KILL_RANK=1");
+    EXPECT_NE(killed.exit_code, 0) << killed.output;
+    EXPECT_EQ(names_in(dir / "out"), before) << command << ": " << killed.output;
+  }
+}
+
+TEST(Distributed, ARerunWithTheCheckpointComputesOnlyTheMissingChunks) {
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  const std::string single = (dir / "one.csv").string();
+  ASSERT_EQ(test::run_pleat("visibility " + input + " -o " + single).exit_code, 0);
+  const std::string args = "visibility " + input + " -o " + (dir / "v.csv").string() +
+                           " --chunks 4 --checkpoint " + (dir / "ck").string();
+  // A rank killed after its first frame: no output; whatever chunks were finished are kept.
+  const auto killed = mpirun(2, args, "PLEAT_TEST_KILL_RANK=1");
+  EXPECT_NE(killed.exit_code, 0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "v.csv"));
+  // The rerun finishes the job; then one chunk is lost and the next rerun computes only it.
+  const auto rerun = mpirun(2, args);
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.output;
+  EXPECT_TRUE(slurp(dir / "v.csv") == slurp(single));
+  std::vector<std::filesystem::path> chunks;
+  for (const auto& e : std::filesystem::directory_iterator(dir / "ck")) chunks.push_back(e.path());
+  ASSERT_EQ(chunks.size(), 4u);
+  std::sort(chunks.begin(), chunks.end());
+  std::filesystem::remove(chunks[2]);
+  std::filesystem::remove(dir / "v.csv");
+  const auto third = mpirun(3, args);
+  ASSERT_EQ(third.exit_code, 0) << third.output;
+  EXPECT_NE(third.output.find("4 chunks over 3 ranks, 3 kept from the checkpoint"), std::string::npos)
+      << third.output;
+  EXPECT_TRUE(slurp(dir / "v.csv") == slurp(single));
+  // One process too, with everything kept.
+  const auto fourth = test::run_pleat(args);
+  ASSERT_EQ(fourth.exit_code, 0) << fourth.output;
+  EXPECT_NE(fourth.output.find("4 kept from the checkpoint"), std::string::npos) << fourth.output;
+  EXPECT_TRUE(slurp(dir / "v.csv") == slurp(single));
+}
+
+TEST(Distributed, AChangedInputOrPlanInvalidatesTheCheckpoint) {
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  const std::string args = "visibility " + input + " -o " + (dir / "v.csv").string() +
+                           " --chunks 3 --checkpoint " + (dir / "ck").string();
+  ASSERT_EQ(mpirun(2, args).exit_code, 0);
+  // Another plan: nothing kept.
+  const auto replanned = mpirun(2, args + " --orientations 6");
+  ASSERT_EQ(replanned.exit_code, 0) << replanned.output;
+  EXPECT_EQ(replanned.output.find("kept from the checkpoint"), std::string::npos) << replanned.output;
+  EXPECT_NE(replanned.output.find("another input, plan or command removed"), std::string::npos);
+  // One frame of the cache changed (last byte of the last frame): its chunk alone is computed again.
+  {
+    std::fstream pc2(dir / "c.pc2", std::ios::in | std::ios::out | std::ios::binary);
+    pc2.seekg(-2, std::ios::end);
+    char byte = 0;
+    pc2.read(&byte, 1);
+    byte ^= 1;
+    pc2.seekp(-2, std::ios::end);
+    pc2.write(&byte, 1);
+  }
+  const auto changed = mpirun(2, args + " --orientations 6");
+  ASSERT_EQ(changed.exit_code, 0) << changed.output;
+  EXPECT_NE(changed.output.find("3 chunks over 2 ranks, 2 kept from the checkpoint"), std::string::npos)
+      << changed.output;
+}
+
+/// The generated curtain with vertex 0 split in two at its first face (as exporters split seams): the copy
+/// coincides with it in every frame (`split_from` = 7) or only up to frame `split_from`.
+std::string make_split_curtain(const TempDir& dir, int split_from) {
+  make_curtain(dir);
+  std::ifstream obj_in(dir / "c.obj");
+  std::ofstream obj_out(dir / "s.obj");
+  bool split = false;
+  for (std::string line; std::getline(obj_in, line);) {
+    if (!split && line == "f 1 2 12") line = "f 101 2 12", split = true;
+    obj_out << line << '\n';
+  }
+  EXPECT_TRUE(split);
+  std::ifstream first_vertex(dir / "c.obj");
+  std::string line;
+  while (std::getline(first_vertex, line) && line.rfind("v ", 0) != 0) {
+  }
+  obj_out << line << '\n';
+  obj_out.close();
+  const std::string pc2 = slurp(dir / "c.pc2");
+  std::string header = pc2.substr(0, 32);
+  const std::int32_t points = 101;
+  std::memcpy(header.data() + 16, &points, 4);
+  std::string out = header;
+  for (int f = 0; f < 7; ++f) {
+    std::string frame = pc2.substr(32 + std::size_t(f) * 1200, 1200);
+    std::string copy = frame.substr(0, 12);
+    if (f >= split_from) copy[11] ^= 0x10;  // a different z
+    out += frame + copy;
+  }
+  std::ofstream(dir / "s.pc2", std::ios::binary) << out;
+  return (dir / "s.obj").string() + " --cache " + (dir / "s.pc2").string();
+}
+
+TEST(Distributed, WeldingOverSharedLoadingEqualsOneProcess) {
+  for (int split_from : {7, 5}) {
+    TempDir dir;
+    const std::string input = make_split_curtain(dir, split_from);
+    const auto info = test::run_pleat("info " + input);
+    EXPECT_NE(info.output.find(split_from == 7 ? "1 welded" : "0 welded"), std::string::npos) << info.output;
+    const auto single = test::run_pleat("visibility " + input + " -o " + (dir / "one.csv").string());
+    ASSERT_EQ(single.exit_code, 0) << single.output;
+    const auto many = mpirun(3, "visibility " + input + " -o " + (dir / "three.csv").string());
+    ASSERT_EQ(many.exit_code, 0) << many.output;
+    EXPECT_TRUE(slurp(dir / "one.csv") == slurp(dir / "three.csv")) << "split from frame " << split_from;
+  }
+}
+
+TEST(Distributed, BadInputFailsOnceWithTheSingleProcessMessageAndNoOutput) {
+  TempDir dir;
+  const std::string input = make_curtain(dir, 6, 7);
+  {
+    // A NaN in the last frame (read by the last rank's share of the loading pass).
+    std::fstream pc2(dir / "c.pc2", std::ios::in | std::ios::out | std::ios::binary);
+    pc2.seekp(32 + 6 * 36 * 12 + 4);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    pc2.write(reinterpret_cast<const char*>(&nan), 4);
+  }
+  const auto single = test::run_pleat("visibility " + input + " -o " + (dir / "v.csv").string());
+  ASSERT_EQ(single.exit_code, 2);
+  const std::string message = single.output.substr(0, single.output.find('\n'));
+  EXPECT_NE(message.find("c.pc2"), std::string::npos) << message;
+  for (int ranks : {2, 3}) {
+    const auto many = mpirun(ranks, "visibility " + input + " -o " + (dir / "v.csv").string());
+    EXPECT_NE(many.exit_code, 0);
+    const auto at = many.output.find(message);
+    EXPECT_NE(at, std::string::npos) << many.output;
+    EXPECT_EQ(many.output.find(message, at + 1), std::string::npos) << "reported more than once";
+    EXPECT_FALSE(std::filesystem::exists(dir / "v.csv"));
+  }
+}
+
+}  // namespace
+}  // namespace pleat
