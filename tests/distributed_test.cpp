@@ -30,22 +30,10 @@ std::string slurp(const std::filesystem::path& p) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-CommandResult run(const std::string& command) {
-  CommandResult result;
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::array<char, 4096> buffer{};
-  std::size_t n = 0;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
-  const int status = ::pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
-
 /// `mpirun -np N pleat ARGS` on this machine, as root or not; `env` (NAME=VALUE) is passed to every rank.
 CommandResult mpirun(int ranks, const std::string& args, const std::string& env = "") {
-  return run("mpirun --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) +
-             (env.empty() ? "" : " -x " + env) + " " + PLEAT_EXECUTABLE + " " + args);
+  return test::run_command("mpirun --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) +
+                           (env.empty() ? "" : " -x " + env) + " " + PLEAT_EXECUTABLE + " " + args);
 }
 
 /// Files of `dir` (names), to check that a failed run left nothing behind.

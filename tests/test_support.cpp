@@ -36,7 +36,11 @@ std::string flip_random_bits(std::string bytes) {
 }
 
 CommandResult run_pleat(const std::string& args) {
-  const std::string command = std::string(PLEAT_EXECUTABLE) + " " + args + " 2>&1";
+  return run_command(std::string(PLEAT_EXECUTABLE) + " " + args);
+}
+
+CommandResult run_command(const std::string& shell_command) {
+  const std::string command = shell_command + " 2>&1";
   CommandResult result;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return {-1, "popen failed"};

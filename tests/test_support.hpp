@@ -33,5 +33,7 @@ std::string flip_random_bits(std::string bytes);
 
 /// Runs `pleat ARGS` (args are passed to the shell as written) and captures its output.
 CommandResult run_pleat(const std::string& args);
+/// Runs a shell command, stderr merged into the output.
+CommandResult run_command(const std::string& shell_command);
 
 }  // namespace pleat::test
