@@ -30,10 +30,19 @@ std::string slurp(const std::filesystem::path& p) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+/// In the sanitizer build, the LeakSanitizer options of every rank: Open MPI's suppressions, and the slow
+/// unwinder so that an allocation made inside Open MPI's libraries is seen to be theirs (tests/sanitizer/).
+#ifdef PLEAT_MPI_LSAN_OPTIONS
+const std::string kRankSanitizerEnv = "LSAN_OPTIONS=" PLEAT_MPI_LSAN_OPTIONS " ";
+#else
+const std::string kRankSanitizerEnv;
+#endif
+
 /// `mpirun -np N pleat ARGS` on this machine, as root or not; `env` (NAME=VALUE) is passed to every rank.
 CommandResult mpirun(int ranks, const std::string& args, const std::string& env = "") {
-  return test::run_command("mpirun --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) +
-                           (env.empty() ? "" : " -x " + env) + " " + PLEAT_EXECUTABLE + " " + args);
+  return test::run_command(kRankSanitizerEnv + "mpirun --allow-run-as-root --oversubscribe -np " +
+                           std::to_string(ranks) + (env.empty() ? "" : " -x " + env) + " " +
+                           PLEAT_EXECUTABLE + " " + args);
 }
 
 /// Files of `dir` (names), to check that a failed run left nothing behind.
