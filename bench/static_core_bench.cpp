@@ -17,10 +17,11 @@
 //   --pleat_stage_resolutions=55,173,548  the curtain frames whose slice sets the stage micro-benchmarks
 //                                    use (allocation counts: resolutions up to 200 only)
 //   --pleat_embree=1                 0 skips the Embree reference rows
-//   --pleat_real=drape,pile,rucked   the real Blender sequences of data/ for the frame/real rows (their last
-//                                    sample, the most folded; "" for none): the pile regression benchmark of
-//                                    the static-core issue (no real sequence above 2x the drape's µs per
-//                                    slice vertex; compare the rows' s_per_slice_vertex)
+//   --pleat_real=drape,pile,rucked,layered
+//                                    the real Blender sequences of data/ for the frame/real rows (their last
+//                                    sample, the most folded; "" for none): the pile and layered regression
+//                                    benchmarks of the static-core issue (no real sequence above 2x the
+//                                    drape's µs per slice vertex; compare the rows' s_per_slice_vertex)
 //   --pleat_data=DIR                 the repository's data/ (default: found from this source file's path)
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
@@ -107,7 +108,7 @@ struct Options {
   int large_repetitions = 2;
   std::vector<int> stage_resolutions{55, 173, 548};
   bool embree = true;
-  std::vector<std::string> real{"drape", "pile", "rucked"};
+  std::vector<std::string> real{"drape", "pile", "rucked", "layered"};
   std::string data = std::string(PLEAT_BENCH_SOURCE_DIR) + "/data";
 };
 Options g_options;

@@ -1,10 +1,10 @@
-"""Build and simulate the bundled cloth sequences `data/drape/`, `data/pile/` and `data/rucked/`
-with Blender's cloth solver.
+"""Build and simulate the bundled cloth sequences `data/drape/`, `data/pile/`, `data/rucked/`
+and `data/layered/` with Blender's cloth solver.
 
 Run headless from the repository root (Blender 3.4):
 
     blender -b --factory-startup --python-exit-code 1 \
-        --python data/blender/make_cloth_sequence.py -- [--scene drape|pile|rucked] \
+        --python data/blender/make_cloth_sequence.py -- [--scene drape|pile|rucked|layered] \
         [--out data/<scene>] [--preview] [--no-check]
 
 Scenes (every parameter is in the scene's dict below; cloth-object collision and cloth
@@ -24,6 +24,11 @@ self-collision are on in all of them; only the cloth is written, never the obsta
           the other (the cuff) is pinned to an animated empty that pushes it toward the first
           and twists it, so the tube is compressed along its axis into folds, like a
           pushed-up sleeve.
+  layered three square sheets (36 x 36 quads each, 1.6 m, 1.54 m and 1.48 m wide; 4107
+          vertices, 7776 triangles, three components) stacked 3 cm apart, each turned 12 degrees
+          more than the one below, are dropped together onto a round table (radius 0.45 m) that
+          turns 60 degrees from frame 30 to 110: plies that fold over each other, lying a few
+          millimetres apart, like a folded-over hem or a collar.
 
 Output (axis convention: Y-up, right-handed; Blender (x, y, z) -> file (x, z, -y), the
 same rotation Blender's own OBJ/glTF exporters apply by default; metres):
@@ -60,7 +65,9 @@ from mathutils.bvhtree import BVHTree
 # Keys of a scene dict:
 #   mesh        ("grid", nx, ny, sx, sy): nx x ny quads in the xy plane, centred, row-major
 #               (x fastest); ("tube", n_around, n_along, radius, length): rings about the
-#               x axis, centred, ring-major (around fastest), no caps, normals outward.
+#               x axis, centred, ring-major (around fastest), no caps, normals outward;
+#               ("layers", n_layers, n, size, gap, turn_deg, shrink): stacked square grids (see
+#               layers_mesh).
 #   z, offset, spin_deg, tilt_deg
 #               placement baked into the vertices: translate (offset, z) @ rotate z @ rotate x.
 #   pins        optional: vertices pinned in place ("fixed") or pinned to an animated empty
@@ -194,7 +201,47 @@ SLEEVE = dict(
     preview_frames="40,100",
 )
 
-SCENES = dict(drape=DRAPE, pile=PILE, rucked=SLEEVE)  # rucked: "sleeve" and "tube" name a generated kind
+LAYERED = dict(
+    # Three square sheets stacked 3 cm apart (edge 0.045 m), each turned a little more than the one
+    # below and a little smaller, like a folded-over hem or a collar's plies: 3 x 37 x 37 = 4107
+    # vertices, 7776 triangles, three components.
+    mesh=("layers", 3, 36, 1.6, 0.03, 12.0, 0.06),
+    z=1.05,                            # height of the lowest sheet
+    offset=(0.10, -0.06),
+    tilt_deg=3.0,
+    spin_deg=10.0,
+    table=dict(r=0.45, h=0.75,
+               spin=((30, 0.0), (110, 60.0))),
+    ground=8.0,
+    fps=24,
+    sim=(1, 110),
+    keep=(31, 110),                    # 80 frames: the plies have landed and folded together
+    cloth=dict(
+        quality=12,
+        mass=0.3,
+        air_damping=1.0,
+        tension_stiffness=15.0, compression_stiffness=15.0,
+        shear_stiffness=5.0, bending_stiffness=2.0,
+        tension_damping=5.0, compression_damping=5.0,
+        shear_damping=5.0, bending_damping=0.5,
+    ),
+    collision=dict(
+        collision_quality=8,
+        use_collision=True,
+        distance_min=0.008,
+        use_self_collision=True,       # the plies collide with each other through self-collision
+        self_distance_min=0.008,       # (0.006 and quality 6 left one face pair crossing in 10 frames)
+        self_friction=5.0,
+        self_impulse_clamp=0.0,
+        impulse_clamp=0.0,
+    ),
+    obstacle_thickness=0.01,
+    obstacle_friction=5.0,
+    camera=((2.0, -2.2, 1.9), (0.05, 0.0, 0.35)),
+    preview_frames="50,110",
+)
+
+SCENES = dict(drape=DRAPE, pile=PILE, rucked=SLEEVE, layered=LAYERED)  # rucked: "sleeve" and "tube" name a generated kind
 
 
 def parse_args():
@@ -267,6 +314,21 @@ def tube_mesh(n_around, n_along, radius, length):
     return verts, faces, ij
 
 
+def layers_mesh(n_layers, n, size, gap, turn_deg, shrink):
+    """n_layers square sheets of n x n quads, the lowest `size` wide, each next one `gap` higher,
+    turned `turn_deg` more about z and `shrink` narrower; sheet-major, then row-major, x fastest.
+    Returns vertices, quads and each vertex's (column i, row j) in its sheet."""
+    verts, faces, ij = [], [], []
+    for k in range(n_layers):
+        g_verts, g_faces, g_ij = grid_mesh(n, n, size - k * shrink, size - k * shrink)
+        turn = Matrix.Rotation(math.radians(k * turn_deg), 3, "Z")
+        base = len(verts)
+        verts += [tuple(turn @ Vector((x, y, k * gap))) for x, y, _ in g_verts]
+        faces += [tuple(base + a for a in f) for f in g_faces]
+        ij += g_ij
+    return verts, faces, ij
+
+
 def animated_empty(scene, name, keys):
     """An empty with Bezier location/rotation keys (frame, location, rotation in degrees);
     it is left at its first key's pose."""
@@ -316,7 +378,7 @@ def add_pins(scene, obj, ij, pins):
 
 def make_cloth(scene, P):
     kind = P["mesh"][0]
-    verts, faces, ij = {"grid": grid_mesh, "tube": tube_mesh}[kind](*P["mesh"][1:])
+    verts, faces, ij = {"grid": grid_mesh, "tube": tube_mesh, "layers": layers_mesh}[kind](*P["mesh"][1:])
     mesh = bpy.data.meshes.new("cloth")
     mesh.from_pydata(verts, [], faces)
     mesh.update()
