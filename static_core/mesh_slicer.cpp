@@ -40,9 +40,23 @@ void Slice::clear() {
   in_edge.clear();
 }
 
-bool on_or_above(const SlicingPlane& plane, const glm::dvec3& p) {
+bool on_or_above_exact(const SlicingPlane& plane, const glm::dvec3& p) {
   const cgal::Kernel::Plane_3 h(plane.normal.x, plane.normal.y, plane.normal.z, -plane.offset);
   return h.oriented_side(cgal::Kernel::Point_3(p.x, p.y, p.z)) != CGAL::ON_NEGATIVE_SIDE;
+}
+
+bool on_or_above(const SlicingPlane& plane, const glm::dvec3& p) {
+  // A semi-static filter in front of CGAL's exact predicate. The rounded d = (x + y + z) - offset of the
+  // products x = n.x p.x, ... differs from the exact value by at most 4u / (1 - 4u) times the sum of the
+  // terms' magnitudes (u = 2^-53: three roundings of products, three of sums); 8u times the rounded sum
+  // covers that and the rounding of the sum itself. Below a magnitude of 1e-290 an underflowed product
+  // could break the relative bound, and a non-finite term makes the comparison false: both go to CGAL.
+  constexpr double kBound = 8.0 * 0x1p-53;
+  const double x = plane.normal.x * p.x, y = plane.normal.y * p.y, z = plane.normal.z * p.z;
+  const double d = ((x + y) + z) - plane.offset;
+  const double magnitude = ((std::abs(x) + std::abs(y)) + std::abs(z)) + std::abs(plane.offset);
+  if (magnitude > 1e-290 && std::abs(d) > kBound * magnitude) return d > 0;
+  return on_or_above_exact(plane, p);
 }
 
 void slice_mesh(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,

@@ -72,8 +72,11 @@ std::vector<std::vector<Index>> candidate_faces_per_plane(const MeshTopology& to
 void candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
                                std::vector<std::vector<Index>>& result);
 
-/// Exact side of a point against a plane: true when on or above (dot(normal, p) >= offset).
+/// Exact side of a point against a plane: true when on or above (dot(normal, p) >= offset). A floating-point
+/// filter decides whenever its error bound allows (almost always); CGAL's exact predicate the rest.
 bool on_or_above(const SlicingPlane& plane, const glm::dvec3& p);
+/// The same by CGAL's exact predicate alone (the filter's oracle in the tests).
+bool on_or_above_exact(const SlicingPlane& plane, const glm::dvec3& p);
 
 /// The mesh vertices that receive a 2D cone from this plane (the nearer endpoints of its slice vertices).
 std::vector<Index> cone_recipients(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
