@@ -104,7 +104,7 @@ std::array<std::vector<ConeMeasures>, 2> vertex_plane_cones(const MeshTopology& 
   const SlicingPlan directions = make_diffuse_plan(topology, frame, {orientations, 0.0, 1});
   const std::size_t n = topology.num_vertices, o_count = directions.orientations.size();
   const double eps = kOracleOffset * average_edge_length(topology, frame);
-  const MeshEdges edges(topology);
+  const MeshConnectivity connectivity(topology);
   std::vector<Index> all_faces(topology.triangles.size());
   for (std::size_t f = 0; f < all_faces.size(); ++f) all_faces[f] = Index(f);
   std::vector<SlicingPlane> planes(n * o_count);
@@ -125,7 +125,7 @@ std::array<std::vector<ConeMeasures>, 2> vertex_plane_cones(const MeshTopology& 
     Workspace& ws = workspaces.local();
     for (double shift : {-eps, eps}) {  // below the vertex first: it cuts the edges to lower neighbours
       const SlicingPlane plane = make_plane(normal, glm::dot(normal, frame.positions[v]) + shift, o);
-      slice_mesh(topology, edges, frame, plane, all_faces, ws.slicer, ws.slice);
+      slice_mesh(topology, connectivity, frame, plane, all_faces, ws.slicer, ws.slice);
       std::int64_t best = -1;
       for (std::size_t x = 0; x < ws.slice.vertices.size(); ++x) {
         const SliceVertex& sv = ws.slice.vertices[x];
@@ -166,10 +166,10 @@ std::array<std::vector<ConeMeasures>, 2> vertex_plane_cones(const MeshTopology& 
 /// orientation of `plan`.
 std::vector<bool> own_in_every_orientation(const MeshTopology& topology, const Frame& frame,
                                            const SlicingPlan& plan) {
-  const MeshEdges edges(topology);
+  const MeshConnectivity connectivity(topology);
   std::vector<std::vector<char>> own(plan.orientations.size(), std::vector<char>(topology.num_vertices, 0));
   for (const SlicingPlane& plane : plan.planes)
-    for (Index v : cone_recipients(topology, edges, frame, plane)) own[plane.orientation][v] = 1;
+    for (Index v : cone_recipients(topology, connectivity, frame, plane)) own[plane.orientation][v] = 1;
   std::vector<bool> all(topology.num_vertices, true);
   for (const auto& o : own)
     for (Index v = 0; v < topology.num_vertices; ++v) all[v] = all[v] && o[v];

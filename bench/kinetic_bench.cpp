@@ -112,7 +112,7 @@ struct Workload {
   MeshTopology topology;
   Frame frame0, frame1;  // k and k+1
   SlicingPlan plan;
-  std::unique_ptr<MeshEdges> edges;
+  std::unique_ptr<MeshConnectivity> connectivity;
   std::vector<std::vector<Index>> faces0, faces1;  // candidate faces per plane at k and k+1
   std::vector<KineticSlice> at_k;                  // every plane built at frame k (sized once: never moved)
   std::size_t slice_vertices0 = 0, slice_vertices1 = 0;
@@ -142,7 +142,7 @@ struct Workload {
   explicit Workload(const std::string& name) {
     load(name);
     plan = make_diffuse_plan(topology, frame0, DiffusePlanParams{});  // the CLI's defaults
-    edges = std::make_unique<MeshEdges>(topology);
+    connectivity = std::make_unique<MeshConnectivity>(topology);
     faces0 = candidate_faces_per_plane(topology, frame0, plan);
     faces1 = candidate_faces_per_plane(topology, frame1, plan);
     const std::size_t planes = plan.planes.size();
@@ -150,11 +150,11 @@ struct Workload {
     KineticScratch scratch;
     SlicerScratch slicer;
     Slice next;
-    std::vector<std::int32_t> next_of_edge(edges->endpoints.size(), -1);
+    std::vector<std::int32_t> next_of_edge(connectivity->num_edges(), -1);
     for (std::size_t p = 0; p < planes; ++p) {
-      at_k[p].build(topology, *edges, frame0, plan.planes[p], plan.storage, faces0[p], scratch);
+      at_k[p].build(topology, *connectivity, frame0, plan.planes[p], plan.storage, faces0[p], scratch);
       const Slice& slice = at_k[p].cones().slice;
-      slice_mesh(topology, *edges, frame1, plan.planes[p], faces1[p], slicer, next);
+      slice_mesh(topology, *connectivity, frame1, plan.planes[p], faces1[p], slicer, next);
       slice_vertices0 += slice.vertices.size();
       slice_vertices1 += next.vertices.size();
       for (Index y = 0; y < next.vertices.size(); ++y) next_of_edge[next.vertices[y].edge] = std::int32_t(y);
@@ -237,7 +237,8 @@ void rebuild_benchmark(benchmark::State& state, std::string name) {
   KineticScratch scratch;
   auto build_all = [&] {
     for (std::size_t p = 0; p < slices.size(); ++p)
-      slices[p].build(w.topology, *w.edges, w.frame1, w.plan.planes[p], w.plan.storage, w.faces1[p], scratch);
+      slices[p].build(w.topology, *w.connectivity, w.frame1, w.plan.planes[p], w.plan.storage, w.faces1[p],
+                      scratch);
   };
   build_all();  // warm the slices' and the scratch's memory, as the engine's are after its first frame
   for (auto _ : state) {
@@ -256,13 +257,14 @@ void advance_benchmark(benchmark::State& state, std::string name, KineticPolicy 
   KineticCounts total;
   auto build_all = [&] {
     for (std::size_t p = 0; p < slices.size(); ++p)
-      slices[p].build(w.topology, *w.edges, w.frame0, w.plan.planes[p], w.plan.storage, w.faces0[p], scratch);
+      slices[p].build(w.topology, *w.connectivity, w.frame0, w.plan.planes[p], w.plan.storage, w.faces0[p],
+                      scratch);
   };
   auto advance_all = [&] {
     total = {};
     for (std::size_t p = 0; p < slices.size(); ++p)
-      total +=
-          slices[p].advance(w.topology, *w.edges, w.frame1, w.plan.planes[p], w.faces1[p], policy, scratch);
+      total += slices[p].advance(w.topology, *w.connectivity, w.frame1, w.plan.planes[p], w.faces1[p], policy,
+                                 scratch);
   };
   build_all();
   advance_all();  // warm

@@ -183,7 +183,7 @@ const Input& input(ClothKind kind, int resolution) {
 /// vertex per plane and side; vertices without one in an orientation copy their nearest neighbour's).
 struct SliceSet {
   const Input* in = nullptr;
-  std::unique_ptr<MeshEdges> edges;
+  std::unique_ptr<MeshConnectivity> connectivity;
   std::vector<glm::dvec3> normals;
   std::vector<std::vector<Index>> faces;
   std::vector<Slice> slices;
@@ -195,7 +195,7 @@ struct SliceSet {
   explicit SliceSet(const Input& input) : in(&input) {
     const MeshTopology& topology = input.topology();
     const std::size_t n = topology.num_vertices, planes = input.plan.planes.size();
-    edges = std::make_unique<MeshEdges>(topology);
+    connectivity = std::make_unique<MeshConnectivity>(topology);
     normals = vertex_normals(topology, input.frame);
     faces = candidate_faces_per_plane(topology, input.frame, input.plan);
     slices.resize(planes);
@@ -204,7 +204,7 @@ struct SliceSet {
     SlicerScratch slicer;
     SliceConeScratch scratch;
     for (std::size_t p = 0; p < planes; ++p) {
-      slice_mesh(topology, *edges, input.frame, input.plan.planes[p], faces[p], slicer, slices[p]);
+      slice_mesh(topology, *connectivity, input.frame, input.plan.planes[p], faces[p], slicer, slices[p]);
       triangulations[p].build(slices[p]);
       compute_slice_cones(slices[p], triangulations[p], scratch, cones[p]);
       slice_vertices += slices[p].vertices.size();
@@ -247,7 +247,7 @@ struct SliceSet {
         const auto [d, v] = queue.top();
         queue.pop();
         if (d > dist[v]) continue;
-        for (Index u : edges->neighbours[v]) {
+        for (Index u : connectivity->neighbours(v)) {
           const double du = d + glm::distance(input.frame.positions[u], input.frame.positions[v]);
           if (du < dist[u] || (du == dist[u] && source[v] < source[u])) {
             dist[u] = du;
@@ -314,14 +314,14 @@ double run_stage(Stage stage, const SliceSet& set, StageScratch& s) {
   switch (stage) {
     case Stage::Setup: {  // what compute_visibility does once per frame before the slices
       const auto normals = vertex_normals(topology, in.frame);
-      const MeshEdges edges(topology);
+      const MeshConnectivity connectivity(topology);
       const auto faces = candidate_faces_per_plane(topology, in.frame, in.plan);
-      sink = normals[0].x + double(edges.endpoints.size()) + double(faces[0].size());
+      sink = normals[0].x + double(connectivity.num_edges()) + double(faces[0].size());
       break;
     }
     case Stage::Slicing:
       for (std::size_t p = 0; p < in.plan.planes.size(); ++p) {
-        slice_mesh(topology, *set.edges, in.frame, in.plan.planes[p], set.faces[p], s.slicer, s.slice);
+        slice_mesh(topology, *set.connectivity, in.frame, in.plan.planes[p], set.faces[p], s.slicer, s.slice);
         sink += double(s.slice.vertices.size());
       }
       break;

@@ -47,11 +47,11 @@ HullCorner hull_corner(const Cdt& cdt, FaceHandle f) {
 
 }  // namespace
 
-void KineticSlice::build(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
-                         const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
-                         KineticScratch& scratch) {
+void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& connectivity,
+                         const Frame& frame, const SlicingPlane& plane, ConeStorage storage,
+                         std::span<const Index> faces, KineticScratch& scratch) {
   m_storage = storage;
-  slice_mesh(topology, edges, frame, plane, faces, scratch.slicer, m_out.slice);
+  slice_mesh(topology, connectivity, frame, plane, faces, scratch.slicer, m_out.slice);
   finish_build(topology, frame, scratch);
 }
 
@@ -75,12 +75,13 @@ void KineticSlice::grow_cones(const MeshTopology& topology, const Frame& frame, 
   compute_plane_cones(topology.num_vertices, m_storage, frame, m_tri, scratch.cones, m_out);
 }
 
-KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshEdges& edges, const Frame& next,
-                                    const SlicingPlane& plane, std::span<const Index> faces,
-                                    const KineticPolicy& policy, KineticScratch& scratch) {
+KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConnectivity& connectivity,
+                                    const Frame& next, const SlicingPlane& plane,
+                                    std::span<const Index> faces, const KineticPolicy& policy,
+                                    KineticScratch& scratch) {
   KineticCounts counts;
   m_changed_edges.clear();
-  slice_mesh(topology, edges, next, plane, faces, scratch.slicer, m_next);
+  slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_next);
   auto rebuild = [&](RebuildReason reason) {
     counts.removed = counts.inserted = 0;  // not applied as local edits
     counts.slices_rebuilt = 1;
@@ -93,8 +94,8 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshEdge
 
   // Match slice vertices by mesh edge: survivors, and those that vanish or appear.
   const Slice& old = m_out.slice;
-  if (scratch.old_of_edge.size() != edges.endpoints.size())
-    scratch.old_of_edge.assign(edges.endpoints.size(), -1);
+  if (scratch.old_of_edge.size() != connectivity.num_edges())
+    scratch.old_of_edge.assign(connectivity.num_edges(), -1);
   for (Index x = 0; x < old.vertices.size(); ++x)
     scratch.old_of_edge[old.vertices[x].edge] = static_cast<std::int32_t>(x);
   scratch.new_of_old.assign(old.vertices.size(), -1);

@@ -65,12 +65,12 @@ bool hull_winds_once(const cgal::Cdt& cdt);
 class KineticSlice {
  public:
   /// The static build of `frame` (also the fallback). `storage` is the plan's rule (compute_plane_cones).
-  void build(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
+  void build(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
              const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
              KineticScratch& scratch);
   /// From the current frame to `next` (see the header comment). Returns what it did: one of
   /// slices_unchanged, slices_repaired or slices_rebuilt is 1 (and rebuilt_because the reason).
-  KineticCounts advance(const MeshTopology& topology, const MeshEdges& edges, const Frame& next,
+  KineticCounts advance(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& next,
                         const SlicingPlane& plane, std::span<const Index> faces, const KineticPolicy& policy,
                         KineticScratch& scratch);
 

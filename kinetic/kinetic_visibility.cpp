@@ -21,16 +21,15 @@ struct KineticVisibility::Impl {
       : topology(topology),
         plan(std::move(plan_in)),
         params(params),
-        edges(topology),
+        connectivity(topology),
         slices(plan.planes.size()),
         counts(plan.planes.size()),
-        assembler(topology, edges, plan, {params.parallel}),
+        assembler(topology, connectivity, plan, {params.parallel}),
         previous(first),
         crossed_stamp(topology.num_vertices, 0) {
-    index_vertex_faces();
     candidate_faces_per_plane(topology, first, plan, faces);
     for_each_plane([&](std::size_t p) {
-      slices[p].build(topology, edges, first, plan.planes[p], plan.storage, faces[p], scratch.local());
+      slices[p].build(topology, connectivity, first, plan.planes[p], plan.storage, faces[p], scratch.local());
       check(p);
     });
     gather_and_assemble(first);
@@ -59,28 +58,14 @@ struct KineticVisibility::Impl {
       throw InvariantError("plane " + std::to_string(p) + " (" + what_happened(counts[p]) + "): " + why);
   }
 
-  void index_vertex_faces() {
-    first_face.assign(topology.num_vertices + 1, 0);
-    for (const Triangle& t : topology.triangles)
-      for (Index v : t) ++first_face[v + 1];
-    for (Index v = 0; v < topology.num_vertices; ++v) first_face[v + 1] += first_face[v];
-    faces_of_vertex.resize(first_face.back());
-    std::vector<Index> cursor(first_face.begin(), first_face.end() - 1);
-    for (Index f = 0; f < topology.triangles.size(); ++f)
-      for (Index v : topology.triangles[f]) faces_of_vertex[cursor[v]++] = f;
-    // A boundary vertex has an edge with one face: its faces then outnumber its neighbours by less than one.
-    on_boundary.assign(topology.num_vertices, 0);
-    for (Index v = 0; v < topology.num_vertices; ++v)
-      on_boundary[v] = first_face[v + 1] - first_face[v] < edges.neighbours[v].size();
-  }
-
-  /// A mesh vertex crossing a plane is regular when the plane cuts its link in exactly two places (one arc
-  /// above, one below) and it is not on the boundary; otherwise critical (extremum, saddle, boundary).
+  /// A mesh vertex crossing a plane is regular when its faces close around it (MeshConnectivity: not on
+  /// the boundary, not at a non-manifold place) and the plane cuts its link in exactly two places (one arc
+  /// above, one below); otherwise critical (extremum, saddle, boundary, non-manifold).
   bool is_regular(Index v, const SlicingPlane& plane, const Frame& frame) const {
-    if (on_boundary[v]) return false;
+    if (!connectivity.has_closed_fan(v)) return false;
     int cuts = 0;
-    for (std::uint32_t i = first_face[v]; i < first_face[v + 1]; ++i) {
-      const Triangle& t = topology.triangles[faces_of_vertex[i]];
+    for (const Index f : connectivity.faces_around(v)) {
+      const Triangle& t = topology.triangles[f];
       Index a = 0, b = 0;
       int k = 0;
       for (Index w : t)
@@ -94,8 +79,8 @@ struct KineticVisibility::Impl {
     const auto start = std::chrono::steady_clock::now();
     candidate_faces_per_plane(topology, next, plan, faces);
     for_each_plane([&](std::size_t p) {
-      counts[p] =
-          slices[p].advance(topology, edges, next, plan.planes[p], faces[p], params.policy, scratch.local());
+      counts[p] = slices[p].advance(topology, connectivity, next, plan.planes[p], faces[p], params.policy,
+                                    scratch.local());
       check(p);
     });
     gather_and_assemble(next);
@@ -105,7 +90,7 @@ struct KineticVisibility::Impl {
       if (counts[p].slices_rebuilt) continue;
       // Classify the mesh vertices that crossed this plane (each counted once per plane).
       for (Index e : slices[p].changed_edges())
-        for (Index v : edges.endpoints[e]) {
+        for (Index v : connectivity.endpoints()[e]) {
           if (on_or_above(plan.planes[p], previous.positions[v]) ==
               on_or_above(plan.planes[p], next.positions[v]))
             continue;
@@ -128,7 +113,7 @@ struct KineticVisibility::Impl {
   const MeshTopology& topology;
   SlicingPlan plan;
   KineticParams params;
-  MeshEdges edges;
+  MeshConnectivity connectivity;  // built once for the sequence
   std::vector<KineticSlice> slices;
   std::vector<KineticCounts> counts;
   std::vector<std::vector<Index>> faces;
@@ -136,9 +121,6 @@ struct KineticVisibility::Impl {
   FrameAssembler assembler;
   std::vector<const PlaneCones*> plane_views;
   Frame previous;
-  std::vector<std::uint32_t> first_face;
-  std::vector<Index> faces_of_vertex;
-  std::vector<char> on_boundary;
   std::vector<std::size_t> crossed_stamp;
   std::size_t stamp_base = 0;
   FrameVisibility result;

@@ -65,7 +65,7 @@ struct KineticCounts {
   std::size_t removed = 0;     ///< slice vertices removed by local edits (their edge stopped crossing)
   std::size_t inserted = 0;    ///< slice vertices inserted by local edits (their edge started crossing)
   std::size_t side_changes_regular = 0;   ///< (mesh vertex, plane) crossings of a regular vertex
-  std::size_t side_changes_critical = 0;  ///< ... of an extremum, saddle or boundary vertex
+  std::size_t side_changes_critical = 0;  ///< ... of an extremum, saddle, boundary or non-manifold vertex
   std::size_t slices_unchanged = 0;  ///< no edit, no failed certificate: only the numbers were re-evaluated
   std::size_t slices_repaired = 0;   ///< kept and edited locally (regions, windows, corners re-derived)
   std::size_t slices_rebuilt = 0;    ///< built from scratch

@@ -5,8 +5,9 @@
 #include <algorithm>
 #include <glm/common.hpp>
 #include <limits>
-#include <numeric>
 #include <vector>
+
+#include "static_core/mesh_connectivity.hpp"
 
 namespace pleat {
 
@@ -14,75 +15,23 @@ namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
-class UnionFind {
- public:
-  explicit UnionFind(std::size_t n) : m_parent(n) { std::iota(m_parent.begin(), m_parent.end(), Index(0)); }
-  Index find(Index v) {
-    while (m_parent[v] != v) v = m_parent[v] = m_parent[m_parent[v]];
-    return v;
-  }
-  void unite(Index a, Index b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) m_parent[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<Index> m_parent;
-};
-
 }  // namespace
 
 TopologyCounts count_topology(const MeshTopology& topology) {
+  const MeshConnectivity connectivity(topology, "count_topology");
   TopologyCounts counts;
-  const Index n = topology.num_vertices;
-  // Directed edges as (undirected key, direction), sorted so each undirected edge's uses are adjacent.
-  struct Use {
-    std::uint64_t key;
-    bool forward;  // traversed from the smaller to the larger index
-  };
-  std::vector<Use> uses;
-  uses.reserve(3 * topology.triangles.size());
-  std::vector<bool> used(n, false);
-  UnionFind faces(n);
-  for (const Triangle& t : topology.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const Index a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)];
-      used[a] = true;
-      if (a == b) continue;
-      uses.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), a < b});
-    }
-    faces.unite(t[0], t[1]);
-    faces.unite(t[0], t[2]);
-  }
-  std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) { return x.key < y.key; });
-  UnionFind boundary(n);
-  std::vector<bool> on_boundary(n, false);
-  for (std::size_t i = 0; i < uses.size();) {
-    std::size_t j = i;
-    std::size_t forward = 0;
-    while (j < uses.size() && uses[j].key == uses[i].key) forward += uses[j++].forward ? 1 : 0;
-    const std::size_t count = j - i;
+  for (Index e = 0; e < connectivity.num_edges(); ++e) {
+    const EdgeKind kind = connectivity.kind(e);
+    if (kind == EdgeKind::Degenerate) continue;  // (a, a), of a face with a repeated corner: not an edge here
     ++counts.edges;
-    if (count == 1) {
-      ++counts.boundary_edges;
-      const auto a = Index(uses[i].key >> 32), b = Index(uses[i].key & 0xFFFFFFFFu);
-      boundary.unite(a, b);
-      on_boundary[a] = on_boundary[b] = true;
-    } else if (count == 2) {
-      if (forward != 1) ++counts.inconsistent_edges;
-    } else {
-      ++counts.non_manifold_edges;
-    }
-    i = j;
+    counts.boundary_edges += kind == EdgeKind::Boundary;
+    counts.non_manifold_edges += kind == EdgeKind::NonManifold;
+    counts.inconsistent_edges += kind == EdgeKind::Flipped;
   }
-  for (Index v = 0; v < n; ++v) {
-    if (!used[v])
-      ++counts.isolated_vertices;
-    else if (faces.find(v) == v)
-      ++counts.components;
-    if (on_boundary[v] && boundary.find(v) == v) ++counts.boundary_loops;
-  }
+  for (Index v = 0; v < connectivity.num_vertices(); ++v)
+    counts.isolated_vertices += connectivity.is_isolated(v);
+  counts.boundary_loops = connectivity.boundary_loops();
+  counts.components = connectivity.components();
   return counts;
 }
 

@@ -2,9 +2,10 @@
 // rate, duration, bounding box over all frames, boundary loops, non-manifold edges, degenerate faces and
 // welded duplicates.
 //
-// Topology counts are O(F log F) on the welded triangles. Degenerate (zero-area) faces are decided exactly
-// (CGAL's collinear predicate on the three corners, no epsilon), per frame, O(F) each. report_mesh streams
-// every frame once.
+// Topology counts come from the welded mesh's MeshConnectivity (OpenMesh's half-edge structure; the faces
+// it cannot link count as they are, see static_core/mesh_connectivity.hpp), O(F log F). Degenerate
+// (zero-area) faces are decided exactly (CGAL's collinear predicate on the three corners, no epsilon), per
+// frame, O(F) each. report_mesh streams every frame once.
 #pragma once
 
 #include <cstddef>

@@ -64,14 +64,14 @@ struct FrameAssembler::Impl {
     WedgeScratch wedge_scratch;
   };
 
-  Impl(const MeshTopology& topology, const MeshEdges& edges, const SlicingPlan& plan,
+  Impl(const MeshTopology& topology, const MeshConnectivity& connectivity, const SlicingPlan& plan,
        const VisibilityParams& params)
-      : topology(topology), edges(edges), plan(plan), params(params) {}
+      : topology(topology), connectivity(connectivity), plan(plan), params(params) {}
 
   void assemble(const Frame& frame, std::span<const PlaneCones* const> planes, FrameVisibility& result);
 
   const MeshTopology& topology;
-  const MeshEdges& edges;
+  const MeshConnectivity& connectivity;
   const SlicingPlan& plan;
   VisibilityParams params;
   tbb::enumerable_thread_specific<Workspace> workspaces;
@@ -79,7 +79,7 @@ struct FrameAssembler::Impl {
   std::vector<Ref> refs;
   std::vector<std::int32_t> source;
   std::vector<double> dist;
-  std::vector<std::vector<double>> edge_length;  // per vertex, aligned with edges.neighbours
+  std::vector<double> edge_length;  // per edge (MeshConnectivity::endpoints)
   std::vector<std::pair<double, Index>> heap;
 };
 
@@ -149,12 +149,10 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
   stats.filled_fraction.assign(orientations, 0.0);
   source.assign(keys, -1);
   dist.resize(n);
-  edge_length.resize(edges.neighbours.size());
-  for (Index v = 0; v < n; ++v) {
-    edge_length[v].resize(edges.neighbours[v].size());
-    for (std::size_t i = 0; i < edges.neighbours[v].size(); ++i)
-      edge_length[v][i] = glm::distance(frame.positions[edges.neighbours[v][i]], frame.positions[v]);
-  }
+  const auto& endpoints = connectivity.endpoints();
+  edge_length.resize(endpoints.size());
+  for (std::size_t e = 0; e < endpoints.size(); ++e)
+    edge_length[e] = glm::distance(frame.positions[endpoints[e][1]], frame.positions[endpoints[e][0]]);
   for (std::size_t o = 0; o < orientations; ++o) {
     std::int32_t* src = source.data() + key_of(0, o, 0);  // (source may be empty: no vertex)
     heap.clear();
@@ -177,10 +175,11 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
       const auto [d, v] = heap.back();
       heap.pop_back();
       if (d > dist[v]) continue;
-      const std::vector<Index>& around = edges.neighbours[v];
+      const auto around = connectivity.neighbours(v);
+      const auto along = connectivity.incident_edges(v);
       for (std::size_t i = 0; i < around.size(); ++i) {
         const Index u = around[i];
-        const double du = d + edge_length[v][i];
+        const double du = d + edge_length[along[i]];
         if (du < dist[u] || (du == dist[u] && src[v] < src[u])) {
           dist[u] = du;
           src[u] = src[v];
@@ -257,9 +256,9 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     for (std::size_t v = 0; v < n; ++v) assemble_vertex(v);
 }
 
-FrameAssembler::FrameAssembler(const MeshTopology& topology, const MeshEdges& edges, const SlicingPlan& plan,
-                               const VisibilityParams& params)
-    : m_impl(std::make_unique<Impl>(topology, edges, plan, params)) {}
+FrameAssembler::FrameAssembler(const MeshTopology& topology, const MeshConnectivity& connectivity,
+                               const SlicingPlan& plan, const VisibilityParams& params)
+    : m_impl(std::make_unique<Impl>(topology, connectivity, plan, params)) {}
 FrameAssembler::~FrameAssembler() = default;
 
 void FrameAssembler::assemble(const Frame& frame, std::span<const PlaneCones* const> planes,

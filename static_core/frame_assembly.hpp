@@ -69,7 +69,7 @@ void compute_plane_cones(Index num_vertices, ConeStorage storage, const Frame& f
 /// between frames. `topology` and `plan` must outlive it.
 class FrameAssembler {
  public:
-  FrameAssembler(const MeshTopology& topology, const MeshEdges& edges, const SlicingPlan& plan,
+  FrameAssembler(const MeshTopology& topology, const MeshConnectivity& connectivity, const SlicingPlan& plan,
                  const VisibilityParams& params);
   ~FrameAssembler();
   /// Writes normals, cones, measures and the static counters of `result`.

@@ -2,6 +2,9 @@
 //
 // Connectivity and geometry are kept apart (geometry-central style): a MeshTopology is fixed for a whole
 // sequence, a Frame holds one instant's positions. Algorithms take (const MeshTopology&, const Frame&).
+// What follows from the triangles — edges, vertex fans, boundary, manifoldness — is MeshConnectivity
+// (static_core/mesh_connectivity.hpp: OpenMesh's half-edge structure), built once per sequence by the
+// engines.
 #pragma once
 
 #include <array>

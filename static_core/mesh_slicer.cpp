@@ -9,30 +9,6 @@
 
 namespace pleat {
 
-MeshEdges::MeshEdges(const MeshTopology& topology) {
-  std::vector<std::array<Index, 3>> keyed;  // (a, b, face*3+i)
-  keyed.reserve(topology.triangles.size() * 3);
-  for (Index f = 0; f < topology.triangles.size(); ++f)
-    for (Index i = 0; i < 3; ++i) {
-      Index a = topology.triangles[f][i], b = topology.triangles[f][(i + 1) % 3];
-      if (a > b) std::swap(a, b);
-      keyed.push_back({a, b, f * 3 + i});
-    }
-  std::sort(keyed.begin(), keyed.end());
-  of_face.assign(topology.triangles.size(), {0, 0, 0});
-  for (std::size_t k = 0; k < keyed.size(); ++k) {
-    if (k == 0 || keyed[k][0] != keyed[k - 1][0] || keyed[k][1] != keyed[k - 1][1])
-      endpoints.push_back({keyed[k][0], keyed[k][1]});
-    of_face[keyed[k][2] / 3][keyed[k][2] % 3] = static_cast<Index>(endpoints.size() - 1);
-  }
-  neighbours.assign(topology.num_vertices, {});
-  for (const auto& e : endpoints) {
-    neighbours[e[0]].push_back(e[1]);
-    neighbours[e[1]].push_back(e[0]);
-  }
-  for (auto& n : neighbours) std::sort(n.begin(), n.end());
-}
-
 void Slice::clear() {
   vertices.clear();
   edges.clear();
@@ -59,13 +35,14 @@ bool on_or_above(const SlicingPlane& plane, const glm::dvec3& p) {
   return on_or_above_exact(plane, p);
 }
 
-void slice_mesh(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
+void slice_mesh(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                 const SlicingPlane& plane, std::span<const Index> candidate_faces, SlicerScratch& scratch,
                 Slice& out) {
   out.clear();
   auto& vertex_of_edge = scratch.slice_vertex_of_edge;
-  if (vertex_of_edge.size() != edges.endpoints.size()) vertex_of_edge.assign(edges.endpoints.size(), -1);
+  if (vertex_of_edge.size() != connectivity.num_edges()) vertex_of_edge.assign(connectivity.num_edges(), -1);
   const auto& pos = frame.positions;
+  const auto& of_face = connectivity.of_face();
 
   auto slice_vertex = [&](Index edge, Index above, Index below) -> Index {
     std::int32_t& id = vertex_of_edge[edge];
@@ -108,9 +85,9 @@ void slice_mesh(const MeshTopology& topology, const MeshEdges& edges, const Fram
     const Index lone = t[i];
     // Crossing points on edges (t[i], t[j]) and (t[k], t[i]).
     const Index on_ij =
-        up[i] ? slice_vertex(edges.of_face[f][i], lone, t[j]) : slice_vertex(edges.of_face[f][i], t[j], lone);
+        up[i] ? slice_vertex(of_face[f][i], lone, t[j]) : slice_vertex(of_face[f][i], t[j], lone);
     const Index on_ki =
-        up[i] ? slice_vertex(edges.of_face[f][k], lone, t[k]) : slice_vertex(edges.of_face[f][k], t[k], lone);
+        up[i] ? slice_vertex(of_face[f][k], lone, t[k]) : slice_vertex(of_face[f][k], t[k], lone);
     // With (u, w, normal) right-handed, the front (face normal) side is to the right of on_ij -> on_ki
     // when the lone vertex is above, and to the left when it is below.
     SliceEdge e;
@@ -129,13 +106,13 @@ void slice_mesh(const MeshTopology& topology, const MeshEdges& edges, const Fram
   }
 }
 
-std::vector<Index> cone_recipients(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
-                                   const SlicingPlane& plane) {
+std::vector<Index> cone_recipients(const MeshTopology& topology, const MeshConnectivity& connectivity,
+                                   const Frame& frame, const SlicingPlane& plane) {
   std::vector<Index> faces(topology.triangles.size());
   std::iota(faces.begin(), faces.end(), 0);
   SlicerScratch scratch;
   Slice slice;
-  slice_mesh(topology, edges, frame, plane, faces, scratch, slice);
+  slice_mesh(topology, connectivity, frame, plane, faces, scratch, slice);
   std::vector<Index> result;
   for (const auto& sv : slice.vertices) result.push_back(sv.nearer);
   std::sort(result.begin(), result.end());

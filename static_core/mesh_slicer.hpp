@@ -15,17 +15,10 @@
 #include <vector>
 
 #include "static_core/mesh.hpp"
+#include "static_core/mesh_connectivity.hpp"
 #include "static_core/slicing_plan.hpp"
 
 namespace pleat {
-
-/// The undirected edges of a topology, each face's three edges, and vertex adjacency.
-struct MeshEdges {
-  explicit MeshEdges(const MeshTopology& topology);
-  std::vector<std::array<Index, 2>> endpoints;  ///< (a, b) with a < b
-  std::vector<std::array<Index, 3>> of_face;    ///< of_face[f][i] = edge (t[i], t[(i+1)%3])
-  std::vector<std::vector<Index>> neighbours;   ///< vertex adjacency (sorted)
-};
 
 struct SliceVertex {
   Index edge = 0;         ///< the mesh edge it lies on
@@ -59,7 +52,7 @@ struct SlicerScratch {
 
 /// Slices the faces listed in `candidate_faces` (all faces that may cross the plane; others are ignored)
 /// into `out`. Deterministic: slice vertices are numbered in order of first appearance.
-void slice_mesh(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
+void slice_mesh(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                 const SlicingPlane& plane, std::span<const Index> candidate_faces, SlicerScratch& scratch,
                 Slice& out);
 
@@ -79,7 +72,7 @@ bool on_or_above(const SlicingPlane& plane, const glm::dvec3& p);
 bool on_or_above_exact(const SlicingPlane& plane, const glm::dvec3& p);
 
 /// The mesh vertices that receive a 2D cone from this plane (the nearer endpoints of its slice vertices).
-std::vector<Index> cone_recipients(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
-                                   const SlicingPlane& plane);
+std::vector<Index> cone_recipients(const MeshTopology& topology, const MeshConnectivity& connectivity,
+                                   const Frame& frame, const SlicingPlane& plane);
 
 }  // namespace pleat

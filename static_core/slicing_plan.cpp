@@ -116,7 +116,7 @@ SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame,
   validate_mesh(topology, frame, "make_adaptive_plan");
   SlicingPlan plan;
   plan.orientations = diffuse_orientations(params.orientations);
-  const MeshEdges edges(topology);
+  const MeshConnectivity connectivity(topology);
   const std::size_t n = topology.num_vertices;
   const std::size_t allowed_missing = static_cast<std::size_t>(params.max_missing_fraction * n);
   for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
@@ -125,11 +125,9 @@ SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame,
     for (std::size_t v = 0; v < n; ++v) height[v] = glm::dot(normal, frame.positions[v]);
     std::vector<char> has_cone(n, 0);
     // Only vertices with at least one incident face can ever receive a cone.
-    std::vector<char> used(n, 0);
-    for (const auto& t : topology.triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
     std::vector<Index> missing;
     for (Index v = 0; v < n; ++v)
-      if (used[v]) missing.push_back(v);
+      if (!connectivity.is_isolated(v)) missing.push_back(v);
     // Recursive median split, breadth first: each group is the set of still-uncovered vertices
     // between two planes already placed.
     std::vector<std::vector<Index>> groups{missing};
@@ -144,7 +142,7 @@ SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame,
         const double offset = height[*mid];
         const SlicingPlane plane = make_plane(normal, offset, o);
         plan.planes.push_back(plane);
-        for (Index v : cone_recipients(topology, edges, frame, plane)) has_cone[v] = 1;
+        for (Index v : cone_recipients(topology, connectivity, frame, plane)) has_cone[v] = 1;
         std::vector<Index> below, above;
         for (Index v : group) {
           if (has_cone[v]) continue;

@@ -21,10 +21,10 @@ struct Workspace {
   PlaneConeScratch cones;
 };
 
-void process_plane(const MeshTopology& topology, const MeshEdges& edges, const Frame& frame,
+void process_plane(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                    const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
                    Workspace& ws, PlaneCones& out) {
-  slice_mesh(topology, edges, frame, plane, faces, ws.slicer, out.slice);
+  slice_mesh(topology, connectivity, frame, plane, faces, ws.slicer, out.slice);
   ws.triangulation.build(out.slice);
   out.crossings = ws.triangulation.crossings();
   compute_plane_cones(topology.num_vertices, storage, frame, ws.triangulation, ws.cones, out);
@@ -58,17 +58,17 @@ struct StaticVisibility::Impl {
       : topology(topology),
         plan(std::move(plan)),
         params(params),
-        edges(topology),
+        connectivity(topology),
         planes(this->plan.planes.size()),
         plane_views(planes.size()),
-        assembler(topology, edges, this->plan, params) {}
+        assembler(topology, connectivity, this->plan, params) {}
 
   void compute(const Frame& frame, FrameVisibility& result);
 
   const MeshTopology& topology;
   SlicingPlan plan;
   VisibilityParams params;
-  MeshEdges edges;
+  MeshConnectivity connectivity;  // built once: a sequence keeps its connectivity
   std::vector<PlaneCones> planes;
   std::vector<const PlaneCones*> plane_views;  // the assembler's view of `planes`
   std::vector<std::vector<Index>> faces;       // candidate faces per plane
@@ -81,7 +81,7 @@ void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result
   candidate_faces_per_plane(topology, frame, plan, faces);
   // Every plane on its own: slice, triangulate, shortest-path trees, 2D cones.
   auto run = [&](std::size_t p) {
-    process_plane(topology, edges, frame, plan.planes[p], plan.storage, faces[p], workspaces.local(),
+    process_plane(topology, connectivity, frame, plan.planes[p], plan.storage, faces[p], workspaces.local(),
                   planes[p]);
   };
   if (params.parallel)

@@ -37,7 +37,7 @@ struct Planes {
 };
 
 Planes slice_all(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan) {
-  const MeshEdges edges(topology);
+  const MeshConnectivity connectivity(topology);
   const auto faces = candidate_faces_per_plane(topology, frame, plan);
   Planes out;
   out.slices.resize(plan.planes.size());
@@ -46,7 +46,7 @@ Planes slice_all(const MeshTopology& topology, const Frame& frame, const Slicing
   SliceTriangulation triangulation;
   SliceConeScratch scratch;
   for (std::size_t p = 0; p < plan.planes.size(); ++p) {
-    slice_mesh(topology, edges, frame, plan.planes[p], faces[p], slicer, out.slices[p]);
+    slice_mesh(topology, connectivity, frame, plan.planes[p], faces[p], slicer, out.slices[p]);
     triangulation.build(out.slices[p]);
     compute_slice_cones(out.slices[p], triangulation, scratch, out.cones[p]);
   }

@@ -76,13 +76,13 @@ SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const
 
 /// Empty when kinetic slice p equals the static build of the same plane and frame; else the first difference.
 std::string compare_slice(const KineticVisibility& kinetic, std::size_t p, const MeshTopology& topology,
-                          const MeshEdges& edges, const Frame& frame) {
+                          const MeshConnectivity& connectivity, const Frame& frame) {
   const SlicingPlane& plane = kinetic.plan().planes[p];
   std::vector<Index> all(topology.triangles.size());
   std::iota(all.begin(), all.end(), Index(0));
   PlaneCones fresh;
   SlicerScratch slicer;
-  slice_mesh(topology, edges, frame, plane, all, slicer, fresh.slice);
+  slice_mesh(topology, connectivity, frame, plane, all, slicer, fresh.slice);
   SliceTriangulation st;
   st.build(fresh.slice);
   PlaneConeScratch scratch;
@@ -138,14 +138,14 @@ std::string run_and_compare(const MeshTopology& topology, const std::vector<Fram
                             const KineticParams& params = {false, {}, true}) {
   KineticVisibility kinetic(topology, plan, frames[0], params);
   StaticVisibility reference(topology, plan, {false});
-  const MeshEdges edges(topology);
+  const MeshConnectivity connectivity(topology);
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const FrameVisibility& k = f == 0 ? kinetic.current() : kinetic.advance(frames[f]);
     if (std::string why = compare_frames(k, reference.compute(frames[f])); !why.empty())
       return "frame " + std::to_string(f) + ": " + why;
     if (slices)
       for (std::size_t p = 0; p < plan.planes.size(); ++p)
-        if (std::string why = compare_slice(kinetic, p, topology, edges, frames[f]); !why.empty())
+        if (std::string why = compare_slice(kinetic, p, topology, connectivity, frames[f]); !why.empty())
           return "frame " + std::to_string(f) + " plane " + std::to_string(p) + ": " + why;
     if (total && f > 0) *total += kinetic.last_stats();
   }

@@ -128,14 +128,14 @@ RC_GTEST_PROP(SliceCones, FunnelTreesMatchAngularSweepOnRandomChains, ()) {
 std::string check_sliced_surface(std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   const auto surface = test::random_height_field(rng, 6 + static_cast<int>(seed % 10));
-  const MeshEdges edges(surface.topology);
+  const MeshConnectivity connectivity(surface.topology);
   std::vector<Index> faces(surface.topology.triangles.size());
   std::iota(faces.begin(), faces.end(), 0);
   SlicerScratch scratch;
   for (int k = 0; k < 10; ++k) {
     Slice slice;
-    slice_mesh(surface.topology, edges, surface.frame, test::random_plane_through(rng, surface.frame), faces,
-               scratch, slice);
+    slice_mesh(surface.topology, connectivity, surface.frame, test::random_plane_through(rng, surface.frame),
+               faces, scratch, slice);
     std::string mismatch = compare_with_oracle(slice);
     if (!mismatch.empty()) return mismatch;
   }

@@ -67,14 +67,14 @@ TEST(SlicingPlan, DiffusePlanHasThePapersSixFamiliesOneEdgeApart) {
 TEST(SlicingPlan, AdaptivePlanLeavesAtMostTheAllowedFractionWithoutCone) {
   const ClothGenerator cloth(ClothKind::Flag, {25, 2, 24.0, 3});
   const Frame frame = cloth.frame(1);
-  const MeshEdges edges(cloth.topology());
+  const MeshConnectivity connectivity(cloth.topology());
   for (double allowed : {0.05, 0.2}) {
     const SlicingPlan plan = make_adaptive_plan(cloth.topology(), frame, {6, allowed});
     for (int o = 0; o < 6; ++o) {
       std::set<Index> covered;
       for (const auto& p : plan.planes)
         if (p.orientation == o)
-          for (Index v : cone_recipients(cloth.topology(), edges, frame, p)) covered.insert(v);
+          for (Index v : cone_recipients(cloth.topology(), connectivity, frame, p)) covered.insert(v);
       const double missing = 1.0 - double(covered.size()) / cloth.topology().num_vertices;
       EXPECT_LE(missing, allowed + 1e-12) << "orientation " << o;
     }
