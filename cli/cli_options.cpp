@@ -55,6 +55,17 @@ void add_frames_option(CLI::App& command, std::string& frames) {
       "the end) or N");
 }
 
+void ChunkOptions::add_to(CLI::App& command) {
+  command.add_option(
+      "--checkpoint", checkpoint,
+      "keep every finished chunk in DIR; a rerun of the same command computes only the missing "
+      "chunks (a changed input, plan or option invalidates them)");
+  command.add_option(
+      "--chunks", chunks,
+      "split the frames into this many contiguous chunks of nearly equal cost (default: one per "
+      "rank under mpirun; one without)");
+}
+
 void add_light_option(CLI::App& command, std::vector<std::string>& specs, const std::string& default_text) {
   command
       .add_option(

@@ -1,5 +1,6 @@
 // Options shared by the subcommands, each declared once: the input cloth (INPUT and --cache), the frame range
-// (--frames), lights (--light) and the slicing plan.
+// (--frames), lights (--light), the slicing plan and the chunking of a distributed job (--checkpoint,
+// --chunks).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -31,6 +32,14 @@ void add_frames_option(CLI::App& command, std::string& frames);
 /// --light, repeatable, one spec each (shading/lights.hpp's syntax); `default_text` says what applies
 /// without.
 void add_light_option(CLI::App& command, std::vector<std::string>& specs, const std::string& default_text);
+
+/// How a job's frames are split under mpirun or kept between runs (cli/distributed.hpp): --checkpoint DIR
+/// and --chunks N, the same for every subcommand that distributes.
+struct ChunkOptions {
+  std::string checkpoint;
+  std::size_t chunks = 0;  ///< 0: one per rank under mpirun, one without
+  void add_to(CLI::App& command);
+};
 
 /// Creates the directory an output file goes into, if missing (outputs are written atomically inside it).
 void create_parent_directory(const std::filesystem::path& output);

@@ -60,8 +60,7 @@ struct ShadeOptions {
   int turntable = 0;
   PlanOptions plan;
   bool quiet = false;
-  std::string checkpoint;
-  std::size_t chunks = 0;
+  ChunkOptions chunking;
 };
 
 glm::dvec3 parse_vec3(const std::string& text, const char* option) {
@@ -154,8 +153,8 @@ void run_shade(const ShadeOptions& options) {
   }
   for (const Lighting& setup : setups) options_key.add(setup.name).add(setup.describe());
   options_key.add_value(options.albedo).add_value(options.exposure).add_value(options.no_interreflection);
-  const ChunkJob job = plan_chunks(input, first, last, options.chunks, cache ? nullptr : &plan,
-                                   options.checkpoint, options_key.value());
+  const ChunkJob job = plan_chunks(input, first, last, options.chunking.chunks, cache ? nullptr : &plan,
+                                   options.chunking.checkpoint, options_key.value());
 
   // One pass over the selected frames, each rank over its share: the exact float bounds of every frame for
   // the glb's header, and the bounds of the whole selection for the auto-framed camera (it stays put while
@@ -360,12 +359,7 @@ void register_shade_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   options->plan.add_to(*cmd);
   cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
-  cmd->add_option("--checkpoint", options->checkpoint,
-                  "keep every finished chunk in DIR; a rerun of the same command computes only the missing "
-                  "chunks (a changed input, plan or option invalidates them)");
-  cmd->add_option("--chunks", options->chunks,
-                  "split the frames into this many contiguous chunks of nearly equal cost (default: one per "
-                  "rank under mpirun; one without)");
+  options->chunking.add_to(*cmd);
   cmd->footer(
       "Examples:\n"
       "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --light cloudy:1,up=0,1,0 --render "

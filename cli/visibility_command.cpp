@@ -27,8 +27,7 @@ struct VisibilityOptions {
   std::string frames;
   std::string stats;
   std::string timings;
-  std::string checkpoint;
-  std::size_t chunks = 0;
+  ChunkOptions chunking;
   PlanOptions plan;
   bool serial = false;
   kinetic::KineticPolicy policy;
@@ -95,7 +94,7 @@ class Engine {
 };
 
 void run(const VisibilityOptions& options) {
-  const bool chunked = World::distributed() || !options.checkpoint.empty();
+  const bool chunked = World::distributed() || !options.chunking.checkpoint.empty();
   together([&] {
     if (chunked && !options.cones.empty())
       throw std::invalid_argument(
@@ -121,8 +120,8 @@ void run(const VisibilityOptions& options) {
       .add(options.engine)
       .add(options.plan.describe())
       .add_value(plan_fingerprint(plan));
-  const ChunkJob job =
-      plan_chunks(input, first, last, options.chunks, &plan, options.checkpoint, options_key.value());
+  const ChunkJob job = plan_chunks(input, first, last, options.chunking.chunks, &plan,
+                                   options.chunking.checkpoint, options_key.value());
   const double chunked_at = World::seconds();
 
   // Outputs, on rank 0 only: streamed in frame order, renamed into place at the end.
@@ -242,12 +241,7 @@ void register_visibility_command(CLI::App& app) {
   cmd->add_option("--timings", options->timings,
                   "also write how the run went as JSON: seconds per frame, the rank that computed it, the "
                   "kinetic engine's counters");
-  cmd->add_option("--checkpoint", options->checkpoint,
-                  "keep every finished chunk in DIR; a rerun of the same command computes only the missing "
-                  "chunks (a changed input, plan or option invalidates them)");
-  cmd->add_option("--chunks", options->chunks,
-                  "split the frames into this many contiguous chunks of nearly equal cost (default: one per "
-                  "rank under mpirun; one without)");
+  options->chunking.add_to(*cmd);
   cmd->add_option("--cones", options->cones,
                   "also write every frame's 3D cones to a cone cache (.cones), for `pleat shade --cones`");
   cmd->add_option(

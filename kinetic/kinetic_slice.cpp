@@ -45,6 +45,19 @@ HullCorner hull_corner(const Cdt& cdt, FaceHandle f) {
   return {f->vertex(Cdt::ccw(i)), f->vertex(Cdt::cw(i)), g->vertex(Cdt::cw(j))};
 }
 
+/// Every chain edge between distinct points is a single constrained edge of the triangulation; `vertex_of`
+/// maps a slice vertex to its triangulation vertex.
+template <class VertexOf>
+bool chains_are_edges(const Cdt& cdt, const std::vector<SliceEdge>& edges, VertexOf&& vertex_of) {
+  for (const SliceEdge& e : edges) {
+    const VertexHandle a = vertex_of(e.from), b = vertex_of(e.to);
+    FaceHandle f;
+    int i = 0;
+    if (a != b && (!cdt.is_edge(a, b, f, i) || !f->is_constrained(i))) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& connectivity,
@@ -59,7 +72,8 @@ void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame
   m_tri.build(m_out.slice);
   m_out.crossings = m_tri.crossings();
   m_editable = m_tri.dimension() == 2 && m_out.crossings == 0 &&
-               m_tri.cdt().number_of_vertices() == m_out.slice.vertices.size() && chains_are_edges();
+               m_tri.cdt().number_of_vertices() == m_out.slice.vertices.size() &&
+               chains_are_edges(m_tri.cdt(), m_out.slice.edges, [&](Index x) { return m_tri.vertex_of(x); });
   grow_cones(topology, frame, scratch);
 }
 
@@ -180,24 +194,15 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
     for (const SliceEdge& e : m_next.edges)
       if (is_new(e.from) || is_new(e.to))
         cdt.insert_constraint(scratch.vertex_of_new[e.from], scratch.vertex_of_new[e.to]);
-    // A chain edge that crosses another is split at a new vertex; one through a slice point is split there.
-    if (cdt.number_of_vertices() != vertices) return rebuild(RebuildReason::crossing);
-    for (const SliceEdge& e : m_next.edges)
-      if (is_new(e.from) || is_new(e.to))
-        if (!cdt.is_edge(scratch.vertex_of_new[e.from], scratch.vertex_of_new[e.to]))
-          return rebuild(RebuildReason::crossing);
-    // Every kept chain edge is still a constrained edge. A new slice point can lie on a kept chain edge to
-    // within rounding (located just off it, in a face): its own chain edge then "crosses" the kept one at a
-    // point CGAL snaps to the new vertex, so the kept edge is split there and no vertex is added — chains
-    // that touch (fuzz_engines found it: tests/fuzz/regressions/fuzz_engines/kept_chain_edge_lost.bin).
-    // Like crossing chains, that slice is rebuilt.
-    for (const SliceEdge& e : m_next.edges) {
-      FaceHandle f;
-      int i = 0;
-      if (!cdt.is_edge(scratch.vertex_of_new[e.from], scratch.vertex_of_new[e.to], f, i) ||
-          !f->is_constrained(i))
-        return rebuild(RebuildReason::crossing);
-    }
+    // Chains that cross or touch: a chain edge that crosses another is split at a new vertex; one through a
+    // slice point is split there; and a new slice point lying on a kept chain edge to within rounding
+    // (located just off it, in a face) makes its own chain edge "cross" the kept one at a point CGAL snaps
+    // to the new vertex, splitting the kept edge with no vertex added (fuzz_engines found it:
+    // tests/fuzz/regressions/fuzz_engines/kept_chain_edge_lost.bin). So every chain edge, new or kept, must
+    // still be one constrained edge; else the slice is rebuilt, as crossing chains are.
+    if (cdt.number_of_vertices() != vertices ||
+        !chains_are_edges(cdt, m_next.edges, [&](Index y) { return scratch.vertex_of_new[y]; }))
+      return rebuild(RebuildReason::crossing);
   }
   const bool structure_changed = counts.removed + counts.inserted + counts.reinserted > 0;
   ++(structure_changed ? counts.slices_repaired : counts.slices_unchanged);
@@ -290,17 +295,6 @@ bool hull_winds_once(const Cdt& cdt) {
     previous = v;
   } while (++v != done);
   return minima == 1;
-}
-
-bool KineticSlice::chains_are_edges() const {
-  const Cdt& cdt = m_tri.cdt();
-  for (const SliceEdge& e : m_out.slice.edges) {
-    const VertexHandle a = m_tri.vertex_of(e.from), b = m_tri.vertex_of(e.to);
-    FaceHandle f;
-    int i = 0;
-    if (a != b && (!cdt.is_edge(a, b, f, i) || !f->is_constrained(i))) return false;
-  }
-  return true;
 }
 
 bool KineticSlice::check_invariants(std::string* why) const {

@@ -87,8 +87,6 @@ class KineticSlice {
   void finish_frame(const MeshTopology& topology, const Frame& frame, bool structure_changed,
                     KineticScratch& scratch);
   void grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
-  /// Every chain edge between distinct points is a single constrained edge of the triangulation.
-  bool chains_are_edges() const;
   /// Step 2 of the header comment: certify every face at the next frame and take out the vertices of
   /// failed certificates, up to `budget` of them. Returns why the slice must be rebuilt, or none.
   RebuildReason certify_at_next_frame(std::size_t budget, KineticScratch& scratch, KineticCounts& counts);

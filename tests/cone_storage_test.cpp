@@ -53,6 +53,39 @@ Planes slice_all(const MeshTopology& topology, const Frame& frame, const Slicing
   return out;
 }
 
+/// A random generated cloth (6-13 quads a side) at a random frame, its diffuse plan under `storage`, the
+/// engine's result and every plane's slice and 2D cones: the setting of the storage rules' properties.
+struct StorageCase {
+  explicit StorageCase(ConeStorage storage)
+      : cloth(*rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve),
+              {*rc::gen::inRange(6, 14), 12, 24.0, 0}),
+        frame(cloth.frame(*rc::gen::inRange<std::size_t>(0, 12))),
+        plan(make_diffuse_plan(cloth.topology(), frame, {*rc::gen::element(6, 8), 0.0, 0})) {
+    plan.storage = storage;
+    vis = compute_visibility(cloth.topology(), frame, plan, {false});
+    planes = slice_all(cloth.topology(), frame, plan);
+  }
+  const ClothGenerator cloth;
+  const Frame frame;
+  SlicingPlan plan;
+  FrameVisibility vis;
+  Planes planes;
+};
+
+/// A brute force's pick: the cut (plane, slice vertex x) at `distance` from the mesh vertex.
+struct Choice {
+  double distance = std::numeric_limits<double>::infinity();
+  std::size_t plane = 0;
+  Index x = 0;
+};
+
+/// The engine's measures of a cone equal those of the brute force's assembly.
+void assert_same_measures(const ConeMeasures& m, const ConeMeasures& e) {
+  RC_ASSERT(std::abs(m.sky_visibility - e.sky_visibility) <= 1e-12);
+  RC_ASSERT(std::abs(m.solid_angle - e.solid_angle) <= 1e-9);
+  RC_ASSERT(glm::length(m.bent_normal - e.bent_normal) <= 1e-9);
+}
+
 RC_GTEST_PROP(ConeStorage, StoreConesPicksTheNearestOffer, ()) {
   const ClothKind kind =
       *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
@@ -89,25 +122,17 @@ RC_GTEST_PROP(ConeStorage, StoreConesPicksTheNearestOffer, ()) {
 }
 
 RC_GTEST_PROP(ConeStorage, NearestOnFanAssemblesTheNearestCutPerOrientation, ()) {
-  const ClothKind kind =
-      *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
-  const ClothGenerator cloth(kind, {*rc::gen::inRange(6, 14), 12, 24.0, 0});
-  const Frame frame = cloth.frame(*rc::gen::inRange<std::size_t>(0, 12));
-  const MeshTopology& topology = cloth.topology();
-  SlicingPlan plan = make_diffuse_plan(topology, frame, {*rc::gen::element(6, 8), 0.0, 0});
-  plan.storage = ConeStorage::NearestOnFan;
-  const FrameVisibility vis = compute_visibility(topology, frame, plan, {false});
-  const Planes planes = slice_all(topology, frame, plan);
+  const StorageCase sc(ConeStorage::NearestOnFan);
+  const MeshTopology& topology = sc.cloth.topology();
+  const Frame& frame = sc.frame;
+  const SlicingPlan& plan = sc.plan;
+  const FrameVisibility& vis = sc.vis;
+  const Planes& planes = sc.planes;
   // Brute force over all planes of an orientation: the slice vertex on the vertex's own edges nearest to it
   // (ties: the lower plane, then the lower slice vertex). Distances by the engine's formula (t times the edge
   // length), so that near-ties are decided on the same numbers: this checks the choice, the test above the
   // distances.
   const std::size_t n = topology.num_vertices, orientations = plan.orientations.size();
-  struct Choice {
-    double distance = std::numeric_limits<double>::infinity();
-    std::size_t plane = 0;
-    Index x = 0;
-  };
   std::vector<Choice> choice(n * orientations);
   for (std::size_t p = 0; p < plan.planes.size(); ++p)
     for (Index x = 0; x < planes.slices[p].vertices.size(); ++x) {
@@ -134,10 +159,7 @@ RC_GTEST_PROP(ConeStorage, NearestOnFanAssemblesTheNearestCutPerOrientation, ())
       const glm::dvec3 side_normal = side_sign(side) * vis.normals[v];
       const ConeMeasures m = measure_cone(assemble_cone(cones, side_normal), side_normal);
       // (The engine measures pieces from the assembly's own integrals: assemble_and_measure_cone.)
-      const ConeMeasures& e = vis.measure(side, v);
-      RC_ASSERT(std::abs(m.sky_visibility - e.sky_visibility) <= 1e-12);
-      RC_ASSERT(std::abs(m.solid_angle - e.solid_angle) <= 1e-9);
-      RC_ASSERT(glm::length(m.bent_normal - e.bent_normal) <= 1e-9);
+      assert_same_measures(m, vis.measure(side, v));
     }
     ++checked;
   }
@@ -146,23 +168,15 @@ RC_GTEST_PROP(ConeStorage, NearestOnFanAssemblesTheNearestCutPerOrientation, ())
 }
 
 RC_GTEST_PROP(ConeStorage, InterpolatedOnFanAssemblesTheBlendOfTheCutsBelowAndAbove, ()) {
-  const ClothKind kind =
-      *rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve);
-  const ClothGenerator cloth(kind, {*rc::gen::inRange(6, 14), 12, 24.0, 0});
-  const Frame frame = cloth.frame(*rc::gen::inRange<std::size_t>(0, 12));
-  const MeshTopology& topology = cloth.topology();
-  SlicingPlan plan = make_diffuse_plan(topology, frame, {*rc::gen::element(6, 8), 0.0, 0});
-  plan.storage = ConeStorage::InterpolatedOnFan;
-  const FrameVisibility vis = compute_visibility(topology, frame, plan, {false});
-  const Planes planes = slice_all(topology, frame, plan);
+  const StorageCase sc(ConeStorage::InterpolatedOnFan);
+  const MeshTopology& topology = sc.cloth.topology();
+  const Frame& frame = sc.frame;
+  const SlicingPlan& plan = sc.plan;
+  const FrameVisibility& vis = sc.vis;
+  const Planes& planes = sc.planes;
   // Brute force over all planes of an orientation: the cut of the vertex's own edges nearest to it among
   // planes below it ([0], the vertex is its edge's `above` end) and among planes above it ([1]).
   const std::size_t n = topology.num_vertices, orientations = plan.orientations.size();
-  struct Choice {
-    double distance = std::numeric_limits<double>::infinity();
-    std::size_t plane = 0;
-    Index x = 0;
-  };
   std::vector<std::array<Choice, 2>> choice(n * orientations);
   for (std::size_t p = 0; p < plan.planes.size(); ++p)
     for (Index x = 0; x < planes.slices[p].vertices.size(); ++x) {
@@ -211,10 +225,7 @@ RC_GTEST_PROP(ConeStorage, InterpolatedOnFanAssemblesTheBlendOfTheCutsBelowAndAb
       }
       const glm::dvec3 side_normal = side_sign(side) * vis.normals[v];
       const ConeMeasures m = measure_cone(assemble_cone(cones, side_normal), side_normal);
-      const ConeMeasures& e = vis.measure(side, v);
-      RC_ASSERT(std::abs(m.sky_visibility - e.sky_visibility) <= 1e-12);
-      RC_ASSERT(std::abs(m.solid_angle - e.solid_angle) <= 1e-9);
-      RC_ASSERT(glm::length(m.bent_normal - e.bent_normal) <= 1e-9);
+      assert_same_measures(m, vis.measure(side, v));
     }
     ++checked;
   }

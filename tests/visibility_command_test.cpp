@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "sim_io/visibility_csv.hpp"
 #include "test_support.hpp"
@@ -49,23 +50,32 @@ TEST(VisibilityCommand, MissingInputFailsCleanlyAndWritesNothing) {
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 
-/// The acceptance check on the bundled real sequence: the kinetic engine (the default) and the
-/// static one write the same CSV, byte for byte (the first 12 frames here; all 100 in the closing note).
 std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+/// `pleat visibility` on the bundled sequence `name` (data/NAME/NAME.obj and .pc2) over `frames`: with the
+/// kinetic engine (the default; `kinetic_extra` options added) into dir/k.csv, with the static one into
+/// dir/s.csv.
+std::pair<test::CommandResult, test::CommandResult> run_both_engines(const std::string& name,
+                                                                     const std::string& frames,
+                                                                     const std::filesystem::path& dir,
+                                                                     const std::string& kinetic_extra = "") {
+  const std::string data = std::string(PLEAT_SOURCE_DIR) + "/data/" + name + "/" + name;
+  const std::string input = data + ".obj --cache " + data + ".pc2 --frames " + frames;
+  return {test::run_pleat("visibility " + input + " -o " + (dir / "k.csv").string() + kinetic_extra),
+          test::run_pleat("visibility " + input + " -o " + (dir / "s.csv").string() + " --engine static")};
+}
+
+/// The acceptance check on the bundled real sequence: the kinetic engine (the default) and the
+/// static one write the same CSV, byte for byte (the first 12 frames here; all 100 in the closing note).
 TEST(VisibilityCommand, KineticAndStaticEnginesWriteTheSameCsvOnTheBundledDrape) {
   test::TempDir dir;
-  const std::string input = std::string(PLEAT_SOURCE_DIR) + "/data/drape/drape.obj --cache " +
-                            std::string(PLEAT_SOURCE_DIR) + "/data/drape/drape.pc2 --frames 0:12";
-  const auto kinetic =
-      test::run_pleat("visibility " + input + " -o " + (dir / "k.csv").string() + " --stats " +
-                      (dir / "k.json").string() + " --timings " + (dir / "k_timings.json").string());
+  const auto [kinetic, fixed] = run_both_engines(
+      "drape", "0:12", dir.path(),
+      " --stats " + (dir / "k.json").string() + " --timings " + (dir / "k_timings.json").string());
   ASSERT_EQ(kinetic.exit_code, 0) << kinetic.output;
-  const auto fixed =
-      test::run_pleat("visibility " + input + " -o " + (dir / "s.csv").string() + " --engine static");
   ASSERT_EQ(fixed.exit_code, 0) << fixed.output;
   const std::string k = slurp(dir / "k.csv"), s = slurp(dir / "s.csv");
   EXPECT_GT(k.size(), 12u * 3111u * 10u);
@@ -82,12 +92,8 @@ TEST(VisibilityCommand, KineticAndStaticEnginesWriteTheSameCsvOnTheLayeredPlies)
   // Three components lying millimetres apart: nested chains and holes in every slice, kept alive by the
   // kinetic engine while the plies slide over each other (the last frames, where they land in a heap).
   test::TempDir dir;
-  const std::string input = std::string(PLEAT_SOURCE_DIR) + "/data/layered/layered.obj --cache " +
-                            std::string(PLEAT_SOURCE_DIR) + "/data/layered/layered.pc2 --frames -8:";
-  const auto kinetic = test::run_pleat("visibility " + input + " -o " + (dir / "k.csv").string());
+  const auto [kinetic, fixed] = run_both_engines("layered", "-8:", dir.path());
   ASSERT_EQ(kinetic.exit_code, 0) << kinetic.output;
-  const auto fixed =
-      test::run_pleat("visibility " + input + " -o " + (dir / "s.csv").string() + " --engine static");
   ASSERT_EQ(fixed.exit_code, 0) << fixed.output;
   const std::string k = slurp(dir / "k.csv"), s = slurp(dir / "s.csv");
   EXPECT_GT(k.size(), 8u * 4107u * 10u);

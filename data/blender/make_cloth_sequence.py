@@ -215,16 +215,8 @@ LAYERED = dict(
     ground=8.0,
     fps=24,
     sim=(1, 110),
-    keep=(31, 110),                    # 80 frames: the plies have landed and folded together
-    cloth=dict(
-        quality=12,
-        mass=0.3,
-        air_damping=1.0,
-        tension_stiffness=15.0, compression_stiffness=15.0,
-        shear_stiffness=5.0, bending_stiffness=2.0,
-        tension_damping=5.0, compression_damping=5.0,
-        shear_damping=5.0, bending_damping=0.5,
-    ),
+    keep=(31, 110),                    # 80 frames: from the plies lying on the table to the heap
+    cloth=DRAPE["cloth"],              # the drape's fabric
     collision=dict(
         collision_quality=8,
         use_collision=True,
