@@ -58,6 +58,60 @@ bool chains_are_edges(const Cdt& cdt, const std::vector<SliceEdge>& edges, Verte
   return true;
 }
 
+/// The next slice vertex along x's chain, or -1 at its end.
+std::int32_t chain_next(const Slice& slice, Index x) {
+  const std::int32_t e = slice.out_edge[x];
+  return e < 0 ? -1 : static_cast<std::int32_t>(slice.edges[e].to);
+}
+
+/// The fan swaps of an interval (the header comment's step 1): per vanishing slice vertex of `old`, the
+/// slice vertex of `next` that takes its triangulation vertex (scratch.relabel, -1 for none), those new
+/// vertices unmarked in scratch.is_born, and the old closing edges of runs that grow (scratch.unconstrain).
+/// A run is followed only through slice vertices inside a chain (one edge in, one edge out), so a chain's
+/// end or a non-manifold place is never relabeled. Returns the number of relabeled vertices.
+std::size_t find_fan_swaps(const Slice& old, const Slice& next, KineticScratch& scratch) {
+  scratch.relabel.assign(old.vertices.size(), -1);
+  scratch.unconstrain.clear();
+  // Degrees in each slice: 2 with an in and an out edge is a vertex inside a chain.
+  auto inside_chain = [](const Slice& slice, std::vector<Index>& degree) {
+    degree.assign(slice.vertices.size(), 0);
+    for (const SliceEdge& e : slice.edges) ++degree[e.from], ++degree[e.to];
+    return [&slice, &degree](std::int32_t x) {
+      return degree[x] == 2 && slice.in_edge[x] >= 0 && slice.out_edge[x] >= 0;
+    };
+  };
+  const auto old_inside = inside_chain(old, scratch.degree_old);
+  const auto next_inside = inside_chain(next, scratch.degree_next);
+  std::size_t relabeled = 0;
+  for (Index p = 0; p < old.vertices.size(); ++p) {
+    const std::int32_t pn = scratch.new_of_old[p];
+    if (pn < 0) continue;
+    scratch.run_old.clear();
+    std::int32_t x = chain_next(old, p);
+    while (x >= 0 && scratch.new_of_old[x] < 0 && old_inside(x) &&
+           scratch.run_old.size() < old.vertices.size()) {
+      scratch.run_old.push_back(x);
+      x = chain_next(old, x);
+    }
+    if (scratch.run_old.empty() || x < 0 || scratch.new_of_old[x] < 0) continue;  // not between survivors
+    scratch.run_new.clear();
+    std::int32_t y = chain_next(next, pn);
+    while (y >= 0 && scratch.is_born[y] && next_inside(y) && scratch.run_new.size() < next.vertices.size()) {
+      scratch.run_new.push_back(y);
+      y = chain_next(next, y);
+    }
+    if (scratch.run_new.empty() || y != scratch.new_of_old[x]) continue;  // not the same two survivors
+    const std::size_t r = std::min(scratch.run_old.size(), scratch.run_new.size());
+    for (std::size_t i = 0; i < r; ++i) {
+      scratch.relabel[scratch.run_old[i]] = static_cast<std::int32_t>(scratch.run_new[i]);
+      scratch.is_born[scratch.run_new[i]] = 0;
+    }
+    if (r < scratch.run_new.size()) scratch.unconstrain.emplace_back(scratch.run_old[r - 1], Index(x));
+    relabeled += r;
+  }
+  return relabeled;
+}
+
 }  // namespace
 
 void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& connectivity,
@@ -97,7 +151,7 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
   m_changed_edges.clear();
   slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_next);
   auto rebuild = [&](RebuildReason reason) {
-    counts.removed = counts.inserted = 0;  // not applied as local edits
+    counts.removed = counts.inserted = counts.relabeled = 0;  // not applied as local edits
     counts.slices_rebuilt = 1;
     ++counts.rebuilt_because[static_cast<std::size_t>(reason)];
     std::swap(m_out.slice, m_next);
@@ -129,18 +183,30 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
     scratch.old_of_edge[old.vertices[x].edge] = -1;
     if (scratch.new_of_old[x] < 0) m_changed_edges.push_back(old.vertices[x].edge);
   }
+  const std::size_t vanished = old.vertices.size() + scratch.born.size() - m_next.vertices.size();
+  counts.relabeled = find_fan_swaps(old, m_next, scratch);
+  scratch.born.erase(
+      std::remove_if(scratch.born.begin(), scratch.born.end(), [&](Index y) { return !scratch.is_born[y]; }),
+      scratch.born.end());
   counts.inserted = scratch.born.size();
-  counts.removed = old.vertices.size() + counts.inserted - m_next.vertices.size();
+  counts.removed = vanished - counts.relabeled;
   const std::size_t budget =
       2 + static_cast<std::size_t>(policy.max_edit_fraction * double(old.vertices.size()));
   if (counts.removed + counts.inserted > budget) return rebuild(RebuildReason::policy);
 
-  // 1. Remove the vanishing slice vertices at frame k's points; survivors take their new ids.
+  // 1. Remove the vanishing slice vertices that no fan swap relabels at frame k's points, and the old closing
+  // edges of growing runs as constraints; survivors and relabeled vertices take their new ids.
   Cdt& cdt = m_tri.cdt_for_editing();
+  for (const auto& [a, b] : scratch.unconstrain) {
+    FaceHandle f;
+    int i = 0;
+    if (cdt.is_edge(m_tri.vertex_of(a), m_tri.vertex_of(b), f, i) && f->is_constrained(i))
+      cdt.Cdt::Ctr::remove_constrained_edge(f, i);  // only the mark: no flips on the kept triangulation
+  }
   scratch.vertex_of_new.assign(m_next.vertices.size(), VertexHandle());
   for (Index x = 0; x < old.vertices.size(); ++x) {
     const VertexHandle v = m_tri.vertex_of(x);
-    if (const std::int32_t y = scratch.new_of_old[x]; y >= 0) {
+    if (const std::int32_t y = std::max(scratch.new_of_old[x], scratch.relabel[x]); y >= 0) {
       v->info().slice_vertex = y;
       scratch.vertex_of_new[y] = v;
       continue;
@@ -188,23 +254,31 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
     scratch.vertex_of_new[y] = v;
     hint = v->face();
   }
-  if (!scratch.born.empty()) {
-    const std::size_t vertices = cdt.number_of_vertices();
-    auto is_new = [&](Index y) { return scratch.is_born[y] || scratch.taken_out[y]; };
-    for (const SliceEdge& e : m_next.edges)
-      if (is_new(e.from) || is_new(e.to))
-        cdt.insert_constraint(scratch.vertex_of_new[e.from], scratch.vertex_of_new[e.to]);
-    // Chains that cross or touch: a chain edge that crosses another is split at a new vertex; one through a
-    // slice point is split there; and a new slice point lying on a kept chain edge to within rounding
-    // (located just off it, in a face) makes its own chain edge "cross" the kept one at a point CGAL snaps
-    // to the new vertex, splitting the kept edge with no vertex added (fuzz_engines found it:
-    // tests/fuzz/regressions/fuzz_engines/kept_chain_edge_lost.bin). So every chain edge, new or kept, must
-    // still be one constrained edge; else the slice is rebuilt, as crossing chains are.
-    if (cdt.number_of_vertices() != vertices ||
-        !chains_are_edges(cdt, m_next.edges, [&](Index y) { return scratch.vertex_of_new[y]; }))
-      return rebuild(RebuildReason::crossing);
+  // Chain edges that are not constrained edges yet: those of new and put-back vertices, and the closing
+  // edges of runs that shrank.
+  const std::size_t vertices = cdt.number_of_vertices();
+  bool constrained = false;
+  for (const SliceEdge& e : m_next.edges) {
+    const VertexHandle a = scratch.vertex_of_new[e.from], b = scratch.vertex_of_new[e.to];
+    FaceHandle f;
+    int i = 0;
+    if (!cdt.is_edge(a, b, f, i) || !f->is_constrained(i)) {
+      cdt.insert_constraint(a, b);
+      constrained = true;
+    }
   }
-  const bool structure_changed = counts.removed + counts.inserted + counts.reinserted > 0;
+  // Chains that cross or touch: a chain edge that crosses another is split at a new vertex; one through a
+  // slice point is split there; and a new slice point lying on a kept chain edge to within rounding
+  // (located just off it, in a face) makes its own chain edge "cross" the kept one at a point CGAL snaps
+  // to the new vertex, splitting the kept edge with no vertex added (fuzz_engines found it:
+  // tests/fuzz/regressions/fuzz_engines/kept_chain_edge_lost.bin). So every chain edge, new or kept, must
+  // still be one constrained edge; else the slice is rebuilt, as crossing chains are.
+  if (constrained &&
+      (cdt.number_of_vertices() != vertices ||
+       !chains_are_edges(cdt, m_next.edges, [&](Index y) { return scratch.vertex_of_new[y]; })))
+    return rebuild(RebuildReason::crossing);
+  const bool structure_changed =
+      counts.removed + counts.inserted + counts.reinserted + scratch.unconstrain.size() > 0;
   ++(structure_changed ? counts.slices_repaired : counts.slices_unchanged);
   finish_frame(topology, next, structure_changed, scratch);
   return counts;

@@ -12,17 +12,22 @@
 // static engine's — and the shortest paths grown on it are unique, so its cones equal the static ones.
 //
 // An interval (frame k -> k+1), all decisions exact (CGAL's filtered predicates):
-//   1. Edits: the mesh vertices that cross the plane change which mesh edges cross it. The slice vertices of
-//      edges that stop crossing are removed (with their chain edges) at frame k's points, where the kept
-//      triangulation is valid (for a regular vertex this is the paper's §6 fan swap; a critical one starts,
-//      ends, splits or merges chains by the same edits). Survivors take their frame-(k+1) ids.
+//   1. Edits: the mesh vertices that cross the plane change which mesh edges cross it. Where a chain's
+//      run of vanishing slice vertices p -> x1 .. xm -> q between two survivors becomes p -> y1 .. yk -> q
+//      (a regular vertex crossing: the paper's §6 fan swap, the run being the cuts of its fan), x1 .. x_r,
+//      r = min(m, k), give their triangulation vertices to y1 .. y_r in chain order: no CGAL edit, the chain
+//      edges among them stay constrained edges, and the vertices are certified at frame k+1 like every kept
+//      one. The rest (x_{r+1} .. xm, and the vanishing vertices of critical crossings, which start, end,
+//      split or merge chains) are removed with their chain edges at frame k's points, where the kept
+//      triangulation is valid; a run that grows loses its old closing edge x_m q as a constraint. Survivors
+//      and relabeled vertices take their frame-(k+1) ids.
 //   2. Certificates at frame k+1, on the survivors' next points: every finite triangle positive, every hull
 //      corner (c, b, a) convex or straight with b between a and c. A failed certificate takes one slice
 //      vertex out (the triangle's vertex that moved farthest, the hull corner's apex), removed at frame k's
 //      points, and the faces its removal creates are certified in turn.
 //   3. Every kept vertex moves to its next point; the hull's winding is checked. The vertices taken out and
 //      the edits' new slice vertices are inserted at their next points (CGAL, located from a chain
-//      neighbour), then their chain edges as constraints.
+//      neighbour), then every chain edge that is not a constrained edge yet is inserted as one.
 //   4. Regions, windows and corners are re-derived when the triangulation changed (they depend on nothing
 //      else); the funnel trees and cones are grown on it (static_core's code).
 // The slice is rebuilt with static_core, and the reason counted, when it is degenerate or not editable
@@ -34,6 +39,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kinetic/kinetic_visibility.hpp"
@@ -54,6 +60,11 @@ struct KineticScratch {
   std::vector<cgal::VertexHandle> take_out;       ///< vertices of failed certificates, still to remove
   std::vector<std::int32_t> recheck;              ///< neighbours of removed vertices: faces to certify
   std::vector<char> taken_out;                    ///< per slice vertex of the next frame
+  std::vector<std::int32_t>
+      relabel;  ///< per vanishing slice vertex: the new one it hands its vertex to, or -1
+  std::vector<Index> run_old, run_new;  ///< a fan swap's vanishing and new slice vertices, in chain order
+  std::vector<Index> degree_old, degree_next;        ///< chain edges at each slice vertex
+  std::vector<std::pair<Index, Index>> unconstrain;  ///< old closing edges of runs that grow (old ids)
   KineticScratch();
   ~KineticScratch();
 };

@@ -62,8 +62,10 @@ struct KineticCounts {
   std::size_t certificates_failed =
       0;                       ///< of which failed: a triangle flat or inverted, a hull corner reflex
   std::size_t reinserted = 0;  ///< slice vertices taken out and put back to repair failed ones
-  std::size_t removed = 0;     ///< slice vertices removed by local edits (their edge stopped crossing)
-  std::size_t inserted = 0;    ///< slice vertices inserted by local edits (their edge started crossing)
+  std::size_t relabeled =
+      0;                    ///< fan swaps: a vanishing slice vertex's triangulation vertex given to a new one
+  std::size_t removed = 0;  ///< slice vertices removed by local edits (their edge stopped crossing)
+  std::size_t inserted = 0;  ///< slice vertices inserted by local edits (their edge started crossing)
   std::size_t side_changes_regular = 0;   ///< (mesh vertex, plane) crossings of a regular vertex
   std::size_t side_changes_critical = 0;  ///< ... of an extremum, saddle, boundary or non-manifold vertex
   std::size_t slices_unchanged = 0;  ///< no edit, no failed certificate: only the numbers were re-evaluated
@@ -83,6 +85,7 @@ inline constexpr KineticCounter kKineticCounters[] = {
     {"certificates", &KineticCounts::certificates},
     {"certificates_failed", &KineticCounts::certificates_failed},
     {"reinserted", &KineticCounts::reinserted},
+    {"relabeled", &KineticCounts::relabeled},
     {"removed", &KineticCounts::removed},
     {"inserted", &KineticCounts::inserted},
     {"side_changes_regular", &KineticCounts::side_changes_regular},
