@@ -57,6 +57,8 @@ nlohmann::json kinetic_json(const KineticFrameStats& k) {
   nlohmann::json out;
   for (const KineticCounter& c : kKineticCounters) out[c.name] = k.*c.field;
   out["rebuilt_because"] = rebuilt;
+  out["seconds_by_stage"] = {
+      {"structure", k.structure_seconds}, {"cones_2d", k.cone_seconds}, {"assembly", k.assembly_seconds}};
   return out;
 }
 

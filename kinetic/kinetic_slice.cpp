@@ -1,6 +1,7 @@
 #include "kinetic/kinetic_slice.hpp"
 
 #include <algorithm>
+#include <chrono>
 
 #include "static_core/assert.hpp"
 
@@ -140,13 +141,26 @@ void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame
 }
 
 void KineticSlice::grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
+  const auto start = std::chrono::steady_clock::now();
   compute_plane_cones(topology.num_vertices, m_storage, frame, m_tri, scratch.cones, m_out);
+  m_cone_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConnectivity& connectivity,
                                     const Frame& next, const SlicingPlane& plane,
                                     std::span<const Index> faces, const KineticPolicy& policy,
                                     KineticScratch& scratch) {
+  const auto start = std::chrono::steady_clock::now();
+  KineticCounts counts = carry(topology, connectivity, next, plane, faces, policy, scratch);
+  counts.cone_seconds = m_cone_seconds;
+  counts.structure_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - m_cone_seconds;
+  return counts;
+}
+
+KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnectivity& connectivity,
+                                  const Frame& next, const SlicingPlane& plane, std::span<const Index> faces,
+                                  const KineticPolicy& policy, KineticScratch& scratch) {
   KineticCounts counts;
   m_changed_edges.clear();
   slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_next);

@@ -80,7 +80,8 @@ class KineticSlice {
              const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
              KineticScratch& scratch);
   /// From the current frame to `next` (see the header comment). Returns what it did: one of
-  /// slices_unchanged, slices_repaired or slices_rebuilt is 1 (and rebuilt_because the reason).
+  /// slices_unchanged, slices_repaired or slices_rebuilt is 1 (and rebuilt_because the reason), and where its
+  /// time went.
   KineticCounts advance(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& next,
                         const SlicingPlane& plane, std::span<const Index> faces, const KineticPolicy& policy,
                         KineticScratch& scratch);
@@ -97,6 +98,10 @@ class KineticSlice {
   void finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
   void finish_frame(const MeshTopology& topology, const Frame& frame, bool structure_changed,
                     KineticScratch& scratch);
+  /// advance() but its timing.
+  KineticCounts carry(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& next,
+                      const SlicingPlane& plane, std::span<const Index> faces, const KineticPolicy& policy,
+                      KineticScratch& scratch);
   void grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
   /// Step 2 of the header comment: certify every face at the next frame and take out the vertices of
   /// failed certificates, up to `budget` of them. Returns why the slice must be rebuilt, or none.
@@ -110,6 +115,7 @@ class KineticSlice {
   /// 2D, no merged points, no crossings, and every chain edge one constrained edge (no chain touching another
   /// at a vertex inside its edge): the next interval can repair it.
   bool m_editable = false;
+  double m_cone_seconds = 0.0;  ///< of the last grow_cones
 };
 
 }  // namespace pleat::kinetic

@@ -83,8 +83,12 @@ struct KineticVisibility::Impl {
                                     scratch.local());
       check(p);
     });
+    const auto assembly_start = std::chrono::steady_clock::now();
     gather_and_assemble(next);
+    const double assembly_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - assembly_start).count();
     stats = {};
+    stats.assembly_seconds = assembly_seconds;
     for (std::size_t p = 0; p < slices.size(); ++p) {
       stats += counts[p];
       if (counts[p].slices_rebuilt) continue;
@@ -130,12 +134,15 @@ struct KineticVisibility::Impl {
 KineticCounts& KineticCounts::operator+=(const KineticCounts& o) {
   for (const KineticCounter& c : kKineticCounters) this->*c.field += o.*c.field;
   for (std::size_t r = 0; r < rebuilt_because.size(); ++r) rebuilt_because[r] += o.rebuilt_because[r];
+  structure_seconds += o.structure_seconds;
+  cone_seconds += o.cone_seconds;
   return *this;
 }
 
 KineticFrameStats& KineticFrameStats::operator+=(const KineticFrameStats& o) {
   KineticCounts::operator+=(o);
   seconds += o.seconds;
+  assembly_seconds += o.assembly_seconds;
   return *this;
 }
 

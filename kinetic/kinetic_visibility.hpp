@@ -72,6 +72,11 @@ struct KineticCounts {
   std::size_t slices_repaired = 0;   ///< kept and edited locally (regions, windows, corners re-derived)
   std::size_t slices_rebuilt = 0;    ///< built from scratch
   std::array<std::size_t, static_cast<std::size_t>(kinetic::RebuildReason::count)> rebuilt_because{};
+  /// Where the time went (seconds, summed over slices, so CPU time when slices run in parallel): carrying
+  /// the structure to the frame (slicing, edits, certificates, put-backs, rebuilds, regions) and growing
+  /// the 2D cones on it (funnel trees, wedges, storage).
+  double structure_seconds = 0.0;
+  double cone_seconds = 0.0;
 
   KineticCounts& operator+=(const KineticCounts& other);
 };
@@ -99,6 +104,7 @@ inline constexpr KineticCounter kKineticCounters[] = {
 /// --stats`).
 struct KineticFrameStats : KineticCounts {
   double seconds = 0.0;             ///< wall time of advance()
+  double assembly_seconds = 0.0;    ///< of which storage, fill and 3D cones (FrameAssembler; wall time)
   using KineticCounts::operator+=;  // a slice's counters into the frame's
   /// Sums every counter and the time: totals over frames.
   KineticFrameStats& operator+=(const KineticFrameStats& other);
