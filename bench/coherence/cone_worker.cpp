@@ -139,8 +139,10 @@ std::vector<MethodRow> run_engines(const MeshTopology& topology, const SlicingPl
 
 // ---- The worker's result file: "status METHOD TEXT" lines, and "KEY COUNT v1 v2 ..." lines ----
 
-/// The kinetic counters a worker hands to its parent: kKineticCounters in order, then the rebuild reasons.
+/// The kinetic counters a worker hands to its parent: kKineticCounters in order, the rebuild reasons, then
+/// the seconds (advance, structure, 2D cones, assembly).
 constexpr std::size_t kNumKineticCounters = std::size(kKineticCounters);
+constexpr std::size_t kNumKineticSeconds = 4;
 
 void write_values(std::ostream& out, const std::string& key, const std::vector<double>& values) {
   out << key << ' ' << values.size();
@@ -156,18 +158,24 @@ std::vector<double> kinetic_fields(const KineticTotals& t) {
   std::vector<double> f{double(t.frames)};
   for (const KineticCounter& c : kKineticCounters) f.push_back(double(t.sum.*c.field));
   for (std::size_t r : t.sum.rebuilt_because) f.push_back(double(r));
+  for (double seconds : {t.sum.seconds, t.sum.structure_seconds, t.sum.cone_seconds, t.sum.assembly_seconds})
+    f.push_back(seconds);
   return f;
 }
 
 KineticTotals kinetic_from_fields(const std::vector<double>& f) {
   KineticTotals t;
-  if (f.size() != 1 + kNumKineticCounters + t.sum.rebuilt_because.size())
-    throw std::runtime_error("bad kinetic counter line");
+  const std::size_t seconds_at = 1 + kNumKineticCounters + t.sum.rebuilt_because.size();
+  if (f.size() != seconds_at + kNumKineticSeconds) throw std::runtime_error("bad kinetic counter line");
   t.frames = int(f[0]);
   for (std::size_t i = 0; i < kNumKineticCounters; ++i)
     t.sum.*kKineticCounters[i].field = std::size_t(f[1 + i]);
   for (std::size_t i = 0; i < t.sum.rebuilt_because.size(); ++i)
     t.sum.rebuilt_because[i] = std::size_t(f[1 + kNumKineticCounters + i]);
+  t.sum.seconds = f[seconds_at];
+  t.sum.structure_seconds = f[seconds_at + 1];
+  t.sum.cone_seconds = f[seconds_at + 2];
+  t.sum.assembly_seconds = f[seconds_at + 3];
   return t;
 }
 

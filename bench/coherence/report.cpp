@@ -409,10 +409,15 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
          "regular / critical; removed / inserted = slice vertices edited locally; certificates checked at "
          "the "
          "frame (failed); put back = slice vertices taken out and re-inserted to repair failed certificates; "
-         "slices unchanged / repaired / rebuilt (rebuild reasons in the CSV).\n\n";
-  out << "| sequence | vertices | u | planes | side changes reg / crit | removed / inserted | certificates "
-         "(failed) | put back | unchanged | repaired | rebuilt "
-         "|\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "relabeled = fan swaps (a vanishing slice vertex's triangulation vertex handed to a new one); "
+         "slices "
+         "unchanged / repaired / rebuilt (rebuild reasons in the CSV); time = share of advance() carrying "
+         "the "
+         "structure (slicing, edits, certificates, put-backs, rebuilds, regions) / growing the 2D cones / "
+         "assembling (storage, fill, 3D cones).\n\n";
+  out << "| sequence | vertices | u | planes | side changes reg / crit | relabeled | removed / inserted | "
+         "certificates (failed) | put back | unchanged | repaired | rebuilt | time: structure / 2D cones / "
+         "assembly |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& m : all) {
     const MethodRow* k = m.row("kinetic");
     if (!k || !k->kinetic || !k->kinetic->frames) continue;
@@ -421,9 +426,15 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
     auto pf = [&](std::size_t v) { return format("%.1f", totals.per_frame(v)); };
     out << "| " << m.sequence << " | " << m.vertices << " | " << u_label(m.upsample) << " | " << m.planes
         << " | " << pf(t.side_changes_regular) << " / " << pf(t.side_changes_critical) << " | "
-        << pf(t.removed) << " / " << pf(t.inserted) << " | " << pf(t.certificates) << " ("
-        << pf(t.certificates_failed) << ") | " << pf(t.reinserted) << " | " << pf(t.slices_unchanged) << " | "
-        << pf(t.slices_repaired) << " | " << pf(t.slices_rebuilt) << " |\n";
+        << pf(t.relabeled) << " | " << pf(t.removed) << " / " << pf(t.inserted) << " | " << pf(t.certificates)
+        << " (" << pf(t.certificates_failed) << ") | " << pf(t.reinserted) << " | " << pf(t.slices_unchanged)
+        << " | " << pf(t.slices_repaired) << " | " << pf(t.slices_rebuilt) << " | ";
+    // One thread: the slices' summed seconds and the assembly's wall time add up to advance()'s.
+    auto share = [&](double seconds) {
+      return t.seconds > 0 ? format("%.0f%%", 100 * seconds / t.seconds) : "–";
+    };
+    out << share(t.structure_seconds) << " / " << share(t.cone_seconds) << " / " << share(t.assembly_seconds)
+        << " |\n";
   }
 
   out << "\n## Peak memory\n\nThe cone engines run in a child process (both alive, frames in turn), Embree "
