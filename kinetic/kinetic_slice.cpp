@@ -165,6 +165,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   m_changed_edges.clear();
   slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_next);
   auto rebuild = [&](RebuildReason reason) {
+    m_policy_streak = reason == RebuildReason::policy ? m_policy_streak + 1 : 0;
     counts.removed = counts.inserted = counts.relabeled = 0;  // not applied as local edits
     counts.slices_rebuilt = 1;
     ++counts.rebuilt_because[static_cast<std::size_t>(reason)];
@@ -173,6 +174,8 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     return counts;
   };
   if (!m_editable) return rebuild(RebuildReason::degenerate);
+  // Rebuilt by the policy in the last interval(s): rebuilt outright until it is time to try again.
+  if (m_policy_streak % std::max(policy.retry_interval, 1) != 0) return rebuild(RebuildReason::policy);
 
   // Match slice vertices by mesh edge: survivors, and those that vanish or appear.
   const Slice& old = m_out.slice;
@@ -208,8 +211,8 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
       2 + static_cast<std::size_t>(policy.max_edit_fraction * double(old.vertices.size()));
   if (counts.removed + counts.inserted > budget) return rebuild(RebuildReason::policy);
 
-  // 1. Remove the vanishing slice vertices that no fan swap relabels at frame k's points, and the old closing
-  // edges of growing runs as constraints; survivors and relabeled vertices take their new ids.
+  // 1. Survivors and relabeled vertices take their new ids; the old closing edges of growing runs stop being
+  // constraints; the vanishing slice vertices that no fan swap relabels are marked (id -1) for removal.
   Cdt& cdt = m_tri.cdt_for_editing();
   for (const auto& [a, b] : scratch.unconstrain) {
     FaceHandle f;
@@ -218,21 +221,18 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
       cdt.Cdt::Ctr::remove_constrained_edge(f, i);  // only the mark: no flips on the kept triangulation
   }
   scratch.vertex_of_new.assign(m_next.vertices.size(), VertexHandle());
+  scratch.vanishing.clear();
   for (Index x = 0; x < old.vertices.size(); ++x) {
     const VertexHandle v = m_tri.vertex_of(x);
-    if (const std::int32_t y = std::max(scratch.new_of_old[x], scratch.relabel[x]); y >= 0) {
-      v->info().slice_vertex = y;
+    const std::int32_t y = std::max(scratch.new_of_old[x], scratch.relabel[x]);
+    v->info().slice_vertex = y;
+    if (y >= 0)
       scratch.vertex_of_new[y] = v;
-      continue;
-    }
-    cdt.remove_incident_constraints(v);
-    // Constrained_triangulation_2's removal (ear filling of the star-shaped hole), not the Delaunay one:
-    // the kept triangulation is not Delaunay, and the Delaunay hole filling can cycle on it.
-    cdt.Cdt::Ctr::remove(v);
-    if (cdt.dimension() < 2) return rebuild(RebuildReason::degenerate);
+    else
+      scratch.vanishing.push_back(v);
   }
 
-  // 2. Certify at the next frame; take out the vertices of failed certificates.
+  // 2. Certify at the next frame, remove the vanishing vertices and take out those of failed certificates.
   if (const RebuildReason r =
           certify_at_next_frame(budget - counts.removed - counts.inserted, scratch, counts);
       r != RebuildReason::none)
@@ -291,6 +291,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
       (cdt.number_of_vertices() != vertices ||
        !chains_are_edges(cdt, m_next.edges, [&](Index y) { return scratch.vertex_of_new[y]; })))
     return rebuild(RebuildReason::crossing);
+  m_policy_streak = 0;
   const bool structure_changed =
       counts.removed + counts.inserted + counts.reinserted + scratch.unconstrain.size() > 0;
   ++(structure_changed ? counts.slices_repaired : counts.slices_unchanged);
@@ -306,13 +307,17 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
   scratch.taken_out.assign(next.size(), 0);
   scratch.take_out.clear();
   scratch.recheck.clear();
-  // Certifies face f at the next frame; a failure queues the vertex it takes out.
+  // Certifies face f at the next frame; a failure queues the vertex it takes out. Faces of a vanishing
+  // vertex are not certified: its removal replaces them.
   auto certify = [&](FaceHandle f) {
+    for (int i = 0; i < 3; ++i)
+      if (!cdt.is_infinite(f->vertex(i)) && f->vertex(i)->info().slice_vertex < 0) return;
     ++counts.certificates;
     VertexHandle out;
     if (cdt.is_infinite(f)) {
       // The hull corner (c, b, a) at b: convex, or straight with b between a and c.
       const HullCorner h = hull_corner(cdt, f);
+      if (h.c->info().slice_vertex < 0) return;  // the next hull vertex vanishes
       const cgal::Point2 a = next_point(h.a), b = next_point(h.b), c = next_point(h.c);
       const CGAL::Orientation o = CGAL::orientation(c, b, a);
       if (o == CGAL::LEFT_TURN ||
@@ -337,22 +342,30 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
     scratch.taken_out[y] = 1;
     scratch.take_out.push_back(out);
   };
+  // Removes v at frame k's points (the triangulation is valid there), remembering its neighbours: every face
+  // the removal creates has its vertices among them.
+  auto remove = [&](VertexHandle v) {
+    auto u = cdt.incident_vertices(v), done = u;
+    do
+      if (!cdt.is_infinite(u) && u->info().slice_vertex >= 0)
+        scratch.recheck.push_back(u->info().slice_vertex);
+    while (++u != done);
+    cdt.remove_incident_constraints(v);
+    // Constrained_triangulation_2's removal (ear filling of the star-shaped hole), not the Delaunay one:
+    // the kept triangulation is not Delaunay, and the Delaunay hole filling can cycle on it.
+    cdt.Cdt::Ctr::remove(v);
+    return cdt.dimension() == 2;
+  };
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f);
   // More vertices to take out than the budget allows already: rebuild before removing any.
   if (scratch.take_out.size() > budget) return RebuildReason::policy;
-  while (!scratch.take_out.empty()) {
-    // Remove the queued vertices at frame k's points (the triangulation is valid there), remembering their
-    // neighbours: every face a removal creates has its vertices among them.
+  for (const VertexHandle v : scratch.vanishing)
+    if (!remove(v)) return RebuildReason::degenerate;
+  while (!scratch.take_out.empty() || !scratch.recheck.empty()) {
     for (const VertexHandle v : scratch.take_out) {
       if (++counts.reinserted > budget) return RebuildReason::policy;
-      auto u = cdt.incident_vertices(v), done = u;
-      do
-        if (!cdt.is_infinite(u)) scratch.recheck.push_back(u->info().slice_vertex);
-      while (++u != done);
       scratch.vertex_of_new[v->info().slice_vertex] = VertexHandle();
-      cdt.remove_incident_constraints(v);
-      cdt.Cdt::Ctr::remove(v);
-      if (cdt.dimension() < 2) return RebuildReason::degenerate;
+      if (!remove(v)) return RebuildReason::degenerate;
     }
     scratch.take_out.clear();
     // Neighbours by id: one queued after it was remembered is gone by now.

@@ -18,13 +18,15 @@
 //      r = min(m, k), give their triangulation vertices to y1 .. y_r in chain order: no CGAL edit, the chain
 //      edges among them stay constrained edges, and the vertices are certified at frame k+1 like every kept
 //      one. The rest (x_{r+1} .. xm, and the vanishing vertices of critical crossings, which start, end,
-//      split or merge chains) are removed with their chain edges at frame k's points, where the kept
-//      triangulation is valid; a run that grows loses its old closing edge x_m q as a constraint. Survivors
-//      and relabeled vertices take their frame-(k+1) ids.
-//   2. Certificates at frame k+1, on the survivors' next points: every finite triangle positive, every hull
-//      corner (c, b, a) convex or straight with b between a and c. A failed certificate takes one slice
-//      vertex out (the triangle's vertex that moved farthest, the hull corner's apex), removed at frame k's
-//      points, and the faces its removal creates are certified in turn.
+//      split or merge chains) vanish; a run that grows loses its old closing edge x_m q as a constraint.
+//      Survivors and relabeled vertices take their frame-(k+1) ids.
+//   2. Certificates at frame k+1, on the kept vertices' next points: every finite triangle positive, every
+//      hull corner (c, b, a) convex or straight with b between a and c; faces of vanishing vertices are not
+//      certified. A failed certificate takes one slice vertex out (the triangle's vertex that moved farthest,
+//      the hull corner's apex). When the vertices to take out already exceed the policy's share, the slice is
+//      rebuilt before any CGAL edit; otherwise the vanishing vertices, then those taken out, are removed
+//      with their chain edges at frame k's points, where the kept triangulation is valid, and the faces
+//      each removal creates are certified in turn.
 //   3. Every kept vertex moves to its next point; the hull's winding is checked. The vertices taken out and
 //      the edits' new slice vertices are inserted at their next points (CGAL, located from a chain
 //      neighbour), then every chain edge that is not a constrained edge yet is inserted as one.
@@ -33,8 +35,8 @@
 // The slice is rebuilt with static_core, and the reason counted, when it is degenerate or not editable
 // (collinear, points merged, chains that cross or touch), when its hull winds more than once, when an
 // inserted point meets another or a chain edge, or when edits and put-back vertices exceed the policy's
-// share. Checks: check_invariants (Debug builds, tests) after every interval. Internal header (CGAL types):
-// kinetic only.
+// share (and then outright for the policy's retry interval). Checks: check_invariants (Debug builds, tests)
+// after every interval. Internal header (CGAL types): kinetic only.
 #pragma once
 
 #include <array>
@@ -58,6 +60,7 @@ struct KineticScratch {
   std::vector<char> is_born;                      ///< per slice vertex of the next frame
   std::vector<cgal::VertexHandle> vertex_of_new;  ///< per slice vertex of the next frame
   std::vector<cgal::VertexHandle> take_out;       ///< vertices of failed certificates, still to remove
+  std::vector<cgal::VertexHandle> vanishing;      ///< vertices whose slice vertex vanishes, still to remove
   std::vector<std::int32_t> recheck;              ///< neighbours of removed vertices: faces to certify
   std::vector<char> taken_out;                    ///< per slice vertex of the next frame
   std::vector<std::int32_t>
@@ -115,7 +118,9 @@ class KineticSlice {
   /// 2D, no merged points, no crossings, and every chain edge one constrained edge (no chain touching another
   /// at a vertex inside its edge): the next interval can repair it.
   bool m_editable = false;
-  double m_cone_seconds = 0.0;  ///< of the last grow_cones
+  double m_cone_seconds = 0.0;
+  int m_policy_streak =
+      0;  ///< intervals in a row that ended in a policy rebuild  ///< of the last grow_cones
 };
 
 }  // namespace pleat::kinetic

@@ -39,6 +39,12 @@ const char* rebuild_reason_name(RebuildReason reason);
 struct KineticPolicy {
   /// Rebuild when the slice vertices removed, inserted and put back exceed 2 plus this fraction of the slice.
   double max_edit_fraction = 0.5;
+  /// A slice rebuilt by the rule above is rebuilt outright, without an attempt at repair, until this many
+  /// intervals have passed since the first such rebuild, then tried again: motion too fast to repair in one
+  /// interval usually is in the next ones too, and a failed attempt costs its certificates and put-backs on
+  /// top of the rebuild (the generated flag, one thread: kinetic ÷ static 1.27 with 1, 1.11 with 8). 1: try
+  /// every interval.
+  int retry_interval = 8;
 };
 }  // namespace kinetic
 

@@ -224,6 +224,27 @@ TEST(KineticVisibility, CoherentMotionsExerciseEveryRepair) {
   EXPECT_GT(totals.slices_repaired, totals.slices_rebuilt);
 }
 
+/// A slice the policy rebuilds is rebuilt outright for the next retry_interval - 1 intervals: no certificate
+/// is checked and nothing is put back for it then, and the output still equals a recompute.
+TEST(KineticVisibility, PolicyRebuildsAreNotRetriedEveryInterval) {
+  const ClothGenerator cloth(ClothKind::Flag, {12, 48, 24.0, 5});
+  std::vector<Frame> frames;
+  for (std::size_t f = 0; f < 12; ++f) frames.push_back(cloth.frame(f));
+  const SlicingPlan plan = plan_for(cloth.topology(), frames, 5, {{3, 40}});
+  auto run = [&](int retry_interval) {
+    KineticFrameStats totals;
+    const KineticParams params{false, {0.05, retry_interval}, true};  // a tight budget: many policy rebuilds
+    EXPECT_EQ(run_and_compare(cloth.topology(), frames, plan, true, &totals, params), "");
+    return totals;
+  };
+  const KineticFrameStats every = run(1), eighth = run(8);
+  const auto policy = static_cast<std::size_t>(kinetic::RebuildReason::policy);
+  ASSERT_GT(every.rebuilt_because[policy], 0u);
+  EXPECT_GE(eighth.rebuilt_because[policy], every.rebuilt_because[policy]);
+  EXPECT_LT(eighth.certificates, every.certificates);
+  EXPECT_LE(eighth.reinserted, every.reinserted);
+}
+
 // The certificate that a kept triangulation is valid at the frame needs the hull's winding: a hexagon's
 // triangulation whose points are moved so that its hull goes twice around a triangle keeps every triangle
 // positive and every hull corner convex, and only the winding check rejects it.
