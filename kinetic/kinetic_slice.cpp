@@ -312,12 +312,12 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
   auto certify = [&](FaceHandle f) {
     for (int i = 0; i < 3; ++i)
       if (!cdt.is_infinite(f->vertex(i)) && f->vertex(i)->info().slice_vertex < 0) return;
-    ++counts.certificates;
     VertexHandle out;
     if (cdt.is_infinite(f)) {
       // The hull corner (c, b, a) at b: convex, or straight with b between a and c.
       const HullCorner h = hull_corner(cdt, f);
       if (h.c->info().slice_vertex < 0) return;  // the next hull vertex vanishes
+      ++counts.certificates;
       const cgal::Point2 a = next_point(h.a), b = next_point(h.b), c = next_point(h.c);
       const CGAL::Orientation o = CGAL::orientation(c, b, a);
       if (o == CGAL::LEFT_TURN ||
@@ -325,6 +325,7 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
         return;
       out = h.b;
     } else {
+      ++counts.certificates;
       const cgal::Point2 p0 = next_point(f->vertex(0)), p1 = next_point(f->vertex(1)),
                          p2 = next_point(f->vertex(2));
       if (CGAL::orientation(p0, p1, p2) == CGAL::LEFT_TURN) return;
@@ -350,9 +351,11 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
       if (!cdt.is_infinite(u) && u->info().slice_vertex >= 0)
         scratch.recheck.push_back(u->info().slice_vertex);
     while (++u != done);
-    cdt.remove_incident_constraints(v);
-    // Constrained_triangulation_2's removal (ear filling of the star-shaped hole), not the Delaunay one:
-    // the kept triangulation is not Delaunay, and the Delaunay hole filling can cycle on it.
+    // Constrained_triangulation_2's operations, not the Delaunay ones: only the constraint marks are cleared
+    // (the Delaunay version then flips edges beyond v's star, making faces that no neighbour of v would
+    // recheck), and the star-shaped hole is filled by ears (the kept triangulation is not Delaunay, and the
+    // Delaunay hole filling can cycle on it).
+    cdt.Cdt::Ctr::remove_incident_constraints(v);
     cdt.Cdt::Ctr::remove(v);
     return cdt.dimension() == 2;
   };

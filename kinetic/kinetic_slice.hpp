@@ -118,9 +118,8 @@ class KineticSlice {
   /// 2D, no merged points, no crossings, and every chain edge one constrained edge (no chain touching another
   /// at a vertex inside its edge): the next interval can repair it.
   bool m_editable = false;
-  double m_cone_seconds = 0.0;
-  int m_policy_streak =
-      0;  ///< intervals in a row that ended in a policy rebuild  ///< of the last grow_cones
+  double m_cone_seconds = 0.0;  ///< of the last grow_cones
+  int m_policy_streak = 0;      ///< intervals in a row that ended in a policy rebuild
 };
 
 }  // namespace pleat::kinetic

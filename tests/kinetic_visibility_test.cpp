@@ -240,9 +240,8 @@ TEST(KineticVisibility, PolicyRebuildsAreNotRetriedEveryInterval) {
   const KineticFrameStats every = run(1), eighth = run(8);
   const auto policy = static_cast<std::size_t>(kinetic::RebuildReason::policy);
   ASSERT_GT(every.rebuilt_because[policy], 0u);
-  EXPECT_GE(eighth.rebuilt_because[policy], every.rebuilt_because[policy]);
+  ASSERT_GT(eighth.rebuilt_because[policy], 0u);
   EXPECT_LT(eighth.certificates, every.certificates);
-  EXPECT_LE(eighth.reinserted, every.reinserted);
 }
 
 // The certificate that a kept triangulation is valid at the frame needs the hull's winding: a hexagon's
