@@ -46,23 +46,42 @@ HullCorner hull_corner(const Cdt& cdt, FaceHandle f) {
   return {f->vertex(Cdt::ccw(i)), f->vertex(Cdt::cw(i)), g->vertex(Cdt::cw(j))};
 }
 
+/// Whether (a, b) is one constrained edge of the triangulation.
+bool is_constrained_edge(const Cdt& cdt, VertexHandle a, VertexHandle b) {
+  FaceHandle f;
+  int i = 0;
+  return cdt.is_edge(a, b, f, i) && f->is_constrained(i);
+}
+
 /// Every chain edge between distinct points is a single constrained edge of the triangulation; `vertex_of`
 /// maps a slice vertex to its triangulation vertex.
 template <class VertexOf>
 bool chains_are_edges(const Cdt& cdt, const std::vector<SliceEdge>& edges, VertexOf&& vertex_of) {
   for (const SliceEdge& e : edges) {
     const VertexHandle a = vertex_of(e.from), b = vertex_of(e.to);
-    FaceHandle f;
-    int i = 0;
-    if (a != b && (!cdt.is_edge(a, b, f, i) || !f->is_constrained(i))) return false;
+    if (a != b && !is_constrained_edge(cdt, a, b)) return false;
   }
   return true;
 }
 
-/// The next slice vertex along x's chain, or -1 at its end.
-std::int32_t chain_next(const Slice& slice, Index x) {
-  const std::int32_t e = slice.out_edge[x];
-  return e < 0 ? -1 : static_cast<std::int32_t>(slice.edges[e].to);
+/// Follows `slice`'s chain from the vertex after `from` while `in_run` holds (a vertex inside a chain: one
+/// edge in, one out, by `degree`), collecting the vertices into `run`; returns the first vertex past them, or
+/// -1 at the chain's end.
+template <class InRun>
+std::int32_t follow_run(const Slice& slice, const std::vector<Index>& degree, Index from, InRun&& in_run,
+                        std::vector<Index>& run) {
+  auto next = [&](Index x) {
+    const std::int32_t e = slice.out_edge[x];
+    return e < 0 ? -1 : static_cast<std::int32_t>(slice.edges[e].to);
+  };
+  run.clear();
+  std::int32_t x = next(from);
+  while (x >= 0 && in_run(x) && degree[x] == 2 && slice.in_edge[x] >= 0 &&
+         run.size() < slice.vertices.size()) {
+    run.push_back(x);
+    x = next(x);
+  }
+  return x;
 }
 
 /// The fan swaps of an interval (the header comment's step 1): per vanishing slice vertex of `old`, the
@@ -73,34 +92,23 @@ std::int32_t chain_next(const Slice& slice, Index x) {
 std::size_t find_fan_swaps(const Slice& old, const Slice& next, KineticScratch& scratch) {
   scratch.relabel.assign(old.vertices.size(), -1);
   scratch.unconstrain.clear();
-  // Degrees in each slice: 2 with an in and an out edge is a vertex inside a chain.
-  auto inside_chain = [](const Slice& slice, std::vector<Index>& degree) {
+  // Chain edges at each slice vertex: 2, with an in and an out edge, is a vertex inside a chain.
+  auto degrees = [](const Slice& slice, std::vector<Index>& degree) {
     degree.assign(slice.vertices.size(), 0);
     for (const SliceEdge& e : slice.edges) ++degree[e.from], ++degree[e.to];
-    return [&slice, &degree](std::int32_t x) {
-      return degree[x] == 2 && slice.in_edge[x] >= 0 && slice.out_edge[x] >= 0;
-    };
   };
-  const auto old_inside = inside_chain(old, scratch.degree_old);
-  const auto next_inside = inside_chain(next, scratch.degree_next);
+  degrees(old, scratch.degree_old);
+  degrees(next, scratch.degree_next);
   std::size_t relabeled = 0;
   for (Index p = 0; p < old.vertices.size(); ++p) {
     const std::int32_t pn = scratch.new_of_old[p];
     if (pn < 0) continue;
-    scratch.run_old.clear();
-    std::int32_t x = chain_next(old, p);
-    while (x >= 0 && scratch.new_of_old[x] < 0 && old_inside(x) &&
-           scratch.run_old.size() < old.vertices.size()) {
-      scratch.run_old.push_back(x);
-      x = chain_next(old, x);
-    }
+    const std::int32_t x = follow_run(
+        old, scratch.degree_old, p, [&](Index v) { return scratch.new_of_old[v] < 0; }, scratch.run_old);
     if (scratch.run_old.empty() || x < 0 || scratch.new_of_old[x] < 0) continue;  // not between survivors
-    scratch.run_new.clear();
-    std::int32_t y = chain_next(next, pn);
-    while (y >= 0 && scratch.is_born[y] && next_inside(y) && scratch.run_new.size() < next.vertices.size()) {
-      scratch.run_new.push_back(y);
-      y = chain_next(next, y);
-    }
+    const std::int32_t y = follow_run(
+        next, scratch.degree_next, Index(pn), [&](Index v) { return scratch.is_born[v] != 0; },
+        scratch.run_new);
     if (scratch.run_new.empty() || y != scratch.new_of_old[x]) continue;  // not the same two survivors
     const std::size_t r = std::min(scratch.run_old.size(), scratch.run_new.size());
     for (std::size_t i = 0; i < r; ++i) {
@@ -274,9 +282,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   bool constrained = false;
   for (const SliceEdge& e : m_next.edges) {
     const VertexHandle a = scratch.vertex_of_new[e.from], b = scratch.vertex_of_new[e.to];
-    FaceHandle f;
-    int i = 0;
-    if (!cdt.is_edge(a, b, f, i) || !f->is_constrained(i)) {
+    if (!is_constrained_edge(cdt, a, b)) {
       cdt.insert_constraint(a, b);
       constrained = true;
     }
@@ -292,8 +298,8 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
        !chains_are_edges(cdt, m_next.edges, [&](Index y) { return scratch.vertex_of_new[y]; })))
     return rebuild(RebuildReason::crossing);
   m_policy_streak = 0;
-  const bool structure_changed =
-      counts.removed + counts.inserted + counts.reinserted + scratch.unconstrain.size() > 0;
+  // (A run that grew leaves a new vertex inserted: its unmarked closing edge is counted there.)
+  const bool structure_changed = counts.removed + counts.inserted + counts.reinserted > 0;
   ++(structure_changed ? counts.slices_repaired : counts.slices_unchanged);
   finish_frame(topology, next, structure_changed, scratch);
   return counts;

@@ -123,11 +123,8 @@ RC_GTEST_PROP(ConeStorage, StoreConesPicksTheNearestOffer, ()) {
 
 RC_GTEST_PROP(ConeStorage, NearestOnFanAssemblesTheNearestCutPerOrientation, ()) {
   const StorageCase sc(ConeStorage::NearestOnFan);
-  const MeshTopology& topology = sc.cloth.topology();
-  const Frame& frame = sc.frame;
-  const SlicingPlan& plan = sc.plan;
-  const FrameVisibility& vis = sc.vis;
-  const Planes& planes = sc.planes;
+  const auto& [cloth, frame, plan, vis, planes] = sc;
+  const MeshTopology& topology = cloth.topology();
   // Brute force over all planes of an orientation: the slice vertex on the vertex's own edges nearest to it
   // (ties: the lower plane, then the lower slice vertex). Distances by the engine's formula (t times the edge
   // length), so that near-ties are decided on the same numbers: this checks the choice, the test above the
@@ -169,11 +166,8 @@ RC_GTEST_PROP(ConeStorage, NearestOnFanAssemblesTheNearestCutPerOrientation, ())
 
 RC_GTEST_PROP(ConeStorage, InterpolatedOnFanAssemblesTheBlendOfTheCutsBelowAndAbove, ()) {
   const StorageCase sc(ConeStorage::InterpolatedOnFan);
-  const MeshTopology& topology = sc.cloth.topology();
-  const Frame& frame = sc.frame;
-  const SlicingPlan& plan = sc.plan;
-  const FrameVisibility& vis = sc.vis;
-  const Planes& planes = sc.planes;
+  const auto& [cloth, frame, plan, vis, planes] = sc;
+  const MeshTopology& topology = cloth.topology();
   // Brute force over all planes of an orientation: the cut of the vertex's own edges nearest to it among
   // planes below it ([0], the vertex is its edge's `above` end) and among planes above it ([1]).
   const std::size_t n = topology.num_vertices, orientations = plan.orientations.size();
