@@ -10,9 +10,10 @@
 //               vertices that have their own cone in every orientation and those filled in at least one (the
 //               fill's share);
 //   settings    the engine with other orientation sets (the paper's 6 axis-aligned ones, or n spread over the
-//               hemisphere), plane spacings and storage rules (ConeStorage::NearestOnFan: the nearest cut of
-//               the vertex's own edges per orientation), what each buys and at what cost (CPU ms, one
-//               thread);
+//               hemisphere: relaxed to evenly spaced lines, the default, or on the Fibonacci spiral they
+//               start from), plane spacings and storage rules (ConeStorage::NearestOnFan: the nearest cut of
+//               the vertex's own edges per orientation; InterpolatedOnFan, the default: the cuts below and
+//               above blended), what each buys and at what cost (CPU ms, one thread);
 //   vertex      an oracle: for every vertex and orientation, a plane of that orientation through the vertex
 //               itself (offset by 1e-3 edge so that it cuts the vertex's own edges), and the 2D cone of the
 //               slice vertex on the vertex's edge nearest to it — no offset between slice point and vertex,
@@ -25,6 +26,7 @@
 // Flags: --out DIR (default bench/results), --sequences a,b (default: real ones, then
 // curtain,roll,flag,sleeve),
 // --reference-rays K (default 4096), --orientations 6,12,24 (of the vertex oracle), --oracle-sample N,
+// --settings 8:0.5:interpolated-on-fan,8:0.75:nearest-on-fan:spiral,... (instead of the built-in list),
 // --quick (curtain only, 256 rays, oracle at 6 orientations on 100 vertices: the test suite's run).
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -66,6 +68,30 @@ std::string format(const char* fmt, auto... args) {
   char buffer[512];
   std::snprintf(buffer, sizeof buffer, fmt, args...);
   return buffer;
+}
+
+/// One engine configuration: orientation count, plane spacing in average edge lengths, storage rule, and
+/// whether spread orientations are relaxed to evenly spaced lines (the default) or left on the Fibonacci
+/// spiral (DiffusePlanParams::relaxed).
+struct Setting {
+  int orientations;
+  double spacing_edges;
+  ConeStorage storage;
+  bool relaxed = true;
+};
+
+/// "8:0.5:interpolated-on-fan" or "8:0.75:interpolated-on-fan:spiral" (orientations:spacing in
+/// edges:storage rule[:spiral]).
+Setting parse_setting(const std::string& text) {
+  const auto a = text.find(':'), b = text.find(':', a + 1);
+  if (a == std::string::npos || b == std::string::npos)
+    throw std::invalid_argument("--settings: '" + text + "' is not orientations:spacing:storage[:spiral]");
+  const auto c = text.find(':', b + 1);
+  const std::string storage = text.substr(b + 1, c == std::string::npos ? std::string::npos : c - b - 1);
+  if (c != std::string::npos && text.substr(c + 1) != "spiral")
+    throw std::invalid_argument("--settings: '" + text + "' ends in neither the storage rule nor ':spiral'");
+  return {std::stoi(text.substr(0, a)), std::stod(text.substr(a + 1, b - a - 1)),
+          cone_storage_from_name(storage), c == std::string::npos};
 }
 
 struct Result {
@@ -182,6 +208,14 @@ int run(int argc, char** argv) {
   std::vector<std::string> sequences;
   int reference_rays = 4096;
   std::vector<int> oracle_orientations{6, 12, 24};
+  constexpr auto kPaper = ConeStorage::NearerEndpoint, kFan = ConeStorage::NearestOnFan,
+                 kBlend = ConeStorage::InterpolatedOnFan;
+  std::vector<Setting> settings{
+      {6, 1.0, kPaper},        {6, 0.5, kPaper},         {12, 1.0, kPaper},        {6, 1.0, kFan},
+      {8, 1.0, kFan},          {8, 0.75, kFan},          {12, 1.0, kFan},          {12, 0.5, kFan},
+      {6, 1.0, kBlend},        {8, 1.0, kBlend},         {8, 0.75, kBlend, false}, {8, 0.75, kBlend},
+      {8, 0.5, kBlend, false}, {8, 0.5, kBlend},         {8, 0.45, kBlend},        {10, 0.5, kBlend},
+      {12, 0.75, kBlend},      {12, 0.5, kBlend, false}, {12, 0.5, kBlend}};
   Index oracle_sample = 1000;
   bool quick = false;
   for (int i = 1; i < argc; ++i) {
@@ -199,6 +233,9 @@ int run(int argc, char** argv) {
     else if (arg == "--orientations") {
       oracle_orientations.clear();
       for (const auto& s : split(next())) oracle_orientations.push_back(std::stoi(s));
+    } else if (arg == "--settings") {
+      settings.clear();
+      for (const auto& item : split(next())) settings.push_back(parse_setting(item));
     } else if (arg == "--oracle-sample")
       oracle_sample = Index(std::stoi(next()));
     else if (arg == "--quick")
@@ -246,21 +283,12 @@ int run(int argc, char** argv) {
                    name.c_str(), variant.c_str(), r.err.mean, r.err.p95, r.bias, 100 * r.share, ms);
       results.push_back(r);
     };
-    struct Setting {
-      int orientations;
-      double spacing_edges;
-      ConeStorage storage;
-    };
-    constexpr auto kPaper = ConeStorage::NearerEndpoint, kFan = ConeStorage::NearestOnFan,
-                   kBlend = ConeStorage::InterpolatedOnFan;
-    for (const Setting& s :
-         {Setting{6, 1.0, kPaper}, Setting{6, 0.5, kPaper}, Setting{12, 1.0, kPaper}, Setting{6, 1.0, kFan},
-          Setting{8, 1.0, kFan}, Setting{8, 0.75, kFan}, Setting{10, 1.0, kFan}, Setting{12, 1.0, kFan},
-          Setting{12, 0.5, kFan}, Setting{6, 1.0, kBlend}, Setting{8, 1.0, kBlend}, Setting{8, 0.75, kBlend},
-          Setting{10, 1.0, kBlend}, Setting{12, 1.0, kBlend}}) {
+    for (const Setting& s : settings) {
       if (quick && s.orientations != 6) continue;
       const double spacing = s.spacing_edges * average_edge_length(topology, frame);
-      SlicingPlan plan = make_diffuse_plan(topology, frame, {s.orientations, spacing, 0});
+      DiffusePlanParams params{s.orientations, spacing, 0};
+      params.relaxed = s.relaxed;
+      SlicingPlan plan = make_diffuse_plan(topology, frame, params);
       plan.storage = s.storage;
       StaticVisibility engine(topology, plan, VisibilityParams{false});
       engine.compute(frame);  // warm-up: buffers grow
@@ -268,11 +296,13 @@ int run(int argc, char** argv) {
       const FrameVisibility& vis = engine.compute(frame);
       const double ms = watch.process_cpu_ms();
       const SkyValues a = sky_of(vis.measures);
-      const std::string label =
-          format("%s%d %s, %g edge apart, %s",
-                 s.orientations == 6 && s.spacing_edges == 1 && s.storage == kPaper ? "paper: " : "",
-                 s.orientations, s.orientations == 6 ? "axis orientations" : "spread orientations",
-                 s.spacing_edges, cone_storage_name(s.storage));
+      const std::string label = format(
+          "%s%d %s, %g edge apart, %s",
+          s.orientations == 6 && s.spacing_edges == 1 && s.storage == kPaper ? "paper: " : "", s.orientations,
+          s.orientations == 6 ? "axis orientations"
+          : s.relaxed         ? "spread orientations"
+                              : "spread orientations on the spiral",
+          s.spacing_edges, cone_storage_name(s.storage));
       add(compare(a, reference, [](std::size_t) { return true; }), label, ms);
       if (s.orientations == 6 && s.spacing_edges == 1.0 && s.storage == kPaper) {
         const std::vector<bool> own = own_in_every_orientation(topology, frame, plan);

@@ -85,8 +85,9 @@ void PlanOptions::add_to(CLI::App& command) {
           "plane orientations (6: the paper's axis-aligned ones; other counts are spread over the sphere)")
       ->check(CLI::Range(1, 1000));
   command
-      .add_option("--spacing", spacing,
-                  "distance between parallel planes (default: 3/4 of the average edge length)")
+      .add_option(
+          "--spacing", spacing,
+          "distance between parallel planes (default: 1/2 of the average edge length; with --paper one)")
       ->check(CLI::NonNegativeNumber);
   command.add_option("--planes", planes_per_orientation, "planes per orientation (overrides --spacing)")
       ->check(CLI::NonNegativeNumber);
@@ -131,7 +132,10 @@ std::string PlanOptions::describe() const {
     return std::to_string(count) + " orientations x " + std::to_string(planes_per_orientation) + " planes" +
            stored;
   return std::to_string(count) + " orientations, spacing " +
-         (spacing > 0 ? std::to_string(spacing) : std::string("= 3/4 of the average edge length")) + stored;
+         (spacing > 0          ? std::to_string(spacing)
+          : paper && !adaptive ? std::string("= the average edge length")
+                               : std::string("= 1/2 of the average edge length")) +
+         stored;
 }
 
 }  // namespace pleat::cli

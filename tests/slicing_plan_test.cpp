@@ -7,6 +7,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <set>
+#include <tuple>
 #include <utility>
 
 #include "oracles/test_meshes.hpp"
@@ -39,13 +40,44 @@ TEST(SlicingPlan, DefaultDiffusePlanHasEightSpreadFamilies) {
   EXPECT_EQ(paper.storage, ConeStorage::NearerEndpoint);
 }
 
+TEST(SlicingPlan, RelaxedOrientationsAreFartherApartThanTheSpiral) {
+  const ClothGenerator cloth(ClothKind::Curtain, {12, 2, 24.0, 0});
+  // The closest pair of families, as an angle between lines (a normal and its negation are one family).
+  auto closest = [](const std::vector<glm::dvec3>& dirs) {
+    double largest_cos = 0;
+    for (std::size_t a = 0; a < dirs.size(); ++a)
+      for (std::size_t b = a + 1; b < dirs.size(); ++b)
+        largest_cos = std::max(largest_cos, std::abs(glm::dot(dirs[a], dirs[b])));
+    return std::acos(std::min(1.0, largest_cos)) * 180 / 3.14159265358979323846;
+  };
+  for (const auto& [n, spiral_degrees, relaxed_degrees] :
+       {std::tuple{8, 39.0, 44.9}, std::tuple{12, 26.3, 36.5}, std::tuple{20, 17.5, 29.9}}) {
+    DiffusePlanParams params;
+    params.orientations = n;
+    const SlicingPlan relaxed = make_diffuse_plan(cloth.topology(), cloth.frame(0), params);
+    params.relaxed = false;
+    const SlicingPlan spiral = make_diffuse_plan(cloth.topology(), cloth.frame(0), params);
+    ASSERT_EQ(relaxed.orientations.size(), std::size_t(n));
+    for (const glm::dvec3& d : relaxed.orientations) {
+      EXPECT_NEAR(glm::length(d), 1.0, 1e-12);
+      EXPECT_GE(d.z, 0.0);  // one representative per family, on the upper hemisphere
+    }
+    EXPECT_NEAR(closest(spiral.orientations), spiral_degrees, 0.1) << n;
+    EXPECT_GE(closest(relaxed.orientations), relaxed_degrees) << n;
+    EXPECT_GT(closest(relaxed.orientations), closest(spiral.orientations) + 4.0) << n;
+    // Deterministic: the same plan every time (the kinetic engine and the cone cache depend on it).
+    params.relaxed = true;
+    EXPECT_EQ(make_diffuse_plan(cloth.topology(), cloth.frame(0), params).orientations, relaxed.orientations);
+  }
+}
+
 TEST(SlicingPlan, DiffusePlanHasThePapersSixFamiliesOneEdgeApart) {
   const ClothGenerator cloth(ClothKind::Curtain, {30, 2, 24.0, 0});
   const Frame frame = cloth.frame(0);
   const double edge = average_edge_length(cloth.topology(), frame);
-  // The paper's spacing (one edge) on request, the default's (3/4 edge) otherwise.
+  // The paper's spacing (one edge) on request, the default's (1/2 edge) otherwise.
   for (const auto& [params, spacing] : {std::pair{DiffusePlanParams{6, 0.0, 0, 1.0}, edge},
-                                        std::pair{DiffusePlanParams{6, 0.0, 0}, 0.75 * edge}}) {
+                                        std::pair{DiffusePlanParams{6, 0.0, 0}, 0.5 * edge}}) {
     const SlicingPlan plan = make_diffuse_plan(cloth.topology(), frame, params);
     ASSERT_EQ(plan.orientations.size(), 6u);
     EXPECT_NEAR(plan.orientations[3].x, std::sqrt(0.5), 1e-15);  // (1,1,0) normalized

@@ -94,35 +94,43 @@ ErrorStats compare_with_rays(const MeshTopology& topology, const Frame& frame) {
 
 TEST(VisibilityAccuracy, ConesAgreeWithRayCastingOnGeneratedCloth) {
   // Bounds: measured on 2026-11-25 at resolution 40 (1,600 vertices: coarser than the benchmark's 3,025),
-  // mid-motion frame, the defaults (8 spread orientations 3/4 edge apart, interpolated-on-fan storage): mean
-  // |dA| 0.0075-0.029 and p95 0.026-0.122 over the four kinds, |bias| <= 0.005 (before, 1 edge apart and
+  // mid-motion frame, the defaults (8 relaxed spread orientations 1/2 edge apart, interpolated-on-fan
+  // storage): mean |dA| curtain 0.0250, roll 0.0104, flag 0.0074, sleeve 0.0184; p95 0.138 / 0.032 / 0.026 /
+  // 0.064; |bias| <= 0.0053 (3/4 edge apart on the spiral: 0.0075-0.029 and 0.026-0.122; 1 edge apart and
   // nearest-on-fan: 0.009-0.035 and 0.03-0.135; the paper's plan: 0.014-0.037 and 0.05-0.16). The bounds
-  // leave room for noise and guard against regressions.
-  for (ClothKind kind : kAllClothKinds) {
-    const ClothGenerator generator(kind, {40, 12, 24.0, 0});
+  // leave about 1.3x for noise and guard against regressions.
+  struct Bound {
+    ClothKind kind;
+    double mean, p95;
+  };
+  for (const Bound& b : {Bound{ClothKind::Curtain, 0.033, 0.18}, Bound{ClothKind::Roll, 0.014, 0.042},
+                         Bound{ClothKind::Flag, 0.01, 0.034}, Bound{ClothKind::Sleeve, 0.024, 0.083}}) {
+    const ClothGenerator generator(b.kind, {40, 12, 24.0, 0});
     const ErrorStats e = compare_with_rays(generator.topology(), generator.frame(6));
     std::printf("%-8s mean |A_cone - A_rays| %.4f  p95 %.4f  bias %+.4f\n",
-                std::string(cloth_kind_name(kind)).c_str(), e.mean, e.p95, e.bias);
-    EXPECT_LT(e.mean, 0.04) << cloth_kind_name(kind);
-    EXPECT_LT(e.p95, 0.16) << cloth_kind_name(kind);
-    EXPECT_LT(std::abs(e.bias), 0.02) << cloth_kind_name(kind);
+                std::string(cloth_kind_name(b.kind)).c_str(), e.mean, e.p95, e.bias);
+    EXPECT_LT(e.mean, b.mean) << cloth_kind_name(b.kind);
+    EXPECT_LT(e.p95, b.p95) << cloth_kind_name(b.kind);
+    EXPECT_LT(std::abs(e.bias), 0.01) << cloth_kind_name(b.kind);
   }
 }
 
 TEST(VisibilityAccuracy, ConesAgreeWithRayCastingOnTheBundledBlenderCloth) {
-  // Measured 2026-11-25 with the defaults (8 spread orientations 3/4 edge apart, interpolated-on-fan
-  // storage), 4096 rays: drape frames 20/60/99 mean 0.017/0.017/0.016, p95 0.050/0.050/0.049; pile (last
-  // frame) 0.014/0.050; rucked 0.024/0.069; layered 0.0135/0.054 (three plies, added later); |bias| <= 0.006.
-  // The bounds leave about 1.4x for noise and guard against regressions. Before (1 edge apart,
-  // nearest-on-fan): drape 0.018-0.019 / 0.054-0.057, pile 0.018/0.070, rucked 0.029/0.091; the paper's plan
-  // (6 axis orientations, nearer-endpoint storage): mean 0.035-0.041 and p95 0.12-0.14.
+  // Measured 2026-11-25 with the defaults (8 relaxed spread orientations 1/2 edge apart, interpolated-on-fan
+  // storage), 4096 rays: drape frames 20/60/99 mean 0.0143/0.0150/0.0143, p95 0.044/0.046/0.042; pile (last
+  // frame) 0.0110/0.040; rucked 0.0197/0.054; layered 0.0108/0.041; |bias| <= 0.0052 — every one within the
+  // issue's mean 0.02 and p95 0.07. The bounds leave about 1.25x for noise and guard against regressions.
+  // Before (3/4 edge apart on the spiral): drape 0.016-0.017 / 0.049-0.050, pile 0.014/0.050, rucked
+  // 0.024/0.069, layered 0.0135/0.054; (1 edge apart, nearest-on-fan): drape 0.018-0.019 / 0.054-0.057, pile
+  // 0.018/0.070, rucked 0.029/0.091; the paper's plan (6 axis orientations, nearer-endpoint storage): mean
+  // 0.035-0.041 and p95 0.12-0.14.
   struct Case {
     const char* name;
     std::vector<int> frames;  // negative: from the end
     double mean, p95;
   };
-  for (const Case& c : {Case{"drape", {20, 60, 99}, 0.024, 0.07}, Case{"pile", {-1}, 0.02, 0.07},
-                        Case{"rucked", {-1}, 0.033, 0.095}, Case{"layered", {-1}, 0.019, 0.075}}) {
+  for (const Case& c : {Case{"drape", {20, 60, 99}, 0.019, 0.057}, Case{"pile", {-1}, 0.014, 0.05},
+                        Case{"rucked", {-1}, 0.025, 0.068}, Case{"layered", {-1}, 0.014, 0.052}}) {
     const std::string dir = std::string("data/") + c.name + "/" + c.name;
     const MeshSequence cloth =
         load_sequence(test::source_dir() / (dir + ".obj"), test::source_dir() / (dir + ".pc2"));
@@ -133,7 +141,7 @@ TEST(VisibilityAccuracy, ConesAgreeWithRayCastingOnTheBundledBlenderCloth) {
                   e.p95, e.bias);
       EXPECT_LT(e.mean, c.mean) << c.name << " " << k;
       EXPECT_LT(e.p95, c.p95) << c.name << " " << k;
-      EXPECT_LT(std::abs(e.bias), 0.02) << c.name << " " << k;
+      EXPECT_LT(std::abs(e.bias), 0.01) << c.name << " " << k;
     }
   }
 }

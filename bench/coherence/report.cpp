@@ -297,7 +297,7 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
       << " s wall.\n\n";
   out << "Every method runs on the same frames; the cone engines on the same plan (`make_diffuse_plan` on "
          "the first "
-         "frame: its defaults, 8 orientations spread over the sphere, planes 3/4 of an average edge length "
+         "frame: its defaults, 8 orientations spread over the sphere, planes 1/2 of an average edge length "
          "apart, interpolated-on-fan storage). "
          "**ms** = wall milliseconds per "
          "frame, the "
