@@ -1,6 +1,7 @@
 #include "cli/cli_options.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 
 namespace pleat::cli {
@@ -84,11 +85,20 @@ void PlanOptions::add_to(CLI::App& command) {
           "--orientations", orientations,
           "plane orientations (6: the paper's axis-aligned ones; other counts are spread over the sphere)")
       ->check(CLI::Range(1, 1000));
+  CLI::Option* absolute =
+      command
+          .add_option(
+              "--spacing", spacing,
+              "distance between parallel planes (default: 1/2 of the average edge length; with --paper one)")
+          ->check(CLI::NonNegativeNumber);
   command
       .add_option(
-          "--spacing", spacing,
-          "distance between parallel planes (default: 1/2 of the average edge length; with --paper one)")
-      ->check(CLI::NonNegativeNumber);
+          "--spacing-edges", spacing_edges,
+          "distance between parallel planes in average edge lengths of the planned frame (default 0.5: "
+          "every measured sequence within mean error 0.02 of ray-traced truth; 0.75 costs about 0.7x as "
+          "much per frame)")
+      ->check(CLI::PositiveNumber)
+      ->excludes(absolute);
   command.add_option("--planes", planes_per_orientation, "planes per orientation (overrides --spacing)")
       ->check(CLI::NonNegativeNumber);
   command.add_flag("--adaptive", adaptive,
@@ -113,11 +123,13 @@ void PlanOptions::add_to(CLI::App& command) {
 }
 
 SlicingPlan PlanOptions::make(const MeshTopology& topology, const Frame& frame) const {
-  if (paper && !adaptive && spacing == 0 && planes_per_orientation == 0)
+  if (paper && !adaptive && spacing == 0 && spacing_edges == 0 && planes_per_orientation == 0)
     return make_paper_plan(topology, frame);
   const int count = paper ? 6 : orientations;
+  DiffusePlanParams diffuse{count, spacing, planes_per_orientation};
+  if (spacing_edges > 0) diffuse.spacing_in_edges = spacing_edges;
   SlicingPlan plan = adaptive ? make_adaptive_plan(topology, frame, {count, max_missing})
-                              : make_diffuse_plan(topology, frame, {count, spacing, planes_per_orientation});
+                              : make_diffuse_plan(topology, frame, diffuse);
   plan.storage = paper ? ConeStorage::NearerEndpoint : cone_storage_from_name(storage);
   return plan;
 }
@@ -131,10 +143,16 @@ std::string PlanOptions::describe() const {
   if (planes_per_orientation > 0)
     return std::to_string(count) + " orientations x " + std::to_string(planes_per_orientation) + " planes" +
            stored;
+  auto edges = [](double k) {
+    char text[64];
+    std::snprintf(text, sizeof text, "= %g of the average edge length", k);
+    return std::string(text);
+  };
   return std::to_string(count) + " orientations, spacing " +
-         (spacing > 0          ? std::to_string(spacing)
-          : paper && !adaptive ? std::string("= the average edge length")
-                               : std::string("= 1/2 of the average edge length")) +
+         (spacing > 0         ? std::to_string(spacing)
+          : spacing_edges > 0 ? edges(spacing_edges)
+          : paper             ? std::string("= the average edge length")
+                              : edges(DiffusePlanParams{}.spacing_in_edges)) +
          stored;
 }
 

@@ -49,6 +49,7 @@ void create_parent_directory(const std::filesystem::path& output);
 struct PlanOptions {
   int orientations = DiffusePlanParams{}.orientations;
   double spacing = 0.0;
+  double spacing_edges = 0.0;  ///< > 0: spacing in average edge lengths of the planned frame
   int planes_per_orientation = 0;
   bool adaptive = false;
   double max_missing = 0.05;

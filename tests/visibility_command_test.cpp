@@ -40,6 +40,37 @@ TEST(VisibilityCommand, WritesOneRowPerFrameAndInputVertexIntoNewDirectories) {
   EXPECT_EQ(json["frames"][0]["filled_fraction"].size(), 8u);  // the default plan's orientations
 }
 
+TEST(VisibilityCommand, SpacingInEdgeLengths) {
+  test::TempDir dir;
+  ASSERT_EQ(test::run_pleat("generate flag -o " + (dir / "f.obj").string() + " --resolution 12 --frames 2")
+                .exit_code,
+            0);
+  const std::string input =
+      (dir / "f.obj").string() + " --cache " + (dir / "f.pc2").string() + " --frames 0:1";
+  auto slice_vertices = [&](const std::string& plan) {
+    const auto result = test::run_pleat("visibility " + input + " -o " + (dir / "v.csv").string() +
+                                        " --stats " + (dir / "s.json").string() + plan);
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    std::ifstream stats(dir / "s.json");
+    return std::pair{nlohmann::json::parse(stats)["frames"][0]["slice_vertices"].get<int>(), result.output};
+  };
+  const auto [by_default, default_output] = slice_vertices("");
+  const auto [half, half_output] = slice_vertices(" --spacing-edges 0.5");
+  const auto [one, one_output] = slice_vertices(" --spacing-edges 1");
+  EXPECT_EQ(half, by_default);  // the default is half an edge
+  EXPECT_NE(default_output.find("spacing = 0.5 of the average edge length"), std::string::npos)
+      << default_output;
+  EXPECT_NE(one_output.find("spacing = 1 of the average edge length"), std::string::npos) << one_output;
+  EXPECT_LT(one, 0.7 * half);  // about half the planes
+  EXPECT_GT(one, 0.3 * half);
+  // An absolute spacing and one in edge lengths at once: one clear error, no output.
+  const auto both = test::run_pleat("visibility " + input + " -o " + (dir / "both.csv").string() +
+                                    " --spacing 0.1 --spacing-edges 1");
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_NE(both.output.find("excludes"), std::string::npos) << both.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "both.csv"));
+}
+
 TEST(VisibilityCommand, MissingInputFailsCleanlyAndWritesNothing) {
   test::TempDir dir;
   const auto result =
