@@ -59,8 +59,8 @@ void relax_lines(std::vector<glm::dvec3>& dirs) {
 
 /// The paper's six orientations for 6; otherwise n directions spread over the half sphere (a Fibonacci
 /// spiral on the upper hemisphere: a plane normal and its negation are the same family), relaxed by
-/// relax_lines when asked and n <= kMaxRelaxed (beyond, the spiral is dense enough and relaxing costs n^2
-/// per step).
+/// relax_lines when asked and n <= kMaxRelaxed (relaxing costs n^2 per step; larger counts are left on the
+/// spiral, unmeasured).
 constexpr int kMaxRelaxed = 32;
 std::vector<glm::dvec3> diffuse_orientations(int n, bool relaxed) {
   if (n <= 0) throw std::invalid_argument("slicing plan: the number of orientations must be positive");
