@@ -70,15 +70,21 @@ std::string format(const char* fmt, auto... args) {
   return buffer;
 }
 
-/// One engine configuration: orientation count, plane spacing in average edge lengths, storage rule, and
-/// whether spread orientations are relaxed to evenly spaced lines (the default) or left on the Fibonacci
-/// spiral (DiffusePlanParams::relaxed).
+/// One engine configuration: the diffuse plan (orientation count, spacing in average edge lengths, relaxed
+/// or on the Fibonacci spiral) and the storage rule.
 struct Setting {
-  int orientations;
-  double spacing_edges;
+  DiffusePlanParams plan;
   ConeStorage storage;
-  bool relaxed = true;
 };
+
+/// A setting of `orientations` families `spacing_edges` average edge lengths apart.
+Setting setting(int orientations, double spacing_edges, ConeStorage storage, bool relaxed = true) {
+  DiffusePlanParams plan;
+  plan.orientations = orientations;
+  plan.spacing_in_edges = spacing_edges;
+  plan.relaxed = relaxed;
+  return {plan, storage};
+}
 
 /// "8:0.5:interpolated-on-fan" or "8:0.75:interpolated-on-fan:spiral" (orientations:spacing in
 /// edges:storage rule[:spiral]).
@@ -90,8 +96,8 @@ Setting parse_setting(const std::string& text) {
   const std::string storage = text.substr(b + 1, c == std::string::npos ? std::string::npos : c - b - 1);
   if (c != std::string::npos && text.substr(c + 1) != "spiral")
     throw std::invalid_argument("--settings: '" + text + "' ends in neither the storage rule nor ':spiral'");
-  return {std::stoi(text.substr(0, a)), std::stod(text.substr(a + 1, b - a - 1)),
-          cone_storage_from_name(storage), c == std::string::npos};
+  return setting(std::stoi(text.substr(0, a)), std::stod(text.substr(a + 1, b - a - 1)),
+                 cone_storage_from_name(storage), c == std::string::npos);
 }
 
 struct Result {
@@ -211,11 +217,13 @@ int run(int argc, char** argv) {
   constexpr auto kPaper = ConeStorage::NearerEndpoint, kFan = ConeStorage::NearestOnFan,
                  kBlend = ConeStorage::InterpolatedOnFan;
   std::vector<Setting> settings{
-      {6, 1.0, kPaper},        {6, 0.5, kPaper},         {12, 1.0, kPaper},        {6, 1.0, kFan},
-      {8, 1.0, kFan},          {8, 0.75, kFan},          {12, 1.0, kFan},          {12, 0.5, kFan},
-      {6, 1.0, kBlend},        {8, 1.0, kBlend},         {8, 0.75, kBlend, false}, {8, 0.75, kBlend},
-      {8, 0.5, kBlend, false}, {8, 0.5, kBlend},         {8, 0.45, kBlend},        {10, 0.5, kBlend},
-      {12, 0.75, kBlend},      {12, 0.5, kBlend, false}, {12, 0.5, kBlend}};
+      setting(6, 1.0, kPaper),        setting(6, 0.5, kPaper),         setting(12, 1.0, kPaper),
+      setting(6, 1.0, kFan),          setting(8, 1.0, kFan),           setting(8, 0.75, kFan),
+      setting(12, 1.0, kFan),         setting(12, 0.5, kFan),          setting(6, 1.0, kBlend),
+      setting(8, 1.0, kBlend),        setting(8, 0.75, kBlend, false), setting(8, 0.75, kBlend),
+      setting(8, 0.5, kBlend, false), setting(8, 0.5, kBlend),         setting(8, 0.45, kBlend),
+      setting(10, 0.5, kBlend),       setting(12, 0.75, kBlend),       setting(12, 0.5, kBlend, false),
+      setting(12, 0.5, kBlend)};
   Index oracle_sample = 1000;
   bool quick = false;
   for (int i = 1; i < argc; ++i) {
@@ -284,11 +292,10 @@ int run(int argc, char** argv) {
       results.push_back(r);
     };
     for (const Setting& s : settings) {
-      if (quick && s.orientations != 6) continue;
-      const double spacing = s.spacing_edges * average_edge_length(topology, frame);
-      DiffusePlanParams params{s.orientations, spacing, 0};
-      params.relaxed = s.relaxed;
-      SlicingPlan plan = make_diffuse_plan(topology, frame, params);
+      const int orientations = s.plan.orientations;
+      const double spacing_edges = s.plan.spacing_in_edges;
+      if (quick && orientations != 6) continue;
+      SlicingPlan plan = make_diffuse_plan(topology, frame, s.plan);
       plan.storage = s.storage;
       StaticVisibility engine(topology, plan, VisibilityParams{false});
       engine.compute(frame);  // warm-up: buffers grow
@@ -298,13 +305,13 @@ int run(int argc, char** argv) {
       const SkyValues a = sky_of(vis.measures);
       const std::string label = format(
           "%s%d %s, %g edge apart, %s",
-          s.orientations == 6 && s.spacing_edges == 1 && s.storage == kPaper ? "paper: " : "", s.orientations,
-          s.orientations == 6 ? "axis orientations"
-          : s.relaxed         ? "spread orientations"
-                              : "spread orientations on the spiral",
-          s.spacing_edges, cone_storage_name(s.storage));
+          orientations == 6 && spacing_edges == 1 && s.storage == kPaper ? "paper: " : "", orientations,
+          orientations == 6 ? "axis orientations"
+          : s.plan.relaxed  ? "spread orientations"
+                            : "spread orientations on the spiral",
+          spacing_edges, cone_storage_name(s.storage));
       add(compare(a, reference, [](std::size_t) { return true; }), label, ms);
-      if (s.orientations == 6 && s.spacing_edges == 1.0 && s.storage == kPaper) {
+      if (orientations == 6 && spacing_edges == 1.0 && s.storage == kPaper) {
         const std::vector<bool> own = own_in_every_orientation(topology, frame, plan);
         add(compare(a, reference, [&](std::size_t i) { return bool(own[i % n]); }),
             "  of which: vertices with own cones in all", ms);

@@ -99,7 +99,9 @@ void PlanOptions::add_to(CLI::App& command) {
           "much per frame)")
       ->check(CLI::PositiveNumber)
       ->excludes(absolute);
-  command.add_option("--planes", planes_per_orientation, "planes per orientation (overrides --spacing)")
+  command
+      .add_option("--planes", planes_per_orientation,
+                  "planes per orientation (overrides --spacing and --spacing-edges)")
       ->check(CLI::NonNegativeNumber);
   command.add_flag("--adaptive", adaptive,
                    "place planes by the paper's recursive median split (§2.3.3) instead of evenly");
