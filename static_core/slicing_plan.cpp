@@ -27,6 +27,24 @@ double mean_edge_length(const MeshTopology& topology, const Frame& frame) {
   return count ? sum / count : 0.0;
 }
 
+/// The positions of the vertices some triangle uses, each once: the cloth that planes can cut. Isolated
+/// vertices get no cone and must not stretch a plan (a stray vertex far away would multiply its planes).
+std::vector<glm::dvec3> cloth_positions(const MeshTopology& topology, const Frame& frame) {
+  std::vector<char> used(frame.positions.size(), 0);
+  for (const auto& t : topology.triangles)
+    for (Index v : t) used[v] = 1;
+  std::vector<glm::dvec3> positions;
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) positions.push_back(frame.positions[v]);
+  return positions;
+}
+
+glm::dvec3 centroid_of(const std::vector<glm::dvec3>& positions) {
+  glm::dvec3 centroid(0.0);
+  for (const auto& p : positions) centroid += p;
+  return centroid / static_cast<double>(std::max<std::size_t>(1, positions.size()));
+}
+
 /// Spreads unit directions taken as lines (d and -d are one family of planes) evenly: a fixed number of
 /// steps of electrostatic repulsion between each direction and the nearer of the other's two ends, on the
 /// sphere, each direction kept on the upper hemisphere. Deterministic. From the Fibonacci spiral's 8 lines,
@@ -79,9 +97,9 @@ std::vector<glm::dvec3> diffuse_orientations(int n, bool relaxed) {
   return dirs;
 }
 
-std::pair<double, double> extent_along(const Frame& frame, const glm::dvec3& n) {
+std::pair<double, double> extent_along(const std::vector<glm::dvec3>& positions, const glm::dvec3& n) {
   double lo = INFINITY, hi = -INFINITY;
-  for (const auto& p : frame.positions) {
+  for (const auto& p : positions) {
     const double d = glm::dot(n, p);
     lo = std::min(lo, d);
     hi = std::max(hi, d);
@@ -132,8 +150,9 @@ SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame,
   double spacing =
       params.spacing > 0 ? params.spacing : params.spacing_in_edges * mean_edge_length(topology, frame);
   if (!(spacing > 0)) spacing = 1.0;
+  const std::vector<glm::dvec3> cloth = cloth_positions(topology, frame);
   for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
-    const auto [lo, hi] = extent_along(frame, plan.orientations[o]);
+    const auto [lo, hi] = extent_along(cloth, plan.orientations[o]);
     add_parallel_planes(plan, o, lo, hi, spacing, params.planes_per_orientation);
   }
   return plan;
@@ -197,23 +216,21 @@ SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame,
 /// an angular step that gives `spacing` at the cloth's mean distance from the line.
 static void add_pencil(SlicingPlan& plan, const glm::dvec3& point, const glm::dvec3& axis,
                        const MeshTopology& topology, const Frame& frame, double spacing) {
-  glm::dvec3 centroid(0.0);
-  for (const auto& p : frame.positions) centroid += p;
-  centroid /= std::max<std::size_t>(1, frame.positions.size());
-  glm::dvec3 e1 = centroid - point;
+  const std::vector<glm::dvec3> cloth = cloth_positions(topology, frame);
+  glm::dvec3 e1 = centroid_of(cloth) - point;
   e1 -= glm::dot(e1, axis) * axis;
   if (glm::length(e1) == 0) e1 = make_plane(axis, 0, 0).u;
   e1 = glm::normalize(e1);
   const glm::dvec3 e2 = glm::cross(axis, e1);
   double lo = INFINITY, hi = -INFINITY, mean_distance = 0.0;
-  for (const auto& p : frame.positions) {
+  for (const auto& p : cloth) {
     const glm::dvec3 d = p - point;
     const double angle = std::atan2(glm::dot(d, e2), glm::dot(d, e1));
     lo = std::min(lo, angle);
     hi = std::max(hi, angle);
     mean_distance += glm::length(d - glm::dot(d, axis) * axis);
   }
-  mean_distance /= std::max<std::size_t>(1, frame.positions.size());
+  mean_distance /= static_cast<double>(std::max<std::size_t>(1, cloth.size()));
   if (!(spacing > 0)) spacing = mean_edge_length(topology, frame);
   const double step = mean_distance > 0 && spacing > 0 ? spacing / mean_distance : 0.01;
   const int count = std::max(1, static_cast<int>(std::ceil((hi - lo) / step)));
@@ -231,10 +248,7 @@ SlicingPlan make_point_light_plan(const MeshTopology& topology, const Frame& fra
                                   double spacing) {
   validate_mesh(topology, frame, "make_point_light_plan");
   // Any line through the light will do (paper §2.1): take one perpendicular to the light->cloth direction.
-  glm::dvec3 centroid(0.0);
-  for (const auto& p : frame.positions) centroid += p;
-  centroid /= std::max<std::size_t>(1, frame.positions.size());
-  glm::dvec3 to_cloth = centroid - light;
+  glm::dvec3 to_cloth = centroid_of(cloth_positions(topology, frame)) - light;
   to_cloth = glm::length(to_cloth) > 0 ? glm::normalize(to_cloth) : glm::dvec3(0, 0, -1);
   SlicingPlan plan;
   add_pencil(plan, light, make_plane(to_cloth, 0, 0).u, topology, frame, spacing);

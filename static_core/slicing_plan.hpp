@@ -74,7 +74,8 @@ struct DiffusePlanParams {
   /// Spread orientations (not 6) relaxed from the Fibonacci spiral to evenly spaced lines (up to 32).
   bool relaxed = true;
 };
-/// Uniform diffuse light: parallel families of planes over the frame's extent.
+/// Uniform diffuse light: parallel families of planes over the extent of the cloth (the vertices its
+/// triangles use: an isolated vertex does not stretch the plan).
 SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame,
                               const DiffusePlanParams& params);
 /// The paper's plan: its 6 axis-aligned orientations, planes one average edge length apart, nearer-endpoint

@@ -96,6 +96,31 @@ TEST(SlicingPlan, DiffusePlanHasThePapersSixFamiliesOneEdgeApart) {
   EXPECT_EQ(counted.planes.size(), 12u * 7u);
 }
 
+TEST(SlicingPlan, AnIsolatedVertexDoesNotStretchAPlan) {
+  // A vertex no triangle uses gets no cone; far away, it once multiplied a diffuse plan's planes (a fuzzed
+  // 16-vertex cloth had 19,911) and moved the pencils' centroid.
+  const ClothGenerator cloth(ClothKind::Flag, {12, 2, 24.0, 0});
+  const Frame frame = cloth.frame(0);
+  MeshTopology stray_topology = cloth.topology();
+  Frame stray_frame = frame;
+  stray_topology.num_vertices += 1;
+  stray_frame.positions.push_back({400.0, -300.0, 250.0});
+  auto same = [](const SlicingPlan& a, const SlicingPlan& b) {
+    ASSERT_EQ(a.planes.size(), b.planes.size());
+    for (std::size_t i = 0; i < a.planes.size(); ++i) {
+      EXPECT_EQ(a.planes[i].normal, b.planes[i].normal) << i;
+      EXPECT_EQ(a.planes[i].offset, b.planes[i].offset) << i;
+    }
+  };
+  same(make_diffuse_plan(stray_topology, stray_frame, {}), make_diffuse_plan(cloth.topology(), frame, {}));
+  const glm::dvec3 light(0.3, 2.0, -1.0);
+  same(make_point_light_plan(stray_topology, stray_frame, light),
+       make_point_light_plan(cloth.topology(), frame, light));
+  const std::vector<glm::dvec3> quad = {{-1, 3, -1}, {1, 3, -1}, {1, 3, 1}, {-1, 3, 1}};
+  same(make_area_light_plan(stray_topology, stray_frame, quad),
+       make_area_light_plan(cloth.topology(), frame, quad));
+}
+
 TEST(SlicingPlan, AdaptivePlanLeavesAtMostTheAllowedFractionWithoutCone) {
   const ClothGenerator cloth(ClothKind::Flag, {25, 2, 24.0, 3});
   const Frame frame = cloth.frame(1);
