@@ -1,8 +1,10 @@
 #include "static_core/slicing_plan.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <mutex>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -86,15 +88,25 @@ std::vector<glm::dvec3> diffuse_orientations(int n, bool relaxed) {
     return {glm::normalize(glm::dvec3(1, 0, 0)), glm::normalize(glm::dvec3(0, 1, 0)),
             glm::normalize(glm::dvec3(0, 0, 1)), glm::normalize(glm::dvec3(1, 1, 0)),
             glm::normalize(glm::dvec3(1, 0, 1)), glm::normalize(glm::dvec3(0, 1, 1))};
-  std::vector<glm::dvec3> dirs;
-  const double golden = kPi * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double z = 1.0 - (i + 0.5) / n;  // upper hemisphere
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    dirs.push_back(glm::normalize(glm::dvec3(r * std::cos(golden * i), r * std::sin(golden * i), z)));
-  }
-  if (relaxed && n <= kMaxRelaxed) relax_lines(dirs);
-  return dirs;
+  auto spiral = [n] {
+    std::vector<glm::dvec3> dirs;
+    const double golden = kPi * (3.0 - std::sqrt(5.0));
+    for (int i = 0; i < n; ++i) {
+      const double z = 1.0 - (i + 0.5) / n;  // upper hemisphere
+      const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+      dirs.push_back(glm::normalize(glm::dvec3(r * std::cos(golden * i), r * std::sin(golden * i), z)));
+    }
+    return dirs;
+  };
+  if (!relaxed || n > kMaxRelaxed) return spiral();
+  // Relaxing is deterministic and costs about as much as slicing a small cloth: once per count and process.
+  static std::array<std::once_flag, kMaxRelaxed + 1> once;
+  static std::array<std::vector<glm::dvec3>, kMaxRelaxed + 1> relaxed_lines;
+  std::call_once(once[n], [&] {
+    relaxed_lines[n] = spiral();
+    relax_lines(relaxed_lines[n]);
+  });
+  return relaxed_lines[n];
 }
 
 std::pair<double, double> extent_along(const std::vector<glm::dvec3>& positions, const glm::dvec3& n) {
