@@ -96,13 +96,7 @@ class Engine {
 };
 
 void run(const VisibilityOptions& options) {
-  const bool chunked = World::distributed() || !options.chunking.checkpoint.empty();
-  together([&] {
-    if (chunked && !options.cones.empty())
-      throw std::invalid_argument(
-          "--cones is written by a single process without --checkpoint (the cone cache is not gathered over "
-          "ranks yet)");
-  });
+  const bool with_cones = !options.cones.empty();
   const SharedSequence input = load_shared(options.in.input, options.in.cache);
   const double loaded_at = World::seconds();  // this rank's start-up, for --timings
   const MeshSequence& sequence = input.sequence;
@@ -121,7 +115,8 @@ void run(const VisibilityOptions& options) {
   options_key.add("visibility")
       .add(options.engine)
       .add(options.plan.describe())
-      .add_value(plan_fingerprint(plan));
+      .add_value(plan_fingerprint(plan))
+      .add(with_cones ? "with cones" : "without cones");  // a chunk holds its frames' cones only if asked
   const ChunkJob job = plan_chunks(input, first, last, options.chunking.chunks, &plan,
                                    options.chunking.checkpoint, options_key.value());
   const double chunked_at = World::seconds();
@@ -167,7 +162,6 @@ void run(const VisibilityOptions& options) {
         front[v] = vis.measure(Side::Front, v).sky_visibility;
         back[v] = vis.measure(Side::Back, v).sky_visibility;
       }
-      if (cones) cones->add_frame(frame, vis);  // one process, one chunk only (checked above)
       nlohmann::json timing = {
           {"frame", f}, {"seconds", seconds}, {"rank", World::rank()}, {"finished_at", World::seconds()}};
       if (f == chunk_first) {
@@ -180,6 +174,8 @@ void run(const VisibilityOptions& options) {
       bytes.put_array(front).put_array(back);
       bytes.put<std::uint64_t>(vis.stats.crossing_slices);
       bytes.put_string(stats_json(f, vis.stats).dump()).put_string(timing.dump());
+      // The frame's block of the cone cache, written by rank 0 in frame order like the CSV.
+      if (with_cones) bytes.put_string(encode_cone_frame(frame, vis));
       emit(f, bytes.take());
     }
   };
@@ -197,6 +193,7 @@ void run(const VisibilityOptions& options) {
     stats["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
     timings["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
     timings["frames"].back()["payload_bytes"] = payload.size();
+    if (with_cones) cones->add_encoded_frame(bytes.get_string());
     write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   run_chunks(job, "visibility", compute, consume);

@@ -62,12 +62,11 @@ struct ConeCacheWriter::Impl {
   std::uint64_t table_offset = 0;
   std::vector<std::uint64_t> offsets;
   std::uint64_t position = 0;
-  std::string buffer;
   bool committed = false;
 
   explicit Impl(const std::filesystem::path& path) : file(path) {}
 
-  void write(const std::string& bytes) {
+  void write(std::string_view bytes) {
     file.stream().write(bytes.data(), std::streamsize(bytes.size()));
     if (!file.stream()) throw std::runtime_error(file.path().string() + ": cannot write the cone cache");
     position += bytes.size();
@@ -81,8 +80,7 @@ ConeCacheWriter::ConeCacheWriter(const std::filesystem::path& path, const MeshTo
   Impl& w = *m_impl;
   w.vertices = topology.num_vertices;
   w.frames = frames.size();
-  std::string& h = w.buffer;
-  h.assign(kMagic, kMagic + 8);
+  std::string h(kMagic, kMagic + 8);
   const std::size_t table_offset =
       kFixedHeader + 4 + plan.size() + 4 * welded_of_input.size() + 12 * frames.size();
   for (std::size_t value : {std::size_t(kVersion), table_offset, std::size_t(topology.num_vertices),
@@ -105,22 +103,19 @@ ConeCacheWriter::ConeCacheWriter(const std::filesystem::path& path, const MeshTo
 
 ConeCacheWriter::~ConeCacheWriter() = default;
 
-void ConeCacheWriter::add_frame(const Frame& frame, const FrameVisibility& visibility) {
-  Impl& w = *m_impl;
-  if (w.offsets.size() == w.frames) throw std::logic_error("ConeCacheWriter: more frames than announced");
-  w.offsets.push_back(w.position);
-  std::string& out = w.buffer;
-  out.clear();
+std::string encode_cone_frame(const Frame& frame, const FrameVisibility& visibility) {
+  const Index vertices = static_cast<Index>(visibility.normals.size());
+  std::string out;
   bytes::append_u64_le(out, positions_fingerprint(frame));
-  for (Index v = 0; v < w.vertices; ++v) append_vec3(out, visibility.normals[v]);
+  for (Index v = 0; v < vertices; ++v) append_vec3(out, visibility.normals[v]);
   for (Side side : kBothSides) {
-    for (Index v = 0; v < w.vertices; ++v) {
+    for (Index v = 0; v < vertices; ++v) {
       const ConeMeasures& m = visibility.measure(side, v);
       bytes::append_f64_le(out, m.sky_visibility);
       append_vec3(out, m.bent_normal);
       bytes::append_f64_le(out, m.solid_angle);
     }
-    for (Index v = 0; v < w.vertices; ++v) {
+    for (Index v = 0; v < vertices; ++v) {
       const VisibilityCone& cone = visibility.cone(side, v);
       bytes::append_u32_le(out, std::uint32_t(cone.pieces.size()));
       for (const SphericalPolygon& piece : cone.pieces) {
@@ -129,7 +124,24 @@ void ConeCacheWriter::add_frame(const Frame& frame, const FrameVisibility& visib
       }
     }
   }
-  w.write(out);
+  return out;
+}
+
+void ConeCacheWriter::add_frame(const Frame& frame, const FrameVisibility& visibility) {
+  if (visibility.normals.size() != m_impl->vertices)
+    throw std::invalid_argument("ConeCacheWriter: a frame of another vertex count");
+  add_encoded_frame(encode_cone_frame(frame, visibility));
+}
+
+void ConeCacheWriter::add_encoded_frame(std::string_view block) {
+  Impl& w = *m_impl;
+  if (w.offsets.size() == w.frames) throw std::logic_error("ConeCacheWriter: more frames than announced");
+  // The fixed part: fingerprint, normals, and per side the measures and a piece count per vertex.
+  const std::uint64_t least = 8 + std::uint64_t(w.vertices) * (24 + 2 * (8 * kMeasureDoubles + 4));
+  if (block.size() < least)
+    throw std::invalid_argument("ConeCacheWriter: a frame block too short for the mesh");
+  w.offsets.push_back(w.position);
+  w.write(block);
 }
 
 void ConeCacheWriter::commit() {

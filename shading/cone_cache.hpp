@@ -37,6 +37,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "static_core/mesh.hpp"
@@ -61,6 +62,11 @@ struct ConeCacheHeader {
   std::vector<double> times;          ///< seconds
 };
 
+/// One frame's block of the format above (positions fingerprint, normals, measures, cones), as add_frame
+/// writes it: for a frame computed in another process (an MPI rank, a checkpointed chunk), encoded there and
+/// added here with ConeCacheWriter::add_encoded_frame.
+std::string encode_cone_frame(const Frame& frame, const FrameVisibility& visibility);
+
 /// Streams a cone cache frame by frame; commit() after the last frame puts it in place.
 class ConeCacheWriter {
  public:
@@ -75,6 +81,9 @@ class ConeCacheWriter {
 
   /// The next announced frame: its positions (for the fingerprint) and its cones.
   void add_frame(const Frame& frame, const FrameVisibility& visibility);
+  /// The next announced frame as encode_cone_frame gave it. Throws std::invalid_argument when the block is
+  /// too short for the cache's vertex count.
+  void add_encoded_frame(std::string_view block);
   /// Writes the frame table and renames the file into place. Every frame must have been added.
   void commit();
 

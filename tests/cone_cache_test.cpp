@@ -88,6 +88,25 @@ TEST(ConeCache, FramesRoundTripExactlyAndInAnyOrder) {
   EXPECT_GT(pieces, 100u);  // the round trip carried real cones
 }
 
+TEST(ConeCache, FramesEncodedElsewhereMakeTheSameBytes) {
+  // What an MPI rank or a checkpointed chunk sends to the writer: encode_cone_frame's blocks.
+  test::TempDir dir;
+  const Fixture fx;
+  fx.write(dir / "direct.cones");
+  ConeCacheWriter writer(dir / "encoded.cones", fx.cloth.topology(), fx.identity, 24.0, "test plan",
+                         {2, 5, 7});
+  for (std::size_t k = 0; k < fx.frames.size(); ++k)
+    writer.add_encoded_frame(encode_cone_frame(fx.positions[k], fx.frames[k]));
+  // A block cut short (or from a smaller mesh) is refused before anything is written for it.
+  const std::string block = encode_cone_frame(fx.positions[0], fx.frames[0]);
+  ConeCacheWriter other(dir / "short.cones", fx.cloth.topology(), fx.identity, 24.0, "test plan", {2});
+  EXPECT_THROW(other.add_encoded_frame(std::string_view(block).substr(0, 100)), std::invalid_argument);
+  writer.commit();
+  const std::string direct = slurp(dir / "direct.cones");
+  EXPECT_GT(direct.size(), 3 * block.size() / 2);
+  EXPECT_TRUE(direct == slurp(dir / "encoded.cones"));
+}
+
 TEST(ConeCache, BadCachesFailWithOneClearError) {
   test::TempDir dir;
   const Fixture fx;

@@ -186,6 +186,39 @@ TEST(Distributed, ShadeAtTwoAndThreeRanksWritesTheGlbAndImagesOfOneProcess) {
   EXPECT_TRUE(slurp(dir / "one.glb") == slurp(dir / "ck.glb"));
 }
 
+TEST(Distributed, TheConeCacheAtTwoAndThreeRanksAndFromACheckpointIsTheOneOfOneProcess) {
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  const std::string one = (dir / "one").string();
+  const auto single =
+      test::run_pleat("visibility " + input + " -o " + one + ".csv --cones " + one + ".cones --frames 1:7");
+  ASSERT_EQ(single.exit_code, 0) << single.output;
+  const std::string cones = slurp(one + ".cones");
+  ASSERT_GT(cones.size(), 6u * 100 * 8);  // six frames of a 100-vertex cloth's cones
+  for (int ranks : {2, 3}) {
+    const std::string out = (dir / ("many" + std::to_string(ranks))).string();
+    const auto many = mpirun(ranks, "visibility " + input + " -o " + out + ".csv --cones " + out +
+                                        ".cones --frames 1:7 --chunks 4");
+    ASSERT_EQ(many.exit_code, 0) << many.output;
+    EXPECT_TRUE(slurp(out + ".cones") == cones) << ranks << " ranks";
+    EXPECT_TRUE(slurp(out + ".csv") == slurp(one + ".csv")) << ranks << " ranks";
+  }
+  // Chunks kept by a checkpoint carry their cones: a rerun that computes nothing writes the same cache, and a
+  // checkpoint made without --cones is not taken for one with them.
+  const std::string plain = "visibility " + input + " -o " + (dir / "ck.csv").string() +
+                            " --frames 1:7 --chunks 3 --checkpoint " + (dir / "ck").string();
+  ASSERT_EQ(mpirun(2, plain).exit_code, 0);
+  const std::string with_cones = plain + " --cones " + (dir / "ck.cones").string();
+  const auto first = mpirun(2, with_cones);
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  EXPECT_EQ(first.output.find("kept from the checkpoint"), std::string::npos) << first.output;
+  std::filesystem::remove(dir / "ck.cones");
+  const auto rerun = test::run_pleat(with_cones);
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.output;
+  EXPECT_NE(rerun.output.find("3 kept from the checkpoint"), std::string::npos) << rerun.output;
+  EXPECT_TRUE(slurp(dir / "ck.cones") == cones);
+}
+
 TEST(Distributed, AKilledRankFailsTheJobAndLeavesNoOutput) {
   TempDir dir;
   const std::string input = make_curtain(dir);
@@ -193,7 +226,9 @@ TEST(Distributed, AKilledRankFailsTheJobAndLeavesNoOutput) {
   const auto before = names_in(dir / "out");
   for (const std::string command : {"visibility", "shade"}) {
     const std::string out = (dir / "out" / (command == "shade" ? "v.glb" : "v.csv")).string();
-    const std::string extra = command == "visibility" ? " --stats " + (dir / "out/s.json").string() : "";
+    const std::string extra = command == "visibility" ? " --stats " + (dir / "out/s.json").string() +
+                                                            " --cones " + (dir / "out/c.cones").string()
+                                                      : "";
     const auto killed = mpirun(2, command + " " + input + " -o " + out + extra, "PLEAT_TEST_KILL_RANK=1");
     EXPECT_NE(killed.exit_code, 0) << killed.output;
     EXPECT_EQ(names_in(dir / "out"), before) << command << ": " << killed.output;
