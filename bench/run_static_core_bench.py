@@ -209,6 +209,50 @@ def breakdown_table(stages, frames, allocations, vertices):
     return md
 
 
+def write_plot(frames, stages, real, info, path):
+    """static_core.png: µs of CPU per slice vertex against cloth size, one thread; left, the whole frame of each
+    kind (and the real sequences' last frames) against the issue's targets; right, the curtain's stages.
+    Returns False (and writes nothing) when this Python has no matplotlib (Debian: python3-matplotlib)."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return False
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
+    markers = {"curtain": "o", "roll": "s", "flag": "^", "sleeve": "D"}
+    for kind in sorted({k for (k, _, t) in frames if t == 1}):
+        points = sorted((v, 1e3 * r["cpu_ms"] / r["slice_vertices"]) for (k, v, t), r in frames.items()
+                        if k == kind and t == 1 and r.get("slice_vertices"))
+        left.plot([p[0] for p in points], [p[1] for p in points], marker=markers.get(kind, "o"), label=kind)
+    for (name, r), marker in zip(sorted(real.items()), "xP*+v<>"):
+        if r.get("slice_vertices") and r.get("vertices"):
+            left.scatter([r["vertices"]], [1e3 * r["cpu_ms"] / r["slice_vertices"]], marker=marker, color="black",
+                         label=f"{name} (real)")
+    left.hlines(TARGET_US_PER_SLICE_VERTEX, 2000, LARGE_VERTICES, colors="gray", linestyles="--",
+                label=f"target {TARGET_US_PER_SLICE_VERTEX:g} µs (2 µs at 300k)")
+    left.hlines(TARGET_US_PER_SLICE_VERTEX_LARGE, LARGE_VERTICES, 400000, colors="gray", linestyles="--")
+    left.set_title("whole frame (real Blender sequences: their last frame)", fontsize=9)
+    for name in STAGES:
+        points = sorted((v, 1e3 * r["cpu_ms"] / stages[("slicing", v)]["slice_vertices"])
+                        for (n, v), r in stages.items() if n == name and ("slicing", v) in stages)
+        right.plot([p[0] for p in points], [p[1] for p in points], marker="o", label=STAGE_TEXT[name].split(" (")[0])
+    right.set_title("curtain, each stage timed alone over the frame's slices", fontsize=9)
+    for ax in (left, right):
+        ax.set_xscale("log")
+        ax.set_xlabel("mesh vertices")
+        ax.set_ylabel("µs of CPU per slice vertex, one thread")
+        ax.set_ylim(bottom=0)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"pleat static core, default plan: commit {info['commit']}, {info['machine']['model']}",
+                 fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
 def write_outputs(rows, info, out_dir, command_line, elapsed):
     os.makedirs(out_dir, exist_ok=True)
     frames = {(r["kind"], r["vertices"], r["threads"]): r for r in rows.values() if r["family"] == "frame"}
@@ -356,6 +400,12 @@ def write_outputs(rows, info, out_dir, command_line, elapsed):
             md.append(f"| {label} | " + " | ".join(cells) + " | " + " | ".join(shares) + " |")
         md.append("")
 
+    plot = os.path.join(out_dir, "static_core.png")
+    if write_plot(frames, stages, real, info, plot):
+        md.insert(2, "![µs per slice vertex against size, whole frame and stages](static_core.png)\n")
+    else:
+        print("run_static_core_bench: no matplotlib in this Python, static_core.png not written "
+              "(Debian: python3-matplotlib, in /usr/bin/python3)", file=sys.stderr)
     with open(os.path.join(out_dir, "static_core.md"), "w") as f:
         f.write("\n".join(md))
     print("\n".join(md))
