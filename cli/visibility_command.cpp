@@ -24,6 +24,7 @@ struct VisibilityOptions {
   std::string output;
   std::string engine = "kinetic";
   std::string cones;  // optional cone cache (.cones)
+  std::string cones_encoding = "exact";
   std::string frames;
   std::string stats;
   std::string timings;
@@ -97,6 +98,8 @@ class Engine {
 
 void run(const VisibilityOptions& options) {
   const bool with_cones = !options.cones.empty();
+  const ConeEncoding encoding =
+      options.cones_encoding == "compact" ? ConeEncoding::Compact : ConeEncoding::Exact;
   const SharedSequence input = load_shared(options.in.input, options.in.cache);
   const double loaded_at = World::seconds();  // this rank's start-up, for --timings
   const MeshSequence& sequence = input.sequence;
@@ -116,7 +119,7 @@ void run(const VisibilityOptions& options) {
       .add(options.engine)
       .add(options.plan.describe())
       .add_value(plan_fingerprint(plan))
-      .add(with_cones ? "with cones" : "without cones");  // a chunk holds its frames' cones only if asked
+      .add(with_cones ? cone_encoding_name(encoding) : "no cones");  // a chunk holds its cones if asked
   const ChunkJob job = plan_chunks(input, first, last, options.chunking.chunks, &plan,
                                    options.chunking.checkpoint, options_key.value());
   const double chunked_at = World::seconds();
@@ -143,7 +146,7 @@ void run(const VisibilityOptions& options) {
       std::vector<std::uint32_t> frame_ids;
       for (std::size_t f = first; f < last; ++f) frame_ids.push_back(std::uint32_t(f));
       cones.emplace(options.cones, topology, sequence.welded_of_input(), sequence.frame_rate(),
-                    options.plan.describe(), std::move(frame_ids));
+                    options.plan.describe(), std::move(frame_ids), encoding);
     }
   });
 
@@ -175,7 +178,7 @@ void run(const VisibilityOptions& options) {
       bytes.put<std::uint64_t>(vis.stats.crossing_slices);
       bytes.put_string(stats_json(f, vis.stats).dump()).put_string(timing.dump());
       // The frame's block of the cone cache, written by rank 0 in frame order like the CSV.
-      if (with_cones) bytes.put_string(encode_cone_frame(frame, vis));
+      if (with_cones) bytes.put_string(encode_cone_frame(frame, vis, encoding));
       emit(f, bytes.take());
     }
   };
@@ -243,6 +246,13 @@ void register_visibility_command(CLI::App& app) {
   options->chunking.add_to(*cmd);
   cmd->add_option("--cones", options->cones,
                   "also write every frame's 3D cones to a cone cache (.cones), for `pleat shade --cones`");
+  cmd->add_option(
+         "--cones-encoding", options->cones_encoding,
+         "exact (the engines' doubles: shading from the cache equals shading from fresh cones) or "
+         "compact (the cones' directions in 16-bit octahedral coordinates, within 5e-5 radians: about "
+         "1/3.5 of the size)")
+      ->check(CLI::IsMember({"exact", "compact"}))
+      ->capture_default_str();
   cmd->add_option(
          "--max-edit-fraction", options->policy.max_edit_fraction,
          "kinetic: rebuild a slice when the slice vertices removed, inserted and put back in a frame exceed "

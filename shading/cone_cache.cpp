@@ -1,9 +1,11 @@
 #include "shading/cone_cache.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <optional>
 
 #include "sim_io/atomic_file.hpp"
@@ -15,12 +17,54 @@ namespace pleat {
 namespace {
 
 constexpr char kMagic[8] = {'P', 'L', 'E', 'A', 'T', 'C', 'N', 'S'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kExactVersion = 1, kCompactVersion = 2;
 constexpr std::size_t kFixedHeader = 8 + 4 * 6 + 8 + 8;  // magic, six u32, fingerprint, frame rate
 constexpr std::size_t kMeasureDoubles = 5;
 
 void append_vec3(std::string& out, const glm::dvec3& v) {
   for (int k = 0; k < 3; ++k) bytes::append_f64_le(out, v[k]);
+}
+
+double sign_of(double x) { return x < 0.0 ? -1.0 : 1.0; }
+
+/// The unit direction of two octahedral coordinates, each of [-1, 1] mapped to 0..65535: the point (u, v)
+/// of the octahedron |x|+|y|+|z| = 1 seen from above, the lower half folded over the upper one's corners.
+glm::dvec3 octahedral_direction(std::uint16_t qu, std::uint16_t qv) {
+  const double u = qu / 32767.5 - 1.0, v = qv / 32767.5 - 1.0;
+  glm::dvec3 d(u, v, 1.0 - std::abs(u) - std::abs(v));
+  if (d.z < 0.0) {
+    d.x = (1.0 - std::abs(v)) * sign_of(u);
+    d.y = (1.0 - std::abs(u)) * sign_of(v);
+  }
+  return glm::normalize(d);
+}
+
+/// A unit direction's octahedral coordinates: of the four grid points around its exact coordinates, the
+/// one whose direction is nearest (rounding each coordinate alone can be 1.4x as far).
+void append_octahedral(std::string& out, const glm::dvec3& d) {
+  const double l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+  double u = d.x / l1, v = d.y / l1;
+  if (d.z < 0.0) {
+    const double fu = (1.0 - std::abs(v)) * sign_of(u), fv = (1.0 - std::abs(u)) * sign_of(v);
+    u = fu;
+    v = fv;
+  }
+  const double gu = (std::clamp(u, -1.0, 1.0) + 1.0) * 32767.5,
+               gv = (std::clamp(v, -1.0, 1.0) + 1.0) * 32767.5;
+  std::uint16_t best_u = 0, best_v = 0;
+  double best = -2.0;
+  for (double cu : {std::floor(gu), std::ceil(gu)})
+    for (double cv : {std::floor(gv), std::ceil(gv)}) {
+      const auto qu = static_cast<std::uint16_t>(cu), qv = static_cast<std::uint16_t>(cv);
+      const double closeness = glm::dot(octahedral_direction(qu, qv), d);
+      if (closeness > best) {
+        best = closeness;
+        best_u = qu;
+        best_v = qv;
+      }
+    }
+  bytes::append_u16_le(out, best_u);
+  bytes::append_u16_le(out, best_v);
 }
 
 }  // namespace
@@ -38,6 +82,10 @@ void fnv1a(std::uint64_t& h, std::uint64_t value, int bytes) {
 }
 
 }  // namespace
+
+const char* cone_encoding_name(ConeEncoding encoding) {
+  return encoding == ConeEncoding::Compact ? "compact" : "exact";
+}
 
 std::uint64_t topology_fingerprint(const MeshTopology& topology) {
   std::uint64_t h = kFnvOffset;
@@ -58,6 +106,7 @@ std::uint64_t positions_fingerprint(const Frame& frame) {
 struct ConeCacheWriter::Impl {
   AtomicFile file;
   Index vertices = 0;
+  ConeEncoding encoding = ConeEncoding::Exact;
   std::size_t frames = 0;
   std::uint64_t table_offset = 0;
   std::vector<std::uint64_t> offsets;
@@ -75,15 +124,17 @@ struct ConeCacheWriter::Impl {
 
 ConeCacheWriter::ConeCacheWriter(const std::filesystem::path& path, const MeshTopology& topology,
                                  std::span<const Index> welded_of_input, double frame_rate, std::string plan,
-                                 std::vector<std::uint32_t> frames)
+                                 std::vector<std::uint32_t> frames, ConeEncoding encoding)
     : m_impl(std::make_unique<Impl>(path)) {
   Impl& w = *m_impl;
   w.vertices = topology.num_vertices;
+  w.encoding = encoding;
+  const std::uint32_t version = encoding == ConeEncoding::Compact ? kCompactVersion : kExactVersion;
   w.frames = frames.size();
   std::string h(kMagic, kMagic + 8);
   const std::size_t table_offset =
       kFixedHeader + 4 + plan.size() + 4 * welded_of_input.size() + 12 * frames.size();
-  for (std::size_t value : {std::size_t(kVersion), table_offset, std::size_t(topology.num_vertices),
+  for (std::size_t value : {std::size_t(version), table_offset, std::size_t(topology.num_vertices),
                             welded_of_input.size(), topology.triangles.size(), frames.size()})
     bytes::append_u32_le(h, std::uint32_t(value));
   bytes::append_u64_le(h, topology_fingerprint(topology));
@@ -103,7 +154,7 @@ ConeCacheWriter::ConeCacheWriter(const std::filesystem::path& path, const MeshTo
 
 ConeCacheWriter::~ConeCacheWriter() = default;
 
-std::string encode_cone_frame(const Frame& frame, const FrameVisibility& visibility) {
+std::string encode_cone_frame(const Frame& frame, const FrameVisibility& visibility, ConeEncoding encoding) {
   const Index vertices = static_cast<Index>(visibility.normals.size());
   std::string out;
   bytes::append_u64_le(out, positions_fingerprint(frame));
@@ -120,7 +171,12 @@ std::string encode_cone_frame(const Frame& frame, const FrameVisibility& visibil
       bytes::append_u32_le(out, std::uint32_t(cone.pieces.size()));
       for (const SphericalPolygon& piece : cone.pieces) {
         bytes::append_u32_le(out, std::uint32_t(piece.size()));
-        for (const glm::dvec3& d : piece) append_vec3(out, d);
+        for (const glm::dvec3& d : piece) {
+          if (encoding == ConeEncoding::Compact)
+            append_octahedral(out, d);
+          else
+            append_vec3(out, d);
+        }
       }
     }
   }
@@ -130,7 +186,7 @@ std::string encode_cone_frame(const Frame& frame, const FrameVisibility& visibil
 void ConeCacheWriter::add_frame(const Frame& frame, const FrameVisibility& visibility) {
   if (visibility.normals.size() != m_impl->vertices)
     throw std::invalid_argument("ConeCacheWriter: a frame of another vertex count");
-  add_encoded_frame(encode_cone_frame(frame, visibility));
+  add_encoded_frame(encode_cone_frame(frame, visibility, m_impl->encoding));
 }
 
 void ConeCacheWriter::add_encoded_frame(std::string_view block) {
@@ -196,11 +252,12 @@ ConeCacheReader::ConeCacheReader(const std::filesystem::path& path) : m_impl(std
   const unsigned char* p = r.read(0, kFixedHeader, "byte 0");
   if (std::memcmp(p, kMagic, 8) != 0) r.fail("byte 0", "not a pleat cone cache (no \"PLEATCNS\" magic)");
   const std::uint32_t version = bytes::load_u32_le(p + 8);
-  if (version != kVersion)
-    r.fail("byte 8", "cone cache version " + std::to_string(version) + " (this pleat reads version " +
-                         std::to_string(kVersion) + ")");
+  if (version != kExactVersion && version != kCompactVersion)
+    r.fail("byte 8", "cone cache version " + std::to_string(version) + " (this pleat reads versions " +
+                         std::to_string(kExactVersion) + " and " + std::to_string(kCompactVersion) + ")");
   const std::uint64_t table_offset = bytes::load_u32_le(p + 12);
   ConeCacheHeader& h = r.header;
+  h.encoding = version == kCompactVersion ? ConeEncoding::Compact : ConeEncoding::Exact;
   h.vertices = bytes::load_u32_le(p + 16);
   const std::uint32_t input_vertices = bytes::load_u32_le(p + 20);
   h.triangles = bytes::load_u32_le(p + 24);
@@ -322,9 +379,17 @@ void ConeCacheReader::read_frame(std::size_t index, const Frame& frame, FrameVis
         need(4);
         const std::uint32_t k = bytes::load_u32_le(p);
         p += 4;
-        need(24 * std::uint64_t(k));
         piece.resize(k);
-        for (glm::dvec3& d : piece) d = vec3();
+        if (r.header.encoding == ConeEncoding::Compact) {
+          need(4 * std::uint64_t(k));
+          for (glm::dvec3& d : piece) {
+            d = octahedral_direction(bytes::load_u16_le(p), bytes::load_u16_le(p + 2));
+            p += 4;
+          }
+        } else {
+          need(24 * std::uint64_t(k));
+          for (glm::dvec3& d : piece) d = vec3();
+        }
       }
     }
   }

@@ -18,6 +18,7 @@ enum class ByteOrder { Little, Big };
 
 namespace pleat::bytes {
 
+inline std::uint16_t load_u16_le(const unsigned char* p) { return std::uint16_t(p[0] | (p[1] << 8)); }
 inline std::uint32_t load_u32_le(const unsigned char* p) {
   return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) |
          (std::uint32_t(p[3]) << 24);
@@ -35,6 +36,10 @@ inline std::int32_t load_i32_be(const unsigned char* p) {
 inline float load_f32_le(const unsigned char* p) { return std::bit_cast<float>(load_u32_le(p)); }
 inline float load_f32_be(const unsigned char* p) { return std::bit_cast<float>(load_u32_be(p)); }
 
+inline void append_u16_le(std::string& out, std::uint16_t v) {
+  out.push_back(char(v & 0xFF));
+  out.push_back(char(v >> 8));
+}
 inline void append_u32_le(std::string& out, std::uint32_t v) {
   for (int k = 0; k < 4; ++k) out.push_back(char((v >> (8 * k)) & 0xFF));
 }

@@ -5,10 +5,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <iterator>
+#include <random>
 
+#include "shading/shade.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "static_core/input_error.hpp"
 #include "static_core/visibility.hpp"
@@ -107,6 +112,102 @@ TEST(ConeCache, FramesEncodedElsewhereMakeTheSameBytes) {
   EXPECT_TRUE(direct == slurp(dir / "encoded.cones"));
 }
 
+double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
+  return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+TEST(ConeCache, CompactDirectionsAreWithin5e5RadiansEverywhereOnTheSphere) {
+  // One triangle whose cones hold directions over the whole sphere: the axes, the octahedron's folds and
+  // faces' centres, both hemispheres, and random ones; everything but the directions round-trips exactly.
+  test::TempDir dir;
+  MeshTopology topology;
+  topology.num_vertices = 3;
+  topology.triangles = {{0, 1, 2}};
+  Frame frame;
+  frame.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  FrameVisibility vis;
+  vis.normals.assign(3, glm::dvec3(0, 0, 1));
+  std::vector<glm::dvec3> directions;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double s : {-1.0, 1.0}) {
+      glm::dvec3 d(0.0);
+      d[axis] = s;
+      directions.push_back(d);
+    }
+  for (double x : {-1.0, 1.0})
+    for (double y : {-1.0, 1.0}) {
+      directions.push_back(glm::normalize(glm::dvec3(x, y, 0)));                               // on the fold
+      for (double z : {-1.0, 1.0}) directions.push_back(glm::normalize(glm::dvec3(x, y, z)));  // face centres
+      directions.push_back(glm::normalize(glm::dvec3(x, y, -1e-9)));  // just below the equator
+    }
+  std::mt19937 rng(7);
+  std::normal_distribution<double> gauss;
+  while (directions.size() < 20000)
+    directions.push_back(glm::normalize(glm::dvec3(gauss(rng), gauss(rng), gauss(rng))));
+  for (int side = 0; side < 2; ++side) {
+    vis.measures[side].assign(3, ConeMeasures{0.25, glm::dvec3(0, 0.6, 0.8), 1.5});
+    vis.cones[side].resize(3);
+    for (int v = 0; v < 3; ++v) vis.cones[side][v].pieces.push_back(directions);
+  }
+  ConeCacheWriter writer(dir / "c.cones", topology, std::vector<Index>{0, 1, 2}, 0.0, "p", {0},
+                         ConeEncoding::Compact);
+  writer.add_frame(frame, vis);
+  writer.commit();
+  ConeCacheReader reader(dir / "c.cones");
+  EXPECT_EQ(reader.header().encoding, ConeEncoding::Compact);
+  FrameVisibility got;
+  reader.read_frame(0, frame, got);
+  double worst = 0.0;
+  for (int side = 0; side < 2; ++side)
+    for (int v = 0; v < 3; ++v) {
+      EXPECT_EQ(got.measures[side][v].sky_visibility, 0.25);
+      EXPECT_EQ(got.measures[side][v].bent_normal, glm::dvec3(0, 0.6, 0.8));
+      ASSERT_EQ(got.cones[side][v].pieces.size(), 1u);
+      const SphericalPolygon& piece = got.cones[side][v].pieces[0];
+      ASSERT_EQ(piece.size(), directions.size());
+      for (std::size_t k = 0; k < piece.size(); ++k) {
+        EXPECT_NEAR(glm::length(piece[k]), 1.0, 1e-15);
+        worst = std::max(worst, angle_between(piece[k], directions[k]));
+      }
+    }
+  EXPECT_LE(worst,
+            5e-5);  // measured 4.2e-5 here; 16-bit octahedral coordinates, nearest of four: 4.8e-5 at most
+  EXPECT_GT(worst, 1e-6);  // they were quantised
+}
+
+TEST(ConeCache, CompactCachesAreAThirdOfTheSizeAndShadeAlike) {
+  test::TempDir dir;
+  const Fixture fx;
+  fx.write(dir / "exact.cones");
+  ConeCacheWriter writer(dir / "compact.cones", fx.cloth.topology(), fx.identity, 24.0, "test plan",
+                         {2, 5, 7}, ConeEncoding::Compact);
+  for (std::size_t k = 0; k < fx.frames.size(); ++k) writer.add_frame(fx.positions[k], fx.frames[k]);
+  writer.commit();
+  const auto exact_size = std::filesystem::file_size(dir / "exact.cones");
+  const auto compact_size = std::filesystem::file_size(dir / "compact.cones");
+  EXPECT_LT(double(compact_size), 0.4 * double(exact_size)) << compact_size << " of " << exact_size;
+  // Shading from the compact cache: a sky and a sun, radiance within 1e-4 of the exact cones' (relative to
+  // the frame's brightest vertex).
+  ConeCacheReader reader(dir / "compact.cones");
+  Lighting lighting;
+  lighting.skies.push_back({});
+  lighting.directional.push_back({});
+  for (std::size_t k = 0; k < fx.frames.size(); ++k) {
+    FrameVisibility compact;
+    reader.read_frame(k, fx.positions[k], compact);
+    const ShadedFrame want = shade_frame(fx.cloth.topology(), fx.positions[k], fx.frames[k], lighting);
+    const ShadedFrame got = shade_frame(fx.cloth.topology(), fx.positions[k], compact, lighting);
+    float brightest = 0.0f, worst = 0.0f;
+    for (int side = 0; side < 2; ++side)
+      for (std::size_t v = 0; v < want.radiance[side].size(); ++v) {
+        brightest = std::max(brightest, glm::length(want.radiance[side][v]));
+        worst = std::max(worst, glm::length(got.radiance[side][v] - want.radiance[side][v]));
+      }
+    EXPECT_GT(brightest, 0.0f);
+    EXPECT_LE(worst, 1e-4f * brightest) << "frame " << k;
+  }
+}
+
 TEST(ConeCache, BadCachesFailWithOneClearError) {
   test::TempDir dir;
   const Fixture fx;
@@ -125,9 +226,9 @@ TEST(ConeCache, BadCachesFailWithOneClearError) {
             std::string::npos);
 
   std::string future = good;
-  future[8] = 2;  // version 2
+  future[8] = 3;  // version 3
   spit(dir / "future.cones", future);
-  EXPECT_NE(input_error([&] { ConeCacheReader r(dir / "future.cones"); }).find("version 2"),
+  EXPECT_NE(input_error([&] { ConeCacheReader r(dir / "future.cones"); }).find("version 3"),
             std::string::npos);
 
   ConeCacheReader reader(dir / "good.cones");
@@ -214,6 +315,18 @@ TEST(ConeCache, ShadingFromTheCacheEqualsShadingFromFreshCones) {
   ASSERT_EQ(relit_cached.exit_code, 0) << relit_cached.output;
   for (const std::string name : {"noon", "dusk"})
     EXPECT_TRUE(slurp(dir / ("r_" + name + ".glb")) == slurp(dir / ("rc_" + name + ".glb"))) << name;
+
+  // A compact cache from the command line: a third of the size, and shading reads it.
+  const auto compact =
+      test::run_pleat("visibility " + input + " -o " + (dir / "a.csv").string() + " --cones " +
+                      (dir / "compact.cones").string() + " --cones-encoding compact");
+  ASSERT_EQ(compact.exit_code, 0) << compact.output;
+  EXPECT_LT(double(std::filesystem::file_size(dir / "compact.cones")),
+            0.4 * double(std::filesystem::file_size(dir / "static.cones")));
+  const auto from_compact = test::run_pleat("shade " + input + " -o " + (dir / "compact.glb").string() +
+                                            light + " --cones " + (dir / "compact.cones").string());
+  ASSERT_EQ(from_compact.exit_code, 0) << from_compact.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "compact.glb"));
 
   // Frames outside the cache, and a cache of another mesh: one line, exit 2, no glb.
   const auto missing =
