@@ -43,6 +43,8 @@ glm::dvec3 octahedral_direction(std::uint16_t qu, std::uint16_t qv) {
 /// one whose direction is nearest (rounding each coordinate alone can be 1.4x as far).
 void append_octahedral(std::string& out, const glm::dvec3& d) {
   const double l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+  if (!(l1 > 0.0) || !std::isfinite(l1))
+    throw std::invalid_argument("cone cache: a cone direction that is zero or not finite");
   double u = d.x / l1, v = d.y / l1;
   if (d.z < 0.0) {
     const double fu = (1.0 - std::abs(v)) * sign_of(u), fv = (1.0 - std::abs(u)) * sign_of(v);
