@@ -381,15 +381,14 @@ void ConeCacheReader::read_frame(std::size_t index, const Frame& frame, FrameVis
         need(4);
         const std::uint32_t k = bytes::load_u32_le(p);
         p += 4;
+        need((r.header.encoding == ConeEncoding::Compact ? 4 : 24) * std::uint64_t(k));  // before allocating
         piece.resize(k);
         if (r.header.encoding == ConeEncoding::Compact) {
-          need(4 * std::uint64_t(k));
           for (glm::dvec3& d : piece) {
             d = octahedral_direction(bytes::load_u16_le(p), bytes::load_u16_le(p + 2));
             p += 4;
           }
         } else {
-          need(24 * std::uint64_t(k));
           for (glm::dvec3& d : piece) d = vec3();
         }
       }

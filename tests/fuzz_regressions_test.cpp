@@ -1,7 +1,7 @@
 // Every input a fuzz harness found a bug with (tests/fuzz/regressions/<harness>/), replayed in the normal
 // suite: the engines' cloths through check_engines (both engines with the kinetic invariant checks on, the
-// kinetic A equal to the static A, the shading), the readers' files through load_sequence (InputError or a
-// valid sequence, nothing else).
+// kinetic A equal to the static A, the shading), the readers' files through load_sequence and the cone caches
+// through ConeCacheReader (InputError or a valid result, nothing else).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,6 +9,7 @@
 #include <iterator>
 
 #include "fuzz/fuzz_cloth.hpp"
+#include "fuzz/fuzz_cone_cache_reader.hpp"
 
 namespace pleat {
 namespace {
@@ -35,6 +36,14 @@ TEST(FuzzRegressions, EngineInputsRunCleanAndTheEnginesAgree) {
     EXPECT_NO_THROW(mismatch = fuzz::check_engines(*cloth)) << file;
     EXPECT_EQ(mismatch, "") << file;
   }
+}
+
+TEST(FuzzRegressions, ConeCachesFailWithInputErrorOnly) {
+  // A piece's direction count was once trusted before the block was checked to hold that many (a 73 GB
+  // allocation under the fuzzer).
+  const auto files = regressions("fuzz_cone_cache");
+  ASSERT_FALSE(files.empty());
+  for (const auto& file : files) EXPECT_NO_THROW(fuzz::read_cone_cache_for_grid(file)) << file;
 }
 
 }  // namespace
