@@ -224,11 +224,11 @@ SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame,
   return plan;
 }
 
-/// A pencil of planes about the line {point + s * axis}, covering the cloth's angular extent about it with
-/// an angular step that gives `spacing` at the cloth's mean distance from the line.
+/// A pencil of planes about the line {point + s * axis}, covering the angular extent of the cloth (its
+/// triangles' vertices, cloth_positions) about it with an angular step that gives `spacing` (> 0) at the
+/// cloth's mean distance from the line.
 static void add_pencil(SlicingPlan& plan, const glm::dvec3& point, const glm::dvec3& axis,
-                       const MeshTopology& topology, const Frame& frame, double spacing) {
-  const std::vector<glm::dvec3> cloth = cloth_positions(topology, frame);
+                       const std::vector<glm::dvec3>& cloth, double spacing) {
   glm::dvec3 e1 = centroid_of(cloth) - point;
   e1 -= glm::dot(e1, axis) * axis;
   if (glm::length(e1) == 0) e1 = make_plane(axis, 0, 0).u;
@@ -243,7 +243,6 @@ static void add_pencil(SlicingPlan& plan, const glm::dvec3& point, const glm::dv
     mean_distance += glm::length(d - glm::dot(d, axis) * axis);
   }
   mean_distance /= static_cast<double>(std::max<std::size_t>(1, cloth.size()));
-  if (!(spacing > 0)) spacing = mean_edge_length(topology, frame);
   const double step = mean_distance > 0 && spacing > 0 ? spacing / mean_distance : 0.01;
   const int count = std::max(1, static_cast<int>(std::ceil((hi - lo) / step)));
   const int orientation = static_cast<int>(plan.orientations.size());
@@ -260,10 +259,12 @@ SlicingPlan make_point_light_plan(const MeshTopology& topology, const Frame& fra
                                   double spacing) {
   validate_mesh(topology, frame, "make_point_light_plan");
   // Any line through the light will do (paper §2.1): take one perpendicular to the light->cloth direction.
-  glm::dvec3 to_cloth = centroid_of(cloth_positions(topology, frame)) - light;
+  const std::vector<glm::dvec3> cloth = cloth_positions(topology, frame);
+  glm::dvec3 to_cloth = centroid_of(cloth) - light;
   to_cloth = glm::length(to_cloth) > 0 ? glm::normalize(to_cloth) : glm::dvec3(0, 0, -1);
+  if (!(spacing > 0)) spacing = mean_edge_length(topology, frame);
   SlicingPlan plan;
-  add_pencil(plan, light, make_plane(to_cloth, 0, 0).u, topology, frame, spacing);
+  add_pencil(plan, light, make_plane(to_cloth, 0, 0).u, cloth, spacing);
   return plan;
 }
 
@@ -273,11 +274,13 @@ SlicingPlan make_area_light_plan(const MeshTopology& topology, const Frame& fram
   if (light_polygon.size() < 3) throw std::invalid_argument("area light: a polygon needs 3 or more vertices");
   // Planes rotate about lines joining opposite points of the light's hull (paper §2.1): vertex i and
   // vertex i + n/2, one pencil (one orientation family) per line.
+  const std::vector<glm::dvec3> cloth = cloth_positions(topology, frame);
+  if (!(spacing > 0)) spacing = mean_edge_length(topology, frame);
   SlicingPlan plan;
   const std::size_t n = light_polygon.size();
   for (std::size_t i = 0; i < std::max<std::size_t>(1, n / 2); ++i) {
     const glm::dvec3 a = light_polygon[i], b = light_polygon[(i + n / 2) % n];
-    add_pencil(plan, 0.5 * (a + b), glm::normalize(b - a), topology, frame, spacing);
+    add_pencil(plan, 0.5 * (a + b), glm::normalize(b - a), cloth, spacing);
   }
   return plan;
 }
