@@ -185,12 +185,12 @@ struct Workload {
       for (const SliceVertex& v : next.vertices) next_of_edge[v.edge] = -1;
 
       // Funnel trees: every window of every region without holes.
-      std::vector<std::size_t> region_corners(tri.regions().size(), 0);
+      std::vector<std::size_t> region_corners(tri.num_regions(), 0);
       for (std::size_t c = 0; c < tri.num_corners(); ++c)
         if (tri.corner_region(int(c)) >= 0) ++region_corners[tri.corner_region(int(c))];
       max_corners = std::max(max_corners, tri.num_corners());
-      for (std::size_t r = 0; r < tri.regions().size(); ++r) {
-        const SliceRegion& region = tri.regions()[r];
+      for (std::size_t r = 0; r < tri.num_regions(); ++r) {
+        const SliceRegion region = tri.region(r);
         if (region.has_holes) continue;
         for (const SliceWindow& w : region.windows) {
           trees.push_back({p, &w, region_corners[r]});

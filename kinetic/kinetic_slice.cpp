@@ -142,7 +142,7 @@ void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame
 
 void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame, bool structure_changed,
                                 KineticScratch& scratch) {
-  std::swap(m_out.slice, m_next);
+  std::swap(m_out.slice, scratch.next);
   m_tri.adopt_edits(m_out.slice, structure_changed);
   m_out.crossings = 0;
   grow_cones(topology, frame, scratch);
@@ -171,13 +171,13 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
                                   const KineticPolicy& policy, KineticScratch& scratch) {
   KineticCounts counts;
   m_changed_edges.clear();
-  slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_next);
+  slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, scratch.next);
   auto rebuild = [&](RebuildReason reason) {
     m_policy_streak = reason == RebuildReason::policy ? m_policy_streak + 1 : 0;
     counts.removed = counts.inserted = counts.relabeled = 0;  // not applied as local edits
     counts.slices_rebuilt = 1;
     ++counts.rebuilt_because[static_cast<std::size_t>(reason)];
-    std::swap(m_out.slice, m_next);
+    std::swap(m_out.slice, scratch.next);
     finish_build(topology, next, scratch);
     return counts;
   };
@@ -193,14 +193,14 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     scratch.old_of_edge[old.vertices[x].edge] = static_cast<std::int32_t>(x);
   scratch.new_of_old.assign(old.vertices.size(), -1);
   scratch.born.clear();
-  scratch.is_born.assign(m_next.vertices.size(), 0);
-  for (Index y = 0; y < m_next.vertices.size(); ++y) {
-    const std::int32_t x = scratch.old_of_edge[m_next.vertices[y].edge];
+  scratch.is_born.assign(scratch.next.vertices.size(), 0);
+  for (Index y = 0; y < scratch.next.vertices.size(); ++y) {
+    const std::int32_t x = scratch.old_of_edge[scratch.next.vertices[y].edge];
     if (x >= 0)
       scratch.new_of_old[x] = static_cast<std::int32_t>(y);
     else {
       scratch.born.push_back(y);
-      m_changed_edges.push_back(m_next.vertices[y].edge);
+      m_changed_edges.push_back(scratch.next.vertices[y].edge);
       scratch.is_born[y] = 1;
     }
   }
@@ -208,8 +208,8 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     scratch.old_of_edge[old.vertices[x].edge] = -1;
     if (scratch.new_of_old[x] < 0) m_changed_edges.push_back(old.vertices[x].edge);
   }
-  const std::size_t vanished = old.vertices.size() + scratch.born.size() - m_next.vertices.size();
-  counts.relabeled = find_fan_swaps(old, m_next, scratch);
+  const std::size_t vanished = old.vertices.size() + scratch.born.size() - scratch.next.vertices.size();
+  counts.relabeled = find_fan_swaps(old, scratch.next, scratch);
   scratch.born.erase(
       std::remove_if(scratch.born.begin(), scratch.born.end(), [&](Index y) { return !scratch.is_born[y]; }),
       scratch.born.end());
@@ -228,7 +228,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     if (cdt.is_edge(m_tri.vertex_of(a), m_tri.vertex_of(b), f, i) && f->is_constrained(i))
       cdt.Cdt::Ctr::remove_constrained_edge(f, i);  // only the mark: no flips on the kept triangulation
   }
-  scratch.vertex_of_new.assign(m_next.vertices.size(), VertexHandle());
+  scratch.vertex_of_new.assign(scratch.next.vertices.size(), VertexHandle());
   scratch.vanishing.clear();
   for (Index x = 0; x < old.vertices.size(); ++x) {
     const VertexHandle v = m_tri.vertex_of(x);
@@ -249,23 +249,23 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   // 3. Kept vertices to their next points (a valid triangulation of them, if the hull winds once); then the
   // vertices taken out and the new ones, and their chain edges.
   for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v)
-    v->set_point(cgal::to_point(m_next.vertices[v->info().slice_vertex].point));
+    v->set_point(cgal::to_point(scratch.next.vertices[v->info().slice_vertex].point));
   if (!hull_winds_once(cdt)) return rebuild(RebuildReason::repair_failed);
-  for (Index y = 0; y < m_next.vertices.size(); ++y)
+  for (Index y = 0; y < scratch.next.vertices.size(); ++y)
     if (scratch.taken_out[y]) scratch.born.push_back(y);
   FaceHandle hint;
   for (Index y : scratch.born) {
     // Located from a kept chain neighbour when there is one (a short walk), else from the last insertion.
-    for (const std::int32_t e : {m_next.out_edge[y], m_next.in_edge[y]}) {
+    for (const std::int32_t e : {scratch.next.out_edge[y], scratch.next.in_edge[y]}) {
       if (e < 0) continue;
-      const SliceEdge& edge = m_next.edges[e];
+      const SliceEdge& edge = scratch.next.edges[e];
       const VertexHandle w = scratch.vertex_of_new[edge.from == y ? edge.to : edge.from];
       if (w != VertexHandle()) {
         hint = w->face();
         break;
       }
     }
-    const cgal::Point2 p = cgal::to_point(m_next.vertices[y].point);
+    const cgal::Point2 p = cgal::to_point(scratch.next.vertices[y].point);
     Cdt::Locate_type type;
     int li = 0;
     const FaceHandle at = cdt.locate(p, type, li, hint);
@@ -280,7 +280,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   // edges of runs that shrank.
   const std::size_t vertices = cdt.number_of_vertices();
   bool constrained = false;
-  for (const SliceEdge& e : m_next.edges) {
+  for (const SliceEdge& e : scratch.next.edges) {
     const VertexHandle a = scratch.vertex_of_new[e.from], b = scratch.vertex_of_new[e.to];
     if (!is_constrained_edge(cdt, a, b)) {
       cdt.insert_constraint(a, b);
@@ -295,7 +295,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   // still be one constrained edge; else the slice is rebuilt, as crossing chains are.
   if (constrained &&
       (cdt.number_of_vertices() != vertices ||
-       !chains_are_edges(cdt, m_next.edges, [&](Index y) { return scratch.vertex_of_new[y]; })))
+       !chains_are_edges(cdt, scratch.next.edges, [&](Index y) { return scratch.vertex_of_new[y]; })))
     return rebuild(RebuildReason::crossing);
   m_policy_streak = 0;
   // (A run that grew leaves a new vertex inserted: its unmarked closing edge is counted there.)
@@ -308,7 +308,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
 RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScratch& scratch,
                                                   KineticCounts& counts) {
   Cdt& cdt = m_tri.cdt_for_editing();
-  const std::vector<SliceVertex>& next = m_next.vertices;
+  const std::vector<SliceVertex>& next = scratch.next.vertices;
   auto next_point = [&](VertexHandle v) { return cgal::to_point(next[v->info().slice_vertex].point); };
   scratch.taken_out.assign(next.size(), 0);
   scratch.take_out.clear();

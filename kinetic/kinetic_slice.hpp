@@ -53,6 +53,9 @@ namespace pleat::kinetic {
 /// Per-thread memory of KineticSlice (no allocation per frame once warmed up).
 struct KineticScratch {
   SlicerScratch slicer;
+  /// The next frame's slice while a slice is carried to it; then, swapped, the previous frame's buffers,
+  /// reused by the next slice this thread carries (a slice keeps one Slice between frames, not two).
+  Slice next;
   PlaneConeScratch cones;
   std::vector<std::int32_t> old_of_edge;  ///< per mesh edge: slice vertex of the previous frame, or -1
   std::vector<std::int32_t> new_of_old;
@@ -111,7 +114,6 @@ class KineticSlice {
   RebuildReason certify_at_next_frame(std::size_t budget, KineticScratch& scratch, KineticCounts& counts);
 
   PlaneCones m_out;
-  Slice m_next;
   SliceTriangulation m_tri;
   ConeStorage m_storage = ConeStorage::NearestOnFan;
   std::vector<Index> m_changed_edges;

@@ -27,9 +27,10 @@ struct VertexInfo {
   int slice_vertex = -1;
 };
 
-/// Per CDT face: its visibility region (-1: outside the hull) and the corner id of each of its vertices.
+/// Per CDT face: the corner id of each of its vertices (its region is its corners'). A face takes 72 bytes
+/// with CGAL's links and flags (80 when it also held its region): a kinetic slice keeps about two per slice
+/// vertex.
 struct FaceInfo {
-  int region = -1;
   std::array<int, 3> corner{-1, -1, -1};
 };
 
@@ -39,6 +40,7 @@ using Fb = CGAL::Constrained_triangulation_face_base_2<Kernel, Fbb>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 /// Crossing constraints (chains of a self-intersecting surface) are split at computed crossing points.
 using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
+static_assert(sizeof(Cdt::Face) <= 72, "a triangulation face grew");
 using VertexHandle = Cdt::Vertex_handle;
 using FaceHandle = Cdt::Face_handle;
 

@@ -288,9 +288,9 @@ void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, Slice
       if (needed[x]) s.vertex_needed[st.vertex_of(x)->info().slice_vertex] = 1;
   const Cdt& cdt = st.cdt();
   prepare_scratch(st.num_corners(), s);
-  out.regions = st.regions().size();
-  for (std::size_t r = 0; r < st.regions().size(); ++r) {
-    const SliceRegion& region = st.regions()[r];
+  out.regions = st.num_regions();
+  for (std::size_t r = 0; r < st.num_regions(); ++r) {
+    const SliceRegion region = st.region(r);
     if (region.windows.empty()) continue;
     out.windows += region.windows.size();
     if (region.has_holes) {

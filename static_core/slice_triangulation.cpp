@@ -12,6 +12,8 @@ namespace pleat {
 void SliceTriangulation::build(const Slice& slice) {
   m_cdt.clear();
   m_regions.clear();
+  m_region_faces.clear();
+  m_region_windows.clear();
   m_corner_vertex.clear();
   m_corner_region.clear();
   m_crossings = 0;
@@ -56,6 +58,8 @@ void SliceTriangulation::adopt_edits(const Slice& slice, bool structure_changed)
   PLEAT_ASSERT(m_cdt.number_of_vertices() == slice.vertices.size(), "a slice vertex without a CDT vertex");
   if (!structure_changed) return;
   m_regions.clear();
+  m_region_faces.clear();
+  m_region_windows.clear();
   m_corner_vertex.clear();
   m_corner_region.clear();
   m_crossings = 0;
@@ -95,39 +99,45 @@ void SliceTriangulation::assign_corners() {
 }
 
 void SliceTriangulation::flood_regions() {
-  for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f) f->info().region = -1;
+  // Depth-first from each face not yet in a region; a face is marked by its TDS scratch flag (tds_data, free
+  // in a constrained triangulation) while the flood runs. One region's faces and windows are found together,
+  // so they are laid out region by region as they come.
   std::vector<cgal::FaceHandle> stack;
   for (auto seed = m_cdt.finite_faces_begin(); seed != m_cdt.finite_faces_end(); ++seed) {
-    if (seed->info().region >= 0) continue;
+    if (seed->tds_data().processed()) continue;
     const int id = static_cast<int>(m_regions.size());
-    m_regions.emplace_back();
-    SliceRegion& region = m_regions.back();
+    const std::size_t first_face = m_region_faces.size();
+    m_regions.push_back(
+        {static_cast<std::uint32_t>(first_face), static_cast<std::uint32_t>(m_region_windows.size()), false});
     std::size_t interior_edges = 0;  // counted from both sides
-    seed->info().region = id;
+    seed->tds_data().mark_processed();
     stack.push_back(seed);
     while (!stack.empty()) {
       const cgal::FaceHandle f = stack.back();
       stack.pop_back();
-      region.faces.push_back(f);
+      m_region_faces.push_back(f);
       for (int i = 0; i < 3; ++i) {
         m_corner_region[f->info().corner[i]] = id;
         const cgal::FaceHandle g = f->neighbor(i);
         if (m_cdt.is_infinite(g)) {
           if (!f->is_constrained(i))
-            region.windows.push_back({f, i, f->info().corner[m_cdt.ccw(i)], f->info().corner[m_cdt.cw(i)]});
+            m_region_windows.push_back({f, i, f->info().corner[m_cdt.ccw(i)], f->info().corner[m_cdt.cw(i)]});
           continue;
         }
         if (f->is_constrained(i)) continue;
         ++interior_edges;
-        if (g->info().region < 0) {
-          g->info().region = id;
+        if (!g->tds_data().processed()) {
+          g->tds_data().mark_processed();
           stack.push_back(g);
         }
       }
     }
     // A connected set of F triangles is simply connected iff its dual graph is a tree: F - 1 edges.
-    region.has_holes = interior_edges / 2 != region.faces.size() - 1;
+    m_regions.back().has_holes = interior_edges / 2 != m_region_faces.size() - first_face - 1;
   }
+  m_regions.push_back({static_cast<std::uint32_t>(m_region_faces.size()),
+                       static_cast<std::uint32_t>(m_region_windows.size()), false});
+  for (const cgal::FaceHandle f : m_region_faces) f->tds_data().clear();
 }
 
 bool SliceTriangulation::check_invariants(std::string* why) const {
@@ -140,23 +150,35 @@ bool SliceTriangulation::check_invariants(std::string* why) const {
   // a valid constrained triangulation that is not Delaunay in general.
   if (!m_cdt.cgal::Cdt::Ctr::is_valid()) return fail("CGAL's constrained triangulation check fails");
   for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f) {
-    if (f->info().region < 0) return fail("a finite face has no region");
     for (int i = 0; i < 3; ++i) {
       if (f->info().corner[i] < 0) return fail("a finite face has no corner");
+      if (!f->tds_data().is_clear()) return fail("a face left marked by the region flood");
       if (m_corner_vertex[f->info().corner[i]] != f->vertex(i)) return fail("corner of the wrong vertex");
       const cgal::FaceHandle g = f->neighbor(i);
       if (m_cdt.is_infinite(g) || f->is_constrained(i)) continue;
-      if (g->info().region != f->info().region) return fail("unconstrained edge between regions");
-      // Across an unconstrained edge, both endpoints keep their corners.
+      // Across an unconstrained edge, both endpoints keep their corners (so both faces share a region).
       for (int k : {m_cdt.ccw(i), m_cdt.cw(i)})
         if (g->info().corner[g->index(f->vertex(k))] != f->info().corner[k])
           return fail("corner changes across an unconstrained edge");
     }
   }
-  for (const SliceRegion& r : m_regions)
-    for (const SliceWindow& w : r.windows)
+  // Every finite face in exactly one region, the one of its corners; every window on a face of its region.
+  std::size_t listed = 0;
+  for (std::size_t r = 0; r < num_regions(); ++r) {
+    const SliceRegion region_r = region(r);
+    listed += region_r.faces.size();
+    for (const cgal::FaceHandle f : region_r.faces)
+      for (int k = 0; k < 3; ++k)
+        if (m_corner_region[f->info().corner[k]] != static_cast<int>(r))
+          return fail("a face listed in a region its corners are not in");
+    for (const SliceWindow& w : region_r.windows) {
+      if (m_corner_region[w.face->info().corner[0]] != static_cast<int>(r))
+        return fail("a window listed in another region than its face");
       if (w.face->is_constrained(w.index) || !m_cdt.is_infinite(w.face->neighbor(w.index)))
         return fail("a window is not an unconstrained hull edge");
+    }
+  }
+  if (listed != m_cdt.number_of_faces()) return fail("finite faces and region faces differ in number");
   return true;
 }
 

@@ -12,6 +12,8 @@
 // Cost: O(n log n) expected for n slice vertices.
 #pragma once
 
+#include <cstdint>
+#include <span>
 #include <vector>
 
 #include "static_core/cgal_types.hpp"
@@ -26,9 +28,10 @@ struct SliceWindow {
   int corner_b = -1;      ///< endpoint on the left (face->vertex(cw(index)))
 };
 
+/// One region: views into its triangulation's flat arrays (valid until the triangulation changes).
 struct SliceRegion {
-  std::vector<cgal::FaceHandle> faces;
-  std::vector<SliceWindow> windows;
+  std::span<const cgal::FaceHandle> faces;
+  std::span<const SliceWindow> windows;
   bool has_holes = false;
 };
 
@@ -40,7 +43,14 @@ class SliceTriangulation {
   const cgal::Cdt& cdt() const { return m_cdt; }
   int dimension() const { return m_cdt.dimension(); }
   cgal::VertexHandle vertex_of(Index slice_vertex) const { return m_vertex_of_slice_vertex[slice_vertex]; }
-  const std::vector<SliceRegion>& regions() const { return m_regions; }
+  std::size_t num_regions() const { return m_regions.empty() ? 0 : m_regions.size() - 1; }
+  SliceRegion region(std::size_t r) const {
+    const RegionStart& a = m_regions[r];
+    const RegionStart& b = m_regions[r + 1];
+    return {{m_region_faces.data() + a.face, m_region_faces.data() + b.face},
+            {m_region_windows.data() + a.window, m_region_windows.data() + b.window},
+            a.has_holes};
+  }
   std::size_t num_corners() const { return m_corner_vertex.size(); }
   cgal::VertexHandle corner_vertex(int corner) const { return m_corner_vertex[corner]; }
   int corner_region(int corner) const { return m_corner_region[corner]; }
@@ -63,9 +73,18 @@ class SliceTriangulation {
   void assign_corners();
   void flood_regions();
 
+  /// Where region r's faces and windows start in the flat arrays; one more entry ends the last region.
+  struct RegionStart {
+    std::uint32_t face = 0, window = 0;
+    bool has_holes = false;
+  };
+
   cgal::Cdt m_cdt;
   std::vector<cgal::VertexHandle> m_vertex_of_slice_vertex;
-  std::vector<SliceRegion> m_regions;
+  // Flat, region by region (a kinetic slice keeps these between frames: no heap object per region).
+  std::vector<RegionStart> m_regions;
+  std::vector<cgal::FaceHandle> m_region_faces;
+  std::vector<SliceWindow> m_region_windows;
   std::vector<cgal::VertexHandle> m_corner_vertex;
   std::vector<int> m_corner_region;
   std::size_t m_crossings = 0;

@@ -54,7 +54,8 @@ SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const
   std::sort(s.hull.begin(), s.hull.end());
   std::vector<int> parent(st.num_corners(), -1);
   std::vector<FunnelTask> stack;
-  for (const SliceRegion& region : st.regions())
+  for (std::size_t r = 0; r < st.num_regions(); ++r) {
+    const SliceRegion region = st.region(r);
     for (const SliceWindow& w : region.windows) {
       const auto key =
           std::make_pair(edge_of(st.corner_vertex(w.corner_a)), edge_of(st.corner_vertex(w.corner_b)));
@@ -69,6 +70,7 @@ SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const
                                    edge_of(st.corner_vertex(parent[c])));
       }
     }
+  }
   std::sort(s.windows.begin(), s.windows.end());
   std::sort(s.parents.begin(), s.parents.end());
   return s;
