@@ -39,6 +39,7 @@
 #include <array>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -113,8 +114,9 @@ struct Workload {
   Frame frame0, frame1;  // k and k+1
   SlicingPlan plan;
   std::unique_ptr<MeshConnectivity> connectivity;
-  std::vector<std::vector<Index>> faces0, faces1;  // candidate faces per plane at k and k+1
-  std::vector<KineticSlice> at_k;                  // every plane built at frame k (sized once: never moved)
+  std::vector<std::vector<Index>> faces0, faces1;   // candidate faces per plane at k and k+1
+  std::vector<KineticSlice> at_k;                   // every plane built at frame k (sized once: never moved)
+  std::deque<SliceTriangulation> triangulations_k;  // their triangulations with regions (never moved)
   std::size_t slice_vertices0 = 0, slice_vertices1 = 0;
   std::vector<std::array<cgal::Point2, 3>> points1;  // every finite face of frame k, at frame k+1's points
   std::size_t skipped_vanishing = 0;  // faces with a slice vertex whose mesh edge stops crossing at k+1
@@ -160,7 +162,8 @@ struct Workload {
       for (Index y = 0; y < next.vertices.size(); ++y) next_of_edge[next.vertices[y].edge] = std::int32_t(y);
 
       // Frame certificates: the triangles of frame k's triangulation on frame k+1's points.
-      const SliceTriangulation& tri = at_k[p].triangulation();
+      const SliceTriangulation& tri = triangulations_k.emplace_back();
+      at_k[p].rederive_triangulation(triangulations_k.back());
       const cgal::Cdt& cdt = tri.cdt();
       if (tri.dimension() == 2)
         for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
@@ -294,7 +297,7 @@ void funnel_benchmark(benchmark::State& state, std::string name) {
   stack.reserve(1024);
   for (auto _ : state) {
     for (const TreeTask& t : w.trees) {
-      const SliceTriangulation& tri = w.at_k[t.plane].triangulation();
+      const SliceTriangulation& tri = w.triangulations_k[t.plane];
       grow_shortest_path_tree(tri, *t.window, false, parent, stack);
       grow_shortest_path_tree(tri, *t.window, true, parent, stack);
     }

@@ -31,6 +31,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <deque>
 #include <glm/geometric.hpp>
 #include <map>
 #include <memory>
@@ -187,7 +188,7 @@ struct SliceSet {
   std::vector<glm::dvec3> normals;
   std::vector<std::vector<Index>> faces;
   std::vector<Slice> slices;
-  std::vector<SliceTriangulation> triangulations;  // sized once: never moved
+  std::deque<SliceTriangulation> triangulations;  // never moved (not copyable)
   std::vector<SliceCones> cones;
   std::vector<std::vector<PlanarCone>> planar;  // [side * n + v]
   std::size_t slice_vertices = 0;
@@ -199,7 +200,7 @@ struct SliceSet {
     normals = vertex_normals(topology, input.frame);
     faces = candidate_faces_per_plane(topology, input.frame, input.plan);
     slices.resize(planes);
-    triangulations.resize(planes);
+    for (std::size_t p = 0; p < planes; ++p) triangulations.emplace_back();
     cones.resize(planes);
     SlicerScratch slicer;
     SliceConeScratch scratch;

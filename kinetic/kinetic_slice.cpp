@@ -123,34 +123,58 @@ std::size_t find_fan_swaps(const Slice& old, const Slice& next, KineticScratch& 
 
 }  // namespace
 
+namespace {
+
+/// A kinetic slice's kept triangulation lent to the thread's SliceTriangulation for a scope (swapped in, and
+/// out again on exit, also by an exception).
+class Lent {
+ public:
+  Lent(SliceTriangulation& triangulation, Cdt& kept) : m_triangulation(triangulation), m_kept(kept) {
+    m_triangulation.swap_cdt(m_kept);
+  }
+  ~Lent() { m_triangulation.swap_cdt(m_kept); }
+  Lent(const Lent&) = delete;
+  Lent& operator=(const Lent&) = delete;
+
+ private:
+  SliceTriangulation& m_triangulation;
+  Cdt& m_kept;
+};
+
+}  // namespace
+
 void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& connectivity,
                          const Frame& frame, const SlicingPlane& plane, ConeStorage storage,
                          std::span<const Index> faces, KineticScratch& scratch) {
   m_storage = storage;
   slice_mesh(topology, connectivity, frame, plane, faces, scratch.slicer, m_out.slice);
-  finish_build(topology, frame, scratch);
+  {
+    const Lent lent(scratch.triangulation, m_cdt);
+    finish_build(topology, frame, scratch);
+  }
+  if (!m_editable) m_cdt.clear();  // rebuilt at the next interval anyway
 }
 
 void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
-  m_tri.build(m_out.slice);
-  m_out.crossings = m_tri.crossings();
-  m_editable = m_tri.dimension() == 2 && m_out.crossings == 0 &&
-               m_tri.cdt().number_of_vertices() == m_out.slice.vertices.size() &&
-               chains_are_edges(m_tri.cdt(), m_out.slice.edges, [&](Index x) { return m_tri.vertex_of(x); });
+  SliceTriangulation& tri = scratch.triangulation;
+  tri.build(m_out.slice);
+  m_out.crossings = tri.crossings();
+  m_editable = tri.dimension() == 2 && m_out.crossings == 0 &&
+               tri.cdt().number_of_vertices() == m_out.slice.vertices.size() &&
+               chains_are_edges(tri.cdt(), m_out.slice.edges, [&](Index x) { return tri.vertex_of(x); });
   grow_cones(topology, frame, scratch);
 }
 
-void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame, bool structure_changed,
-                                KineticScratch& scratch) {
+void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
   std::swap(m_out.slice, scratch.next);
-  m_tri.adopt_edits(m_out.slice, structure_changed);
+  scratch.triangulation.adopt_edits(m_out.slice);
   m_out.crossings = 0;
   grow_cones(topology, frame, scratch);
 }
 
 void KineticSlice::grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
-  compute_plane_cones(topology.num_vertices, m_storage, frame, m_tri, scratch.cones, m_out);
+  compute_plane_cones(topology.num_vertices, m_storage, frame, scratch.triangulation, scratch.cones, m_out);
   m_cone_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -159,11 +183,23 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
                                     std::span<const Index> faces, const KineticPolicy& policy,
                                     KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
-  KineticCounts counts = carry(topology, connectivity, next, plane, faces, policy, scratch);
+  KineticCounts counts;
+  {
+    const Lent lent(scratch.triangulation, m_cdt);
+    counts = carry(topology, connectivity, next, plane, faces, policy, scratch);
+  }
+  if (!m_editable) m_cdt.clear();
   counts.cone_seconds = m_cone_seconds;
   counts.structure_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - m_cone_seconds;
   return counts;
+}
+
+void KineticSlice::rederive_triangulation(SliceTriangulation& out) const {
+  if (m_editable)
+    out.assign(m_cdt, m_out.slice);
+  else
+    out.build(m_out.slice);  // what the interval built (deterministic); not kept
 }
 
 KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnectivity& connectivity,
@@ -187,6 +223,8 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
 
   // Match slice vertices by mesh edge: survivors, and those that vanish or appear.
   const Slice& old = m_out.slice;
+  SliceTriangulation& tri = scratch.triangulation;
+  tri.map_vertices(old);
   if (scratch.old_of_edge.size() != connectivity.num_edges())
     scratch.old_of_edge.assign(connectivity.num_edges(), -1);
   for (Index x = 0; x < old.vertices.size(); ++x)
@@ -221,17 +259,17 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
 
   // 1. Survivors and relabeled vertices take their new ids; the old closing edges of growing runs stop being
   // constraints; the vanishing slice vertices that no fan swap relabels are marked (id -1) for removal.
-  Cdt& cdt = m_tri.cdt_for_editing();
+  Cdt& cdt = tri.cdt_for_editing();
   for (const auto& [a, b] : scratch.unconstrain) {
     FaceHandle f;
     int i = 0;
-    if (cdt.is_edge(m_tri.vertex_of(a), m_tri.vertex_of(b), f, i) && f->is_constrained(i))
+    if (cdt.is_edge(tri.vertex_of(a), tri.vertex_of(b), f, i) && f->is_constrained(i))
       cdt.Cdt::Ctr::remove_constrained_edge(f, i);  // only the mark: no flips on the kept triangulation
   }
   scratch.vertex_of_new.assign(scratch.next.vertices.size(), VertexHandle());
   scratch.vanishing.clear();
   for (Index x = 0; x < old.vertices.size(); ++x) {
-    const VertexHandle v = m_tri.vertex_of(x);
+    const VertexHandle v = tri.vertex_of(x);
     const std::int32_t y = std::max(scratch.new_of_old[x], scratch.relabel[x]);
     v->info().slice_vertex = y;
     if (y >= 0)
@@ -301,13 +339,13 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   // (A run that grew leaves a new vertex inserted: its unmarked closing edge is counted there.)
   const bool structure_changed = counts.removed + counts.inserted + counts.reinserted > 0;
   ++(structure_changed ? counts.slices_repaired : counts.slices_unchanged);
-  finish_frame(topology, next, structure_changed, scratch);
+  finish_frame(topology, next, scratch);
   return counts;
 }
 
 RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScratch& scratch,
                                                   KineticCounts& counts) {
-  Cdt& cdt = m_tri.cdt_for_editing();
+  Cdt& cdt = scratch.triangulation.cdt_for_editing();
   const std::vector<SliceVertex>& next = scratch.next.vertices;
   auto next_point = [&](VertexHandle v) { return cgal::to_point(next[v->info().slice_vertex].point); };
   scratch.taken_out.assign(next.size(), 0);
@@ -413,11 +451,15 @@ bool KineticSlice::check_invariants(std::string* why) const {
     return false;
   };
   // Orientations, hull convexity and the triangulation's combinatorics: CGAL's check, inside this one.
-  if (!m_tri.check_invariants(why)) return false;
-  const Cdt& cdt = m_tri.cdt();
-  // A slice that is not editable (chains cross or touch, points merged, or not 2D) is rebuilt every interval:
-  // CGAL's own split constraints are its invariant, checked above.
-  if (m_tri.dimension() < 2 || !m_editable) return true;
+  SliceTriangulation tri;
+  rederive_triangulation(tri);
+  if (!tri.check_invariants(why)) return false;
+  // A slice that is not editable (chains cross or touch, points merged, or not 2D) is rebuilt every interval
+  // and keeps no triangulation: CGAL's own split constraints are its invariant, checked above.
+  if (!m_editable)
+    return m_cdt.number_of_vertices() == 0 || fail("a slice that is rebuilt kept its triangulation");
+  if (tri.dimension() < 2) return true;
+  const Cdt& cdt = tri.cdt();
   // The constraints are exactly the chain edges between distinct points (several chain edges may join the
   // same two points where slice points coincide: a mesh edge lying in the plane).
   std::size_t constrained = 0;
@@ -425,7 +467,7 @@ bool KineticSlice::check_invariants(std::string* why) const {
     constrained += cdt.is_constrained(*e);
   std::vector<std::pair<const void*, const void*>> chain_edges;
   for (const SliceEdge& e : m_out.slice.edges) {
-    const VertexHandle a = m_tri.vertex_of(e.from), b = m_tri.vertex_of(e.to);
+    const VertexHandle a = tri.vertex_of(e.from), b = tri.vertex_of(e.to);
     if (a == b) continue;
     const void* pa = &*a;
     const void* pb = &*b;

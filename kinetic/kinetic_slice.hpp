@@ -1,5 +1,6 @@
-// One slicing plane kept alive across frames (DESIGN.md §3): its slice, constrained triangulation, regions,
-// windows and corners carried from frame to frame, repaired where the motion changes them.
+// One slicing plane kept alive across frames (DESIGN.md §3): its slice and constrained triangulation carried
+// from frame to frame, repaired where the motion changes them; regions, windows and corners derived from the
+// triangulation each frame.
 //
 // Certified at the frame, not over a path. Only the frames are output, and between two frames the motion is
 // a model, so nothing inside an interval needs to be simulated: the kept triangulation is carried to the next
@@ -30,8 +31,8 @@
 //   3. Every kept vertex moves to its next point; the hull's winding is checked. The vertices taken out and
 //      the edits' new slice vertices are inserted at their next points (CGAL, located from a chain
 //      neighbour), then every chain edge that is not a constrained edge yet is inserted as one.
-//   4. Regions, windows and corners are re-derived when the triangulation changed (they depend on nothing
-//      else); the funnel trees and cones are grown on it (static_core's code).
+//   4. Regions, windows and corners are derived from the triangulation (they depend on nothing else), in the
+//      thread's scratch; the funnel trees and cones are grown on it (static_core's code).
 // The slice is rebuilt with static_core, and the reason counted, when it is degenerate or not editable
 // (collinear, points merged, chains that cross or touch), when its hull winds more than once, when an
 // inserted point meets another or a chain edge, or when edits and put-back vertices exceed the policy's
@@ -56,6 +57,9 @@ struct KineticScratch {
   /// The next frame's slice while a slice is carried to it; then, swapped, the previous frame's buffers,
   /// reused by the next slice this thread carries (a slice keeps one Slice between frames, not two).
   Slice next;
+  /// While a slice is carried: its kept triangulation (lent) and everything derived from it — slice-vertex
+  /// map, corners, regions, windows — which are not kept between frames (see KineticSlice).
+  SliceTriangulation triangulation;
   PlaneConeScratch cones;
   std::vector<std::int32_t> old_of_edge;  ///< per mesh edge: slice vertex of the previous frame, or -1
   std::vector<std::int32_t> new_of_old;
@@ -95,15 +99,16 @@ class KineticSlice {
   const PlaneCones& cones() const { return m_out; }
   /// The mesh edges that started or stopped crossing the plane in the last advance() (local edits only).
   const std::vector<Index>& changed_edges() const { return m_changed_edges; }
-  const SliceTriangulation& triangulation() const { return m_tri; }
+  /// The slice's triangulation with its regions, windows and corners, derived again (tests, benchmarks):
+  /// a copy of the kept triangulation, or the static build of a slice that keeps none.
+  void rederive_triangulation(SliceTriangulation& out) const;
   /// The triangulation is valid for the current points (exact), constraints are the slice's edges, and the
   /// regions, windows and corners are consistent. False with a reason otherwise.
   bool check_invariants(std::string* why) const;
 
  private:
   void finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
-  void finish_frame(const MeshTopology& topology, const Frame& frame, bool structure_changed,
-                    KineticScratch& scratch);
+  void finish_frame(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
   /// advance() but its timing.
   KineticCounts carry(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& next,
                       const SlicingPlane& plane, std::span<const Index> faces, const KineticPolicy& policy,
@@ -114,7 +119,12 @@ class KineticSlice {
   RebuildReason certify_at_next_frame(std::size_t budget, KineticScratch& scratch, KineticCounts& counts);
 
   PlaneCones m_out;
-  SliceTriangulation m_tri;
+  /// What is kept between frames besides the slice: the constrained triangulation of an editable slice
+  /// (empty for one that is rebuilt every interval). Its slice-vertex map, corners, regions and windows are
+  /// derived again each frame in the thread's scratch: at the native frame rate structure changes in all
+  /// but 2 of 1,711 slices of the 30k curtain (28 of 538 on the drape), so keeping them saved no work but
+  /// cost about 60 bytes per slice vertex.
+  cgal::Cdt m_cdt;
   ConeStorage m_storage = ConeStorage::NearestOnFan;
   std::vector<Index> m_changed_edges;
   /// 2D, no merged points, no crossings, and every chain edge one constrained edge (no chain touching another

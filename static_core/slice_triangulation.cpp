@@ -46,7 +46,7 @@ void SliceTriangulation::build(const Slice& slice) {
   flood_regions();
 }
 
-void SliceTriangulation::adopt_edits(const Slice& slice, bool structure_changed) {
+void SliceTriangulation::map_vertices(const Slice& slice) {
   m_vertex_of_slice_vertex.assign(slice.vertices.size(), cgal::VertexHandle());
   for (auto v = m_cdt.finite_vertices_begin(); v != m_cdt.finite_vertices_end(); ++v) {
     const int x = v->info().slice_vertex;
@@ -56,7 +56,10 @@ void SliceTriangulation::adopt_edits(const Slice& slice, bool structure_changed)
     m_vertex_of_slice_vertex[x] = v;
   }
   PLEAT_ASSERT(m_cdt.number_of_vertices() == slice.vertices.size(), "a slice vertex without a CDT vertex");
-  if (!structure_changed) return;
+}
+
+void SliceTriangulation::adopt_edits(const Slice& slice) {
+  map_vertices(slice);
   m_regions.clear();
   m_region_faces.clear();
   m_region_windows.clear();
@@ -66,6 +69,11 @@ void SliceTriangulation::adopt_edits(const Slice& slice, bool structure_changed)
   if (m_cdt.dimension() < 2) return;
   assign_corners();
   flood_regions();
+}
+
+void SliceTriangulation::assign(const cgal::Cdt& cdt, const Slice& slice) {
+  m_cdt = cdt;
+  adopt_edits(slice);
 }
 
 void SliceTriangulation::assign_corners() {

@@ -57,13 +57,25 @@ class SliceTriangulation {
   /// Points inserted where chains cross (self-intersecting input); 0 for a valid surface.
   std::size_t crossings() const { return m_crossings; }
 
-  /// The kinetic layer edits the triangulation in place (moves points, flips edges, removes and inserts
-  /// vertices and constraints), then calls adopt_edits. Every finite CDT vertex must then name a distinct
-  /// slice vertex of `slice` in its info, and every slice vertex must have one (no merged points).
+  /// The kinetic layer keeps only the constrained triangulation of a slice between frames: everything else
+  /// here is derived from it. To carry a slice it swaps its triangulation in (constant time; handles stay
+  /// valid), maps the vertices, edits the triangulation in place (moves points, removes and inserts vertices
+  /// and constraints), adopts the edits, grows the cones, and swaps the triangulation out again. Every
+  /// finite CDT vertex must name a distinct slice vertex of `slice` in its info, and every slice vertex must
+  /// have one (no merged points, no crossing points).
+  void swap_cdt(cgal::Cdt& kept) { m_cdt.swap(kept); }
   cgal::Cdt& cdt_for_editing() { return m_cdt; }
-  /// Rebuilds the slice-vertex map from the CDT vertices' info; with `structure_changed`, corners, regions
-  /// and windows too (they depend only on the triangulation's combinatorics and constraints).
-  void adopt_edits(const Slice& slice, bool structure_changed);
+  /// Rebuilds the slice-vertex map from the CDT vertices' info.
+  void map_vertices(const Slice& slice);
+  /// map_vertices, then corners, regions and windows (they depend only on the triangulation's combinatorics
+  /// and constraints).
+  void adopt_edits(const Slice& slice);
+  /// A copy of `cdt` (a triangulation of `slice` as for adopt_edits), with everything derived.
+  void assign(const cgal::Cdt& cdt, const Slice& slice);
+
+  SliceTriangulation() = default;
+  SliceTriangulation(const SliceTriangulation&) = delete;  // handles would point into the source
+  SliceTriangulation& operator=(const SliceTriangulation&) = delete;
 
   /// Checks the invariants (every finite face has a region and corners; windows are unconstrained hull
   /// edges; corner ids are consistent across unconstrained edges). Returns false and explains in `why`.
