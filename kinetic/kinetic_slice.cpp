@@ -121,10 +121,6 @@ std::size_t find_fan_swaps(const Slice& old, const Slice& next, KineticScratch& 
   return relabeled;
 }
 
-}  // namespace
-
-namespace {
-
 /// A kinetic slice's kept triangulation lent to the thread's SliceTriangulation for a scope (swapped in, and
 /// out again on exit, also by an exception).
 class Lent {
