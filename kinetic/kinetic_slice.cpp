@@ -158,6 +158,10 @@ void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame
   m_editable = tri.dimension() == 2 && m_out.crossings == 0 &&
                tri.cdt().number_of_vertices() == m_out.slice.vertices.size() &&
                chains_are_edges(tri.cdt(), m_out.slice.edges, [&](Index x) { return tri.vertex_of(x); });
+  m_unkept_violation.clear();
+  if (!m_editable && scratch.check_unkept && !tri.check_invariants(&m_unkept_violation) &&
+      m_unkept_violation.empty())
+    m_unkept_violation = "invalid";
   grow_cones(topology, frame, scratch);
 }
 
@@ -446,14 +450,17 @@ bool KineticSlice::check_invariants(std::string* why) const {
     if (why) *why = message;
     return false;
   };
+  // A slice that is not editable (chains cross or touch, points merged, or not 2D) is rebuilt every interval
+  // and keeps nothing; the triangulation it was built with was checked then (KineticScratch::check_unkept).
+  if (!m_editable) {
+    if (!m_unkept_violation.empty())
+      return fail("the triangulation built for the interval: " + m_unkept_violation);
+    return m_cdt.number_of_vertices() == 0 || fail("a slice that is rebuilt kept its triangulation");
+  }
   // Orientations, hull convexity and the triangulation's combinatorics: CGAL's check, inside this one.
   SliceTriangulation tri;
   rederive_triangulation(tri);
   if (!tri.check_invariants(why)) return false;
-  // A slice that is not editable (chains cross or touch, points merged, or not 2D) is rebuilt every interval
-  // and keeps no triangulation: CGAL's own split constraints are its invariant, checked above.
-  if (!m_editable)
-    return m_cdt.number_of_vertices() == 0 || fail("a slice that is rebuilt kept its triangulation");
   if (tri.dimension() < 2) return true;
   const Cdt& cdt = tri.cdt();
   // The constraints are exactly the chain edges between distinct points (several chain edges may join the

@@ -60,6 +60,9 @@ struct KineticScratch {
   /// While a slice is carried: its kept triangulation (lent) and everything derived from it — slice-vertex
   /// map, corners, regions, windows — which are not kept between frames (see KineticSlice).
   SliceTriangulation triangulation;
+  /// Set by the engine when invariants are checked (KineticParams::check_invariants): a slice rebuilt without
+  /// keeping its triangulation has it checked before it is dropped (KineticSlice::check_invariants reports).
+  bool check_unkept = false;
   PlaneConeScratch cones;
   std::vector<std::int32_t> old_of_edge;  ///< per mesh edge: slice vertex of the previous frame, or -1
   std::vector<std::int32_t> new_of_old;
@@ -130,8 +133,9 @@ class KineticSlice {
   /// 2D, no merged points, no crossings, and every chain edge one constrained edge (no chain touching another
   /// at a vertex inside its edge): the next interval can repair it.
   bool m_editable = false;
-  double m_cone_seconds = 0.0;  ///< of the last grow_cones
-  int m_policy_streak = 0;      ///< intervals in a row that ended in a policy rebuild
+  double m_cone_seconds = 0.0;     ///< of the last grow_cones
+  int m_policy_streak = 0;         ///< intervals in a row that ended in a policy rebuild
+  std::string m_unkept_violation;  ///< what the check of an unkept triangulation found (check_unkept)
 };
 
 }  // namespace pleat::kinetic

@@ -29,7 +29,7 @@ struct KineticVisibility::Impl {
         crossed_stamp(topology.num_vertices, 0) {
     candidate_faces_per_plane(topology, first, plan, faces);
     for_each_plane([&](std::size_t p) {
-      slices[p].build(topology, connectivity, first, plan.planes[p], plan.storage, faces[p], scratch.local());
+      slices[p].build(topology, connectivity, first, plan.planes[p], plan.storage, faces[p], local_scratch());
       check(p);
     });
     gather_and_assemble(first);
@@ -49,6 +49,12 @@ struct KineticVisibility::Impl {
       if (c.rebuilt_because[r])
         return std::string("rebuilt: ") + kinetic::rebuild_reason_name(RebuildReason(r));
     return c.slices_repaired ? "repaired" : "kept";
+  }
+
+  KineticScratch& local_scratch() {
+    KineticScratch& s = scratch.local();
+    s.check_unkept = params.check_invariants;
+    return s;
   }
 
   void check(std::size_t p) const {
@@ -80,7 +86,7 @@ struct KineticVisibility::Impl {
     candidate_faces_per_plane(topology, next, plan, faces);
     for_each_plane([&](std::size_t p) {
       counts[p] = slices[p].advance(topology, connectivity, next, plan.planes[p], faces[p], params.policy,
-                                    scratch.local());
+                                    local_scratch());
       check(p);
     });
     const auto assembly_start = std::chrono::steady_clock::now();
