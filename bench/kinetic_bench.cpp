@@ -293,13 +293,12 @@ void advance_benchmark(benchmark::State& state, std::string name, KineticPolicy 
 void funnel_benchmark(benchmark::State& state, std::string name) {
   const Workload& w = workload(name);
   std::vector<int> parent(w.max_corners, -1);
-  std::vector<FunnelTask> stack;
-  stack.reserve(1024);
+  FunnelScratch funnel;
   for (auto _ : state) {
     for (const TreeTask& t : w.trees) {
       const SliceTriangulation& tri = w.triangulations_k[t.plane];
-      grow_shortest_path_tree(tri, *t.window, false, parent, stack);
-      grow_shortest_path_tree(tri, *t.window, true, parent, stack);
+      grow_shortest_path_tree(tri, *t.window, false, parent, funnel);
+      grow_shortest_path_tree(tri, *t.window, true, parent, funnel);
     }
     benchmark::DoNotOptimize(parent.data());
   }

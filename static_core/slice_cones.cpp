@@ -161,8 +161,8 @@ void cones_of_simple_region(const SliceTriangulation& st, const SliceRegion& reg
     }
   if (s.region_corners.empty()) return;
   for (const SliceWindow& window : region.windows) {
-    grow_shortest_path_tree(st, window, false, s.parent_a, s.stack);
-    grow_shortest_path_tree(st, window, true, s.parent_b, s.stack);
+    grow_shortest_path_tree(st, window, false, s.parent_a, s.funnel);
+    grow_shortest_path_tree(st, window, true, s.parent_b, s.funnel);
     for (int c : s.region_corners) {
       const Point2& x = st.corner_vertex(c)->point();
       const Point2& pa = st.corner_vertex(s.parent_a[c])->point();

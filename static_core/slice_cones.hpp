@@ -53,7 +53,7 @@ struct ExpansionTask {
 /// Reusable per-thread memory.
 struct SliceConeScratch {
   std::vector<int> parent_a, parent_b;
-  std::vector<FunnelTask> stack;
+  FunnelScratch funnel;
   std::vector<std::vector<Wedge>> corner_wedges;
   std::vector<int> corner_stamp;
   std::vector<int> region_corners;

@@ -53,7 +53,7 @@ SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const
   while (++vc != done);
   std::sort(s.hull.begin(), s.hull.end());
   std::vector<int> parent(st.num_corners(), -1);
-  std::vector<FunnelTask> stack;
+  FunnelScratch funnel;
   for (std::size_t r = 0; r < st.num_regions(); ++r) {
     const SliceRegion region = st.region(r);
     for (const SliceWindow& w : region.windows) {
@@ -63,7 +63,7 @@ SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const
       if (region.has_holes) continue;  // cones there come from the outer polygon and the holes' spans
       for (int from_b = 0; from_b < 2; ++from_b) {
         std::fill(parent.begin(), parent.end(), -1);
-        grow_shortest_path_tree(st, w, from_b, parent, stack);
+        grow_shortest_path_tree(st, w, from_b, parent, funnel);
         for (std::size_t c = 0; c < parent.size(); ++c)
           if (parent[c] >= 0)
             s.parents.emplace_back(key.first, key.second, from_b, edge_of(st.corner_vertex(int(c))),
