@@ -200,7 +200,7 @@ struct SliceSet {
     normals = vertex_normals(topology, input.frame);
     faces = candidate_faces_per_plane(topology, input.frame, input.plan);
     slices.resize(planes);
-    for (std::size_t p = 0; p < planes; ++p) triangulations.emplace_back();
+    triangulations.resize(planes);
     cones.resize(planes);
     SlicerScratch slicer;
     SliceConeScratch scratch;

@@ -158,10 +158,11 @@ void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame
   m_editable = tri.dimension() == 2 && m_out.crossings == 0 &&
                tri.cdt().number_of_vertices() == m_out.slice.vertices.size() &&
                chains_are_edges(tri.cdt(), m_out.slice.edges, [&](Index x) { return tri.vertex_of(x); });
-  m_unkept_violation.clear();
-  if (!m_editable && scratch.check_unkept && !tri.check_invariants(&m_unkept_violation) &&
-      m_unkept_violation.empty())
-    m_unkept_violation = "invalid";
+  m_unkept_check.reset();
+  if (!m_editable && scratch.check_unkept) {
+    std::string why;
+    m_unkept_check = tri.check_invariants(&why) ? std::string() : (why.empty() ? "invalid" : why);
+  }
   grow_cones(topology, frame, scratch);
 }
 
@@ -184,9 +185,13 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
                                     KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
   KineticCounts counts;
-  {
+  try {
     const Lent lent(scratch.triangulation, m_cdt);
     counts = carry(topology, connectivity, next, plane, faces, policy, scratch);
+  } catch (...) {
+    m_editable = false;  // perhaps half-edited: the next interval rebuilds it
+    m_cdt.clear();
+    throw;
   }
   if (!m_editable) m_cdt.clear();
   counts.cone_seconds = m_cone_seconds;
@@ -453,11 +458,16 @@ bool KineticSlice::check_invariants(std::string* why) const {
   // A slice that is not editable (chains cross or touch, points merged, or not 2D) is rebuilt every interval
   // and keeps nothing; the triangulation it was built with was checked then (KineticScratch::check_unkept).
   if (!m_editable) {
-    if (!m_unkept_violation.empty())
-      return fail("the triangulation built for the interval: " + m_unkept_violation);
-    return m_cdt.number_of_vertices() == 0 || fail("a slice that is rebuilt kept its triangulation");
+    if (m_cdt.number_of_vertices() != 0) return fail("a slice that is rebuilt kept its triangulation");
+    if (!m_unkept_check) {  // not checked in the interval: build it again (deterministic) and check that
+      SliceTriangulation built;
+      built.build(m_out.slice);
+      return built.check_invariants(why);
+    }
+    return m_unkept_check->empty() || fail("the triangulation built for the interval: " + *m_unkept_check);
   }
-  // Orientations, hull convexity and the triangulation's combinatorics: CGAL's check, inside this one.
+  // Orientations, hull convexity and the triangulation's combinatorics: CGAL's check, inside this one (on a
+  // copy whose corners, regions and windows are derived afresh: those checks test the derivation).
   SliceTriangulation tri;
   rederive_triangulation(tri);
   if (!tri.check_invariants(why)) return false;

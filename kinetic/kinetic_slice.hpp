@@ -40,7 +40,7 @@
 // after every interval. Internal header (CGAL types): kinetic only.
 #pragma once
 
-#include <array>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -61,7 +61,8 @@ struct KineticScratch {
   /// map, corners, regions, windows — which are not kept between frames (see KineticSlice).
   SliceTriangulation triangulation;
   /// Set by the engine when invariants are checked (KineticParams::check_invariants): a slice rebuilt without
-  /// keeping its triangulation has it checked before it is dropped (KineticSlice::check_invariants reports).
+  /// keeping its triangulation has it checked before it is dropped (KineticSlice::check_invariants reports;
+  /// without this it rebuilds the triangulation to check it).
   bool check_unkept = false;
   PlaneConeScratch cones;
   std::vector<std::int32_t> old_of_edge;  ///< per mesh edge: slice vertex of the previous frame, or -1
@@ -133,9 +134,11 @@ class KineticSlice {
   /// 2D, no merged points, no crossings, and every chain edge one constrained edge (no chain touching another
   /// at a vertex inside its edge): the next interval can repair it.
   bool m_editable = false;
-  double m_cone_seconds = 0.0;     ///< of the last grow_cones
-  int m_policy_streak = 0;         ///< intervals in a row that ended in a policy rebuild
-  std::string m_unkept_violation;  ///< what the check of an unkept triangulation found (check_unkept)
+  double m_cone_seconds = 0.0;  ///< of the last grow_cones
+  int m_policy_streak = 0;      ///< intervals in a row that ended in a policy rebuild
+  /// What the check of the interval's triangulation of a slice that keeps none found ("" = valid), when
+  /// KineticScratch::check_unkept asked for it; else empty (check_invariants rebuilds and checks then).
+  std::optional<std::string> m_unkept_check;
 };
 
 }  // namespace pleat::kinetic

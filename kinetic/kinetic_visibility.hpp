@@ -75,8 +75,8 @@ struct KineticCounts {
   std::size_t side_changes_regular = 0;   ///< (mesh vertex, plane) crossings of a regular vertex
   std::size_t side_changes_critical = 0;  ///< ... of an extremum, saddle, boundary or non-manifold vertex
   std::size_t slices_unchanged = 0;       ///< no CGAL edit (at most fan swaps of equal length), no failed
-                                     ///< certificate: regions, windows and corners kept, the cones regrown
-  std::size_t slices_repaired = 0;  ///< kept and edited locally (regions, windows, corners re-derived)
+                                     ///< certificate: the triangulation kept as it was, the cones regrown
+  std::size_t slices_repaired = 0;  ///< kept and edited locally
   std::size_t slices_rebuilt = 0;   ///< built from scratch
   std::array<std::size_t, static_cast<std::size_t>(kinetic::RebuildReason::count)> rebuilt_because{};
   /// Where the time went (seconds, summed over slices, so CPU time when slices run in parallel): carrying

@@ -27,9 +27,9 @@ struct VertexInfo {
   int slice_vertex = -1;
 };
 
-/// Per CDT face: the corner id of each of its vertices (its region is its corners'). A face takes 72 bytes
-/// with CGAL's links and flags (80 when it also held its region): a kinetic slice keeps about two per slice
-/// vertex.
+/// Per CDT face: the corner id of each of its vertices (its region is its corners'). With GCC a face takes 72
+/// bytes: CGAL's links (48), its scratch flag and three constraint flags, and this info in the base's tail
+/// padding. A kinetic slice keeps about two faces per slice vertex.
 struct FaceInfo {
   std::array<int, 3> corner{-1, -1, -1};
 };

@@ -17,7 +17,9 @@ void grow_shortest_path_tree(const SliceTriangulation& slice, const SliceWindow&
   std::vector<int>& funnel = scratch.funnel;
   std::vector<std::pair<int, int>>& undo = scratch.undo;
   std::vector<FunnelTask>& stack = scratch.stack;
-  // A funnel range moves by at most one place per triangle of the dual tree's depth (under the corners).
+  PLEAT_ASSERT(!slice.region(static_cast<std::size_t>(slice.corner_region(root))).has_holes,
+               "a funnel tree in a region with holes");
+  // A funnel range moves outwards by at most one place per triangle it crosses: fewer than the corners.
   const int corners = static_cast<int>(slice.num_corners());
   const int middle = corners + 2;
   if (funnel.size() < std::size_t(2 * middle + 1)) funnel.resize(2 * middle + 1);

@@ -7,17 +7,23 @@
 // predicate; a vertex collinear with a funnel edge is taken as touched (the parent is the last vertex on the
 // path), which makes the tree unique.
 //
-// The funnel is kept as one array, funnel[lo..hi] = (L = l_k, ..., l_1, a, r_1, ..., r_m = R), and found by
-// binary search. Why that is exact: the funnel (the two chains and LR) is a simple polygon whose only convex
-// corners are a, L and R, its chain vertices being reflex or flat; its turning is 360°, so the two chains
-// together turn by less than 180°. Then, for x beyond LR, "x lies left of or on the line l_{i-1} l_i" holds
-// exactly for i = 1..t (t = 0: for none), and x's parent on the L-chain is l_t: whether t > 0 is decided at
-// i = 1, and t by bisection. Mirrored on the R-chain. The split funnels — (l_k..l_t, x) and (x, l_t..r_m) for
-// a tangent on the L-chain — are the array's two sub-ranges with x written at one end; the writes are undone
-// when the depth-first walk backtracks. Cost: O(log funnel size) predicates per triangle, against the walk
-// along a chain from its outer end (O(funnel depth), the paper's, kept as the oracle in tests/oracles), whose
-// depth grew with the slices' length (3.4 tests per triangle on the 3k curtain, 15.5 at 300k).
-// Precondition: the region has no holes.
+// The funnel is kept as one array, funnel[lo..hi] = (L = l_k, ..., l_1, a, r_1, ..., r_m = R), and searched
+// by bisection. Why that is exact. The funnel (the two chains and LR) is a simple polygon whose only convex
+// corners are a, L and R, its chain vertices being reflex or flat (a flat one: a collinear vertex taken as
+// touched). Walked once round, it turns by 360°, so with θ_i the direction of l_{i-1} -> l_i (increasing with
+// i), θ_k - θ_1 plus the turn at L stays under 180°: the direction of L -> R is less than θ_1 + 180°. Let t
+// be the largest i with x left of or on the line l_{i-1} l_i (the walk's answer). From l_t, x lies in
+// directions [θ_t, θ_{t+1}), the test failing at t + 1 (t = k: in [θ_k, direction of L -> R + 180°), x being
+// beyond LR); both ends lie within [θ_i, θ_i + 180°) for every i ≤ t, and so do the chain edges from l_{i-1}
+// to l_t. Hence x - l_{i-1} is left of or on the line at i too: the test holds exactly for i = 1..t, whether
+// t > 0 is decided at i = 1, and t by bisection. Mirrored on the R-chain. When the cusp is L or R (one chain
+// empty) that chain is skipped. The split funnels, (l_k..l_t, x) and (x, l_t..r_m) for a tangent on the
+// L-chain, are the array's two sub-ranges with x written at one end; the writes are undone when the
+// depth-first walk backtracks. A range moves outwards by at most one place per triangle it crosses, at most
+// the region's corners - 2. Cost: O(log funnel size) predicates per triangle, against the walk along a chain
+// from its outer end (O(funnel depth), the paper's, kept as the oracle in tests/oracles), whose depth grew
+// with the slices' length (3.4 tests per triangle on the 3k curtain, 15.5 at 300k). Precondition: the region
+// has no holes.
 #pragma once
 
 #include <cstdint>

@@ -111,6 +111,15 @@ void SliceTriangulation::flood_regions() {
   // in a constrained triangulation) while the flood runs. One region's faces and windows are found together,
   // so they are laid out region by region as they come.
   std::vector<cgal::FaceHandle> stack;
+  // On an exception (allocation), no face stays marked: a kept triangulation is flooded again later.
+  struct Unmark {
+    cgal::Cdt& cdt;
+    bool done = false;
+    ~Unmark() {
+      if (!done)
+        for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->tds_data().clear();
+    }
+  } unmark{m_cdt};
   for (auto seed = m_cdt.finite_faces_begin(); seed != m_cdt.finite_faces_end(); ++seed) {
     if (seed->tds_data().processed()) continue;
     const int id = static_cast<int>(m_regions.size());
@@ -146,6 +155,7 @@ void SliceTriangulation::flood_regions() {
   m_regions.push_back({static_cast<std::uint32_t>(m_region_faces.size()),
                        static_cast<std::uint32_t>(m_region_windows.size()), false});
   for (const cgal::FaceHandle f : m_region_faces) f->tds_data().clear();
+  unmark.done = true;
 }
 
 bool SliceTriangulation::check_invariants(std::string* why) const {
@@ -158,9 +168,9 @@ bool SliceTriangulation::check_invariants(std::string* why) const {
   // a valid constrained triangulation that is not Delaunay in general.
   if (!m_cdt.cgal::Cdt::Ctr::is_valid()) return fail("CGAL's constrained triangulation check fails");
   for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f) {
+    if (!f->tds_data().is_clear()) return fail("a face left marked by the region flood");
     for (int i = 0; i < 3; ++i) {
       if (f->info().corner[i] < 0) return fail("a finite face has no corner");
-      if (!f->tds_data().is_clear()) return fail("a face left marked by the region flood");
       if (m_corner_vertex[f->info().corner[i]] != f->vertex(i)) return fail("corner of the wrong vertex");
       const cgal::FaceHandle g = f->neighbor(i);
       if (m_cdt.is_infinite(g) || f->is_constrained(i)) continue;

@@ -17,6 +17,7 @@
 #include <tuple>
 
 #include "kinetic/kinetic_slice.hpp"
+#include "oracles/funnel_walk_oracle.hpp"
 #include "oracles/test_meshes.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "static_core/shortest_path_tree.hpp"
@@ -33,6 +34,8 @@ struct SliceSignature {
   std::vector<std::pair<Index, Index>> windows;                      // (edge at a, edge at b)
   std::vector<std::tuple<Index, Index, int, Index, Index>> parents;  // (window, from_b, corner, parent)
   std::vector<std::tuple<Index, int, std::vector<Wedge>>> cones;     // (edge, side, wedges)
+  std::size_t trees_unlike_the_walk =
+      0;  // trees that differ from the walk oracle's on the same triangulation
 };
 
 SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const SliceCones& cones) {
@@ -52,7 +55,7 @@ SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const
   do s.hull.push_back(edge_of(vc));
   while (++vc != done);
   std::sort(s.hull.begin(), s.hull.end());
-  std::vector<int> parent(st.num_corners(), -1);
+  std::vector<int> parent(st.num_corners(), -1), walked(st.num_corners(), -1);
   FunnelScratch funnel;
   for (std::size_t r = 0; r < st.num_regions(); ++r) {
     const SliceRegion region = st.region(r);
@@ -64,6 +67,9 @@ SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const
       for (int from_b = 0; from_b < 2; ++from_b) {
         std::fill(parent.begin(), parent.end(), -1);
         grow_shortest_path_tree(st, w, from_b, parent, funnel);
+        std::fill(walked.begin(), walked.end(), -1);
+        test::walk_shortest_path_tree(st, w, from_b, walked);
+        s.trees_unlike_the_walk += walked != parent;
         for (std::size_t c = 0; c < parent.size(); ++c)
           if (parent[c] >= 0)
             s.parents.emplace_back(key.first, key.second, from_b, edge_of(st.corner_vertex(int(c))),
@@ -98,6 +104,7 @@ std::string compare_slice(const KineticVisibility& kinetic, std::size_t p, const
   const SliceSignature b = signature(ks.cones().slice, kept, ks.cones().cones);
   std::string why;
   if (!ks.check_invariants(&why)) return "invariants: " + why;
+  if (a.trees_unlike_the_walk + b.trees_unlike_the_walk > 0) return "funnel trees unlike the walk oracle's";
   if (a.hull != b.hull) return "hull";
   if (a.windows != b.windows) return "windows";
   if (a.parents != b.parents) return "shortest-path parents";

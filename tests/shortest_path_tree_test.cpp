@@ -61,6 +61,16 @@ RC_GTEST_PROP(ShortestPathTree, BisectedFunnelsGrowTheWalksTreesOnRandomChains, 
   RC_ASSERT(compared.mismatch == "");
 }
 
+TEST(ShortestPathTree, TheRandomChainsCompareManyTrees) {
+  // A fixed batch of the property above: it must compare trees, not only slices without simple regions.
+  std::mt19937_64 rng(7);
+  Compared compared;
+  for (int k = 0; k < 200 && compared.mismatch.empty(); ++k)
+    compare_trees(test::random_chain_slice(rng), compared);
+  EXPECT_EQ(compared.mismatch, "");
+  EXPECT_GT(compared.trees, 500u);
+}
+
 RC_GTEST_PROP(ShortestPathTree, BisectedFunnelsGrowTheWalksTreesOnSlicedSurfaces, ()) {
   const auto seed = *rc::gen::arbitrary<std::uint64_t>();
   std::mt19937_64 rng(seed);
