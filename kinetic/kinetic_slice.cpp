@@ -461,7 +461,7 @@ bool KineticSlice::check_invariants(std::string* why) const {
     if (m_cdt.number_of_vertices() != 0) return fail("a slice that is rebuilt kept its triangulation");
     if (!m_unkept_check) {  // not checked in the interval: build it again (deterministic) and check that
       SliceTriangulation built;
-      built.build(m_out.slice);
+      rederive_triangulation(built);
       return built.check_invariants(why);
     }
     return m_unkept_check->empty() || fail("the triangulation built for the interval: " + *m_unkept_check);

@@ -11,12 +11,7 @@ namespace pleat {
 
 void SliceTriangulation::build(const Slice& slice) {
   m_cdt.clear();
-  m_regions.clear();
-  m_region_faces.clear();
-  m_region_windows.clear();
-  m_corner_vertex.clear();
-  m_corner_region.clear();
-  m_crossings = 0;
+  clear_derived();
   const std::size_t n = slice.vertices.size();
   m_vertex_of_slice_vertex.assign(n, cgal::VertexHandle());
 
@@ -60,15 +55,19 @@ void SliceTriangulation::map_vertices(const Slice& slice) {
 
 void SliceTriangulation::adopt_edits(const Slice& slice) {
   map_vertices(slice);
+  clear_derived();
+  if (m_cdt.dimension() < 2) return;
+  assign_corners();
+  flood_regions();
+}
+
+void SliceTriangulation::clear_derived() {
   m_regions.clear();
   m_region_faces.clear();
   m_region_windows.clear();
   m_corner_vertex.clear();
   m_corner_region.clear();
   m_crossings = 0;
-  if (m_cdt.dimension() < 2) return;
-  assign_corners();
-  flood_regions();
 }
 
 void SliceTriangulation::assign(const cgal::Cdt& cdt, const Slice& slice) {

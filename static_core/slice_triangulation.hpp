@@ -82,6 +82,8 @@ class SliceTriangulation {
   bool check_invariants(std::string* why) const;
 
  private:
+  /// Forgets regions, windows, corners and crossings (not the triangulation or the vertex map).
+  void clear_derived();
   void assign_corners();
   void flood_regions();
 

@@ -72,20 +72,9 @@ TEST(ShortestPathTree, TheRandomChainsCompareManyTrees) {
 }
 
 RC_GTEST_PROP(ShortestPathTree, BisectedFunnelsGrowTheWalksTreesOnSlicedSurfaces, ()) {
-  const auto seed = *rc::gen::arbitrary<std::uint64_t>();
-  std::mt19937_64 rng(seed);
-  const auto surface = test::random_height_field(rng, 6 + static_cast<int>(seed % 10));
-  const MeshConnectivity connectivity(surface.topology);
-  std::vector<Index> faces(surface.topology.triangles.size());
-  std::iota(faces.begin(), faces.end(), 0);
-  SlicerScratch scratch;
   Compared compared;
-  for (int k = 0; k < 10 && compared.mismatch.empty(); ++k) {
-    Slice slice;
-    slice_mesh(surface.topology, connectivity, surface.frame, test::random_plane_through(rng, surface.frame),
-               faces, scratch, slice);
-    compare_trees(slice, compared);
-  }
+  for (const Slice& slice : test::random_surface_slices(*rc::gen::arbitrary<std::uint64_t>(), 10))
+    if (compared.mismatch.empty()) compare_trees(slice, compared);
   RC_ASSERT(compared.mismatch == "");
 }
 

@@ -7,7 +7,6 @@
 #include <rapidcheck/gtest.h>
 
 #include <cstdio>
-#include <numeric>
 #include <sstream>
 
 #include "oracles/random_slices.hpp"
@@ -126,19 +125,8 @@ RC_GTEST_PROP(SliceCones, FunnelTreesMatchAngularSweepOnRandomChains, ()) {
 
 /// Ten random planes through a random folded height field built from `seed`; "" when all cones match.
 std::string check_sliced_surface(std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  const auto surface = test::random_height_field(rng, 6 + static_cast<int>(seed % 10));
-  const MeshConnectivity connectivity(surface.topology);
-  std::vector<Index> faces(surface.topology.triangles.size());
-  std::iota(faces.begin(), faces.end(), 0);
-  SlicerScratch scratch;
-  for (int k = 0; k < 10; ++k) {
-    Slice slice;
-    slice_mesh(surface.topology, connectivity, surface.frame, test::random_plane_through(rng, surface.frame),
-               faces, scratch, slice);
-    std::string mismatch = compare_with_oracle(slice);
-    if (!mismatch.empty()) return mismatch;
-  }
+  for (const Slice& slice : test::random_surface_slices(seed, 10))
+    if (std::string mismatch = compare_with_oracle(slice); !mismatch.empty()) return mismatch;
   return {};
 }
 

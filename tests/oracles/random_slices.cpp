@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "oracles/test_meshes.hpp"
+#include "static_core/mesh_connectivity.hpp"
 
 namespace pleat::test {
 namespace {
@@ -174,6 +175,20 @@ SlicingPlane random_plane_through(std::mt19937_64& rng, const Frame& frame) {
     return make_plane(n, p[axis], 0);
   }
   return make_plane(n, glm::dot(n, p) + (unit(rng) - 0.5) * 0.05, 0);
+}
+
+std::vector<Slice> random_surface_slices(std::uint64_t seed, int count) {
+  std::mt19937_64 rng(seed);
+  const RandomSurface surface = random_height_field(rng, 6 + static_cast<int>(seed % 10));
+  const MeshConnectivity connectivity(surface.topology);
+  std::vector<Index> faces(surface.topology.triangles.size());
+  std::iota(faces.begin(), faces.end(), 0);
+  SlicerScratch scratch;
+  std::vector<Slice> slices(static_cast<std::size_t>(count));
+  for (Slice& slice : slices)
+    slice_mesh(surface.topology, connectivity, surface.frame, random_plane_through(rng, surface.frame), faces,
+               scratch, slice);
+  return slices;
 }
 
 }  // namespace pleat::test

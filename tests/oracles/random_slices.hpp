@@ -3,6 +3,7 @@
 // meshes by random planes, some placed exactly through mesh vertices.
 #pragma once
 
+#include <cstdint>
 #include <glm/vec2.hpp>
 #include <random>
 #include <vector>
@@ -27,5 +28,9 @@ RandomSurface random_height_field(std::mt19937_64& rng, int n);
 
 /// A random plane through the surface; with probability 1/3 exactly through one of its vertices.
 SlicingPlane random_plane_through(std::mt19937_64& rng, const Frame& frame);
+
+/// `count` slices of one random folded height field (6 to 15 vertices a side, from `seed`) by random planes
+/// through it (random_plane_through).
+std::vector<Slice> random_surface_slices(std::uint64_t seed, int count);
 
 }  // namespace pleat::test
