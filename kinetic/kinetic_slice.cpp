@@ -326,7 +326,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   for (const SliceEdge& e : scratch.next.edges) {
     const VertexHandle a = scratch.vertex_of_new[e.from], b = scratch.vertex_of_new[e.to];
     if (!is_constrained_edge(cdt, a, b)) {
-      cdt.insert_constraint(a, b);
+      cgal::insert_constraint(cdt, a, b);
       constrained = true;
     }
   }

@@ -33,7 +33,7 @@ void SliceTriangulation::build(const Slice& slice) {
   const std::size_t vertices_before = m_cdt.number_of_vertices();
   for (const SliceEdge& e : slice.edges) {
     const cgal::VertexHandle a = m_vertex_of_slice_vertex[e.from], b = m_vertex_of_slice_vertex[e.to];
-    if (a != b) m_cdt.insert_constraint(a, b);
+    if (a != b) cgal::insert_constraint(m_cdt, a, b);
   }
   m_crossings = m_cdt.number_of_vertices() - vertices_before;
   if (m_cdt.dimension() < 2) return;
