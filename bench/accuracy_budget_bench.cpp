@@ -21,6 +21,12 @@
 //               is the 3D reconstruction's own error (the 2D information is then dense). On a sample of about
 //               --oracle-sample vertices (every k-th; default 1000), with the paper's engine on the same
 //               sample.
+//   quadrature  on the oracle's 2D cones, A integrated from them directly instead of through the 3D cone:
+//               per plane, the integral of max(0, n . d) over the cone's directions d on its great circle,
+//               summed over the planes and divided by the same sums over whole circles (a great-circle
+//               quadrature of the hemisphere, exact for a fully open or fully closed vertex). It needs no
+//               grouping, no polygon and no chords: where it is no better than the 3D cone, the error left
+//               is in the 2D information (too few great circles), not in the 3D reconstruction.
 // Writes DIR/accuracy_budget.md and .csv; progress on stderr. Plain executable.
 //
 // Flags: --out DIR (default bench/results), --sequences a,b (default: real ones, then
@@ -129,10 +135,39 @@ SkyValues sky_of(const std::array<std::vector<ConeMeasures>, 2>& m) {
   return a;
 }
 
+/// A from 2D cones without a 3D cone (the quadrature row above): sum over planes of the integral of
+/// max(0, n . d) over the cone's directions, over the same sum for whole circles (2 |n projected| each).
+/// `closed_planes` are planes through the vertex whose cone on this side is empty.
+double quadrature_sky(std::span<const PlanarCone> cones, std::span<const SlicingPlane* const> closed_planes,
+                      const glm::dvec3& n) {
+  double num = 0, den = 0;
+  std::vector<Wedge> united, clipped;
+  std::vector<std::pair<double, double>> intervals;
+  auto circle = [&](const SlicingPlane& plane) {
+    const glm::dvec2 m(glm::dot(plane.u, n), glm::dot(plane.w, n));
+    const double len = glm::length(m);
+    den += 2 * len;
+    return len;
+  };
+  for (const PlanarCone& c : cones) {
+    const double len = circle(*c.plane);
+    if (len < 1e-12) continue;
+    const double phi0 = std::atan2(glm::dot(c.plane->w, n), glm::dot(c.plane->u, n));
+    united.clear();
+    unite_wedges(c.wedges, intervals, united);
+    clipped.clear();
+    clip_to_half_turn(united, wrap_angle(phi0 - kTwoPi / 4), clipped);
+    for (const Wedge& w : clipped) num += len * (std::sin(w.end() - phi0) - std::sin(w.start - phi0));
+  }
+  for (const SlicingPlane* p : closed_planes) circle(*p);
+  return den > 0 ? std::clamp(num / den, 0.0, 1.0) : 0.0;
+}
+
 /// The vertex oracle: per vertex and orientation, the 2D cone from a plane through the vertex.
 /// Only vertices 0, stride, 2 stride, ... are computed (the others keep default measures).
 std::array<std::vector<ConeMeasures>, 2> vertex_plane_cones(const MeshTopology& topology, const Frame& frame,
-                                                            int orientations, Index stride) {
+                                                            int orientations, Index stride,
+                                                            SkyValues* quadrature = nullptr) {
   const SlicingPlan directions = make_diffuse_plan(topology, frame, {orientations, 0.0, 1});
   const std::size_t n = topology.num_vertices, o_count = directions.orientations.size();
   const double eps = kOracleOffset * average_edge_length(topology, frame);
@@ -141,6 +176,7 @@ std::array<std::vector<ConeMeasures>, 2> vertex_plane_cones(const MeshTopology& 
   for (std::size_t f = 0; f < all_faces.size(); ++f) all_faces[f] = Index(f);
   std::vector<SlicingPlane> planes(n * o_count);
   std::vector<std::array<std::vector<Wedge>, 2>> wedges(n * o_count);
+  std::vector<char> found(n * o_count, 0);
   struct Workspace {
     SlicerScratch slicer;
     Slice slice;
@@ -168,6 +204,7 @@ std::array<std::vector<ConeMeasures>, 2> vertex_plane_cones(const MeshTopology& 
       ws.triangulation.build(ws.slice);
       compute_slice_cones(ws.slice, ws.triangulation, ws.scratch, ws.cones);
       planes[key] = plane;
+      found[key] = 1;
       for (int side = 0; side < 2; ++side) {
         const auto c = ws.cones.cone(Index(best), static_cast<Side>(side));
         wedges[key][side].assign(c.begin(), c.end());
@@ -179,16 +216,20 @@ std::array<std::vector<ConeMeasures>, 2> vertex_plane_cones(const MeshTopology& 
   std::array<std::vector<ConeMeasures>, 2> out;
   out[0].resize(n);
   out[1].resize(n);
+  if (quadrature) quadrature->assign(2 * n, 0.0);
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t v) {
     if (v % stride != 0) return;
     for (int side = 0; side < 2; ++side) {
       std::vector<PlanarCone> cones;
+      std::vector<const SlicingPlane*> closed;
       for (std::size_t o = 0; o < o_count; ++o) {
         const std::size_t key = v * o_count + o;
         if (!wedges[key][side].empty()) cones.push_back({&planes[key], wedges[key][side]});
+        else if (found[key]) closed.push_back(&planes[key]);
       }
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * normals[v];
       out[side][v] = measure_cone(assemble_cone(cones, side_normal), side_normal);
+      if (quadrature) (*quadrature)[side * n + v] = quadrature_sky(cones, closed, side_normal);
     }
   });
   return out;
@@ -330,9 +371,12 @@ int run(int argc, char** argv) {
     }
     for (int o : oracle_orientations) {
       const Stopwatch watch;
-      const SkyValues a = sky_of(vertex_plane_cones(topology, frame, o, stride));
+      SkyValues q;
+      const SkyValues a = sky_of(vertex_plane_cones(topology, frame, o, stride, &q));
       add(compare(a, reference, sampled), format("oracle: a plane through the vertex, %d orientations", o),
           watch.wall_ms());
+      add(compare(q, reference, sampled),
+          format("oracle's 2D cones, A by great-circle quadrature (no 3D cone), %d orientations", o), NAN);
     }
   }
 
