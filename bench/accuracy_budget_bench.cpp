@@ -224,8 +224,10 @@ std::array<std::vector<ConeMeasures>, 2> vertex_plane_cones(const MeshTopology& 
       std::vector<const SlicingPlane*> closed;
       for (std::size_t o = 0; o < o_count; ++o) {
         const std::size_t key = v * o_count + o;
-        if (!wedges[key][side].empty()) cones.push_back({&planes[key], wedges[key][side]});
-        else if (found[key]) closed.push_back(&planes[key]);
+        if (!wedges[key][side].empty())
+          cones.push_back({&planes[key], wedges[key][side]});
+        else if (found[key])
+          closed.push_back(&planes[key]);
       }
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * normals[v];
       out[side][v] = measure_cone(assemble_cone(cones, side_normal), side_normal);

@@ -46,11 +46,12 @@ using FaceHandle = Cdt::Face_handle;
 
 inline Point2 to_point(const glm::dvec2& p) { return {p.x, p.y}; }
 
-/// Makes a -> b a constrained edge, as Cdt::insert_constraint(a, b) does. Where a -> b is already an edge of a
-/// 2D triangulation (nearly every chain edge: consecutive slice points are Delaunay neighbours), it is marked
-/// here directly, which is all CGAL does there too; CGAL's call first builds a std::stack (a std::deque: two
-/// heap allocations) per constraint, which was most of the triangulation's allocations (2.2 per slice vertex).
-/// Otherwise CGAL inserts it (split at vertices on it and where it crosses other constraints).
+/// Makes a -> b a constrained edge, as Cdt::insert_constraint(a, b) does. Where a -> b is already an edge of
+/// a 2D triangulation (nearly every chain edge: consecutive slice points are Delaunay neighbours), it is
+/// marked here directly, which is all CGAL does there too; CGAL's call first builds a std::stack (a
+/// std::deque: two heap allocations) per constraint, which was most of the triangulation's allocations (2.2
+/// per slice vertex). Otherwise CGAL inserts it (split at vertices on it and where it crosses other
+/// constraints).
 inline void insert_constraint(Cdt& cdt, VertexHandle a, VertexHandle b) {
   FaceHandle f;
   int i = 0;
