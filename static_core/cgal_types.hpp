@@ -46,6 +46,8 @@ using FaceHandle = Cdt::Face_handle;
 
 inline Point2 to_point(const glm::dvec2& p) { return {p.x, p.y}; }
 
+inline glm::dvec2 to_glm(const Point2& p) { return {p.x(), p.y()}; }
+
 /// Makes a -> b a constrained edge, as Cdt::insert_constraint(a, b) does. Where a -> b is already an edge of
 /// a 2D triangulation (nearly every chain edge: consecutive slice points are Delaunay neighbours), it is
 /// marked here directly, which is all CGAL does there too; CGAL's call first builds a std::stack (a
@@ -62,6 +64,5 @@ inline void insert_constraint(Cdt& cdt, VertexHandle a, VertexHandle b) {
   }
   cdt.insert_constraint(a, b);
 }
-inline glm::dvec2 to_glm(const Point2& p) { return {p.x(), p.y()}; }
 
 }  // namespace pleat::cgal
