@@ -143,16 +143,16 @@ double quadrature_sky(std::span<const PlanarCone> cones, std::span<const Slicing
   double num = 0, den = 0;
   std::vector<Wedge> united, clipped;
   std::vector<std::pair<double, double>> intervals;
-  auto circle = [&](const SlicingPlane& plane) {
+  auto circle = [&](const SlicingPlane& plane) {  // n projected into the plane's (u, w) frame
     const glm::dvec2 m(glm::dot(plane.u, n), glm::dot(plane.w, n));
-    const double len = glm::length(m);
-    den += 2 * len;
-    return len;
+    den += 2 * glm::length(m);
+    return m;
   };
   for (const PlanarCone& c : cones) {
-    const double len = circle(*c.plane);
+    const glm::dvec2 m = circle(*c.plane);
+    const double len = glm::length(m);
     if (len < 1e-12) continue;
-    const double phi0 = std::atan2(glm::dot(c.plane->w, n), glm::dot(c.plane->u, n));
+    const double phi0 = std::atan2(m.y, m.x);
     united.clear();
     unite_wedges(c.wedges, intervals, united);
     clipped.clear();

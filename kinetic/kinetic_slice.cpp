@@ -325,10 +325,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   bool constrained = false;
   for (const SliceEdge& e : scratch.next.edges) {
     const VertexHandle a = scratch.vertex_of_new[e.from], b = scratch.vertex_of_new[e.to];
-    if (!is_constrained_edge(cdt, a, b)) {
-      cgal::insert_constraint(cdt, a, b);
-      constrained = true;
-    }
+    if (cgal::insert_constraint(cdt, a, b)) constrained = true;
   }
   // Chains that cross or touch: a chain edge that crosses another is split at a new vertex; one through a
   // slice point is split there; and a new slice point lying on a kept chain edge to within rounding
