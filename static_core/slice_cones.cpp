@@ -44,31 +44,40 @@ int next_distinct(const Slice& slice, const SliceTriangulation& st, Index x, boo
   return -1;  // a closed chain collapsed onto one point
 }
 
+/// A chain edge at a CDT vertex x: the CDT vertex w at its other end (the first one, where collinear
+/// vertices split the constraint) and the face on its left, counter-clockwise of x->w; null when none.
+struct ChainEdge {
+  VertexHandle w;
+  FaceHandle left;
+};
+
 /// The constrained CDT edge leaving X towards Y (Y may lie beyond a vertex that splits the constraint).
-VertexHandle first_constraint_vertex(const Cdt& cdt, VertexHandle x, const Point2& y) {
+ChainEdge first_constraint_edge(const Cdt& cdt, VertexHandle x, const Point2& y) {
   auto ec = cdt.incident_edges(x), done = ec;
   do {
     if (!cdt.is_constrained(*ec)) continue;
     const FaceHandle f = ec->first;
     const int i = ec->second;
-    const VertexHandle w = f->vertex(cdt.ccw(i)) == x ? f->vertex(cdt.cw(i)) : f->vertex(cdt.ccw(i));
+    // f's vertices counter-clockwise are i, ccw(i), cw(i): f is left of ccw(i) -> cw(i).
+    const bool x_first = f->vertex(cdt.ccw(i)) == x;
+    const VertexHandle w = x_first ? f->vertex(cdt.cw(i)) : f->vertex(cdt.ccw(i));
     if (cdt.is_infinite(w)) continue;
-    if (w->point() == y) return w;
-    if (CGAL::orientation(x->point(), w->point(), y) == CGAL::COLLINEAR &&
-        CGAL::collinear_are_ordered_along_line(x->point(), w->point(), y))
-      return w;
+    if (w->point() == y || (CGAL::orientation(x->point(), w->point(), y) == CGAL::COLLINEAR &&
+                            CGAL::collinear_are_ordered_along_line(x->point(), w->point(), y)))
+      return {w, x_first ? f : f->neighbor(i)};
   } while (++ec != done);
-  return VertexHandle();
+  return {};
 }
 
 class RangeWalker {
  public:
   RangeWalker(const Cdt& cdt, const SliceConeScratch& scratch) : m_cdt(cdt), m_scratch(scratch) {}
 
-  /// Appends the visible wedges of the range counter-clockwise from edge (x, w) (or the whole circle
-  /// around x when w is null) up to the next chain edge.
-  void collect_ccw(VertexHandle x, VertexHandle w, std::vector<Wedge>& out) const {
-    FaceHandle f;
+  /// Appends the visible wedges of the range counter-clockwise from chain edge (x, w) (or the whole circle
+  /// around x when w is null) up to the next chain edge. `left` is the face counter-clockwise of x->w, or
+  /// null to look it up.
+  void collect_ccw(VertexHandle x, VertexHandle w, FaceHandle left, std::vector<Wedge>& out) const {
+    FaceHandle f = left;
     if (w == VertexHandle()) {
       // No chain edge at x: the whole circle. Start just after the exterior, if x is on the hull, so
       // that the exterior wedge is entered and left along its hull edges.
@@ -81,7 +90,7 @@ class RangeWalker {
           break;
         }
       } while (++fc != done);
-    } else {
+    } else if (f == FaceHandle()) {
       FaceHandle fr;
       int i = 0;
       const bool found = m_cdt.is_edge(x, w, fr, i);
@@ -310,23 +319,21 @@ void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, Slice
     }
     const VertexHandle xv = st.vertex_of(x);
     const int next = next_distinct(slice, st, x, true), prev = next_distinct(slice, st, x, false);
-    const VertexHandle w_out =
-        next >= 0 ? first_constraint_vertex(cdt, xv, cgal::to_point(slice.vertices[next].point))
-                  : VertexHandle();
-    const VertexHandle w_in =
-        prev >= 0 ? first_constraint_vertex(cdt, xv, cgal::to_point(slice.vertices[prev].point))
-                  : VertexHandle();
+    const ChainEdge out_edge =
+        next >= 0 ? first_constraint_edge(cdt, xv, cgal::to_point(slice.vertices[next].point)) : ChainEdge{};
+    const ChainEdge in_edge =
+        prev >= 0 ? first_constraint_edge(cdt, xv, cgal::to_point(slice.vertices[prev].point)) : ChainEdge{};
     for (Side side : kBothSides) {
       // Front: counter-clockwise of the outgoing edge (or clockwise of the incoming one); back: mirrored.
-      const VertexHandle ccw_of = side == Side::Front ? w_out : w_in;
-      const VertexHandle cw_of = side == Side::Front ? w_in : w_out;
+      const ChainEdge& ccw_of = side == Side::Front ? out_edge : in_edge;
+      const ChainEdge& cw_of = side == Side::Front ? in_edge : out_edge;
       s.range_wedges.clear();
-      if (ccw_of != VertexHandle())
-        walker.collect_ccw(xv, ccw_of, s.range_wedges);
-      else if (cw_of != VertexHandle())
-        walker.collect_ccw(xv, walker.clockwise_boundary(xv, cw_of), s.range_wedges);
+      if (ccw_of.w != VertexHandle())
+        walker.collect_ccw(xv, ccw_of.w, ccw_of.left, s.range_wedges);
+      else if (cw_of.w != VertexHandle())
+        walker.collect_ccw(xv, walker.clockwise_boundary(xv, cw_of.w), FaceHandle(), s.range_wedges);
       else
-        walker.collect_ccw(xv, VertexHandle(), s.range_wedges);
+        walker.collect_ccw(xv, VertexHandle(), FaceHandle(), s.range_wedges);
       unite_wedges(s.range_wedges, s.intervals, out.wedges);
       out.offsets.push_back(static_cast<std::uint32_t>(out.wedges.size()));
     }
