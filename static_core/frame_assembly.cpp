@@ -48,10 +48,19 @@ void compute_plane_cones(Index num_vertices, ConeStorage storage, const Frame& f
   compute_slice_cones(out.slice, triangulation, s.cones, out.cones, s.needed);
 }
 
+namespace {
+/// Whether two planes belong to one family of parallel planes (the same normal and in-plane frame).
+bool parallel(const SlicingPlane& a, const SlicingPlane& b) {
+  return a.normal == b.normal && a.u == b.u && a.w == b.w;
+}
+}  // namespace
+
 struct FrameAssembler::Impl {
+  /// A stored cone in the CSR: its plane, and its offer's index in the plane's `stored` while the CSR is
+  /// built, then (from the end of step 2 on) its slice vertex, so that the assembly reads no offer again.
   struct Ref {
     std::uint32_t plane;
-    std::uint32_t stored;
+    std::uint32_t item;
   };
   struct Blend {
     std::size_t cone, begin, count;  ///< ws.cones[cone] has ws.blended[begin, begin + count)
@@ -78,6 +87,7 @@ struct FrameAssembler::Impl {
   std::vector<std::uint32_t> first, cursor;
   std::vector<Ref> refs;
   std::vector<std::int32_t> source;
+  std::vector<std::int32_t> fill_source;  // one orientation's, per vertex (step 3)
   std::vector<double> dist;
   std::vector<double> edge_length;  // per edge (MeshConnectivity::endpoints)
   std::vector<std::pair<double, Index>> heap;
@@ -105,10 +115,12 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
   auto stored = [&](std::uint32_t p) -> const std::vector<StoredCone>& { return planes[p]->stored; };
 
   // 2. Per vertex, side and orientation, the stored cones: one CSR array over the key
-  //    (side * orientations + o) * n + v, in plane order.
+  //    (v * 2 + side) * orientations + o, in plane order (a vertex's cones lie together for step 4).
   const std::size_t orientations = plan.orientations.size();
   const std::size_t keys = 2 * orientations * n;
-  auto key_of = [&](int side, std::size_t o, Index v) { return (side * orientations + o) * n + v; };
+  auto key_of = [&](int side, std::size_t o, Index v) {
+    return (std::size_t(v) * 2 + side) * orientations + o;
+  };
   first.assign(keys + 1, 0);
   for (std::uint32_t p = 0; p < planes.size(); ++p)
     for (const StoredCone& c : stored(p)) ++first[key_of(c.side, plan.planes[p].orientation, c.vertex) + 1];
@@ -120,26 +132,34 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
       const StoredCone& c = stored(p)[s];
       refs[cursor[key_of(c.side, plan.planes[p].orientation, c.vertex)]++] = {p, s};
     }
+  auto offer = [&](const Ref& r) -> const StoredCone& { return stored(r.plane)[r.item]; };
   if (plan.storage != ConeStorage::NearerEndpoint) {
     // Keep only the nearest offer of each key (ties: the first, i.e. the lower plane), or under
-    // InterpolatedOnFan the nearest from a plane below the vertex and then the nearest from a plane above it:
-    // compact the CSR in place.
+    // InterpolatedOnFan the nearest from a plane below the vertex and then the nearest from a plane above it
+    // (only the nearer of the two where their planes are not parallel: they are not blended, see
+    // blend_at_vertex): compact the CSR in place.
     const bool both_sides_of_vertex = plan.storage == ConeStorage::InterpolatedOnFan;
-    auto of = [&](std::uint32_t i) -> const StoredCone& { return stored(refs[i].plane)[refs[i].stored]; };
     std::uint32_t out = 0;
     for (std::size_t k = 0; k < keys; ++k) {
       const std::uint32_t begin = first[k], end = first[k + 1];
       first[k] = out;
       std::int64_t best[2] = {-1, -1};  // [0]: from a plane below the vertex, [1]: above
       for (std::uint32_t i = begin; i < end; ++i) {
-        std::int64_t& b = best[both_sides_of_vertex && !of(i).vertex_above ? 1 : 0];
-        if (b < 0 || of(i).distance < of(std::uint32_t(b)).distance) b = i;
+        std::int64_t& b = best[both_sides_of_vertex && !offer(refs[i]).vertex_above ? 1 : 0];
+        if (b < 0 || offer(refs[i]).distance < offer(refs[b]).distance) b = i;
+      }
+      if (best[0] >= 0 && best[1] >= 0 &&
+          !parallel(plan.planes[refs[best[0]].plane], plan.planes[refs[best[1]].plane])) {
+        const bool upper = offer(refs[best[1]]).distance < offer(refs[best[0]]).distance;
+        best[upper ? 0 : 1] = -1;
       }
       for (std::int64_t b : best)
-        if (b >= 0) refs[out++] = refs[b];
+        if (b >= 0) refs[out++] = {refs[b].plane, offer(refs[b]).slice_vertex};
     }
     first[keys] = out;
     refs.resize(out);
+  } else {
+    for (Ref& r : refs) r.item = offer(r).slice_vertex;
   }
 
   // 3. Fill: a vertex with no cone in an orientation borrows those of its nearest vertex (along mesh
@@ -153,8 +173,9 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
   edge_length.resize(endpoints.size());
   for (std::size_t e = 0; e < endpoints.size(); ++e)
     edge_length[e] = glm::distance(frame.positions[endpoints[e][1]], frame.positions[endpoints[e][0]]);
+  fill_source.resize(n);
   for (std::size_t o = 0; o < orientations; ++o) {
-    std::int32_t* src = source.data() + key_of(0, o, 0);  // (source may be empty: no vertex)
+    std::int32_t* src = fill_source.data();  // (may be empty: no vertex)
     heap.clear();
     for (Index v = 0; v < n; ++v) {
       const std::size_t k = key_of(0, o, v);
@@ -166,6 +187,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         heap.emplace_back(0.0, v);
       } else {
         dist[v] = INFINITY;
+        src[v] = -1;
       }
     }
     if (heap.empty()) continue;
@@ -188,7 +210,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         }
       }
     }
-    std::copy(src, src + n, source.data() + key_of(1, o, 0));
+    for (Index v = 0; v < n; ++v) source[key_of(0, o, v)] = source[key_of(1, o, v)] = src[v];
     std::size_t filled = 0;
     for (Index v = 0; v < n; ++v) filled += src[v] >= 0 && src[v] != static_cast<std::int32_t>(v);
     stats.filled_fraction[o] = n ? double(filled) / double(n) : 0.0;
@@ -200,21 +222,15 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     result.measures[side].assign(n, {});
   }
   auto cone_of = [&](const Ref& r, int side) {
-    return planes[r.plane]->cones.cone(stored(r.plane)[r.stored].slice_vertex, static_cast<Side>(side));
+    return planes[r.plane]->cones.cone(r.item, static_cast<Side>(side));
   };
-  // Under InterpolatedOnFan, a key with offers from a plane below the vertex (lo) and one above it (hi): the
-  // blend of their cones at the vertex's height, or, where they do not match, the nearer plane's cone.
-  // Appends to ws.cones (a blended cone's wedges are placed once ws.blended stops growing). Planes of a
-  // pencil (not parallel) are not blended: the nearer cut's cone is taken, as under NearestOnFan.
+  // Under InterpolatedOnFan, a key with offers from a plane below the vertex (lo) and one above it (hi), of
+  // parallel planes (step 2 kept only the nearer of a pencil's two): the blend of their cones at the vertex's
+  // height, or, where they do not match, the nearer plane's cone. Appends to ws.cones (a blended cone's
+  // wedges are placed once ws.blended stops growing).
   auto blend_at_vertex = [&](const glm::dvec3& position, const Ref& lo, const Ref& hi, int side,
                              Workspace& ws) {
     const SlicingPlane &below = plan.planes[lo.plane], &above = plan.planes[hi.plane];
-    if (below.normal != above.normal || below.u != above.u || below.w != above.w) {
-      const Ref& nearer =
-          stored(hi.plane)[hi.stored].distance < stored(lo.plane)[lo.stored].distance ? hi : lo;
-      ws.cones.push_back({&plan.planes[nearer.plane], cone_of(nearer, side)});
-      return;
-    }
     const double t = std::clamp(
         (glm::dot(below.normal, position) - below.offset) / (above.offset - below.offset), 0.0, 1.0);
     const std::size_t begin = ws.blended.size();

@@ -228,6 +228,30 @@ RC_GTEST_PROP(ConeStorage, InterpolatedOnFanAssemblesTheBlendOfTheCutsBelowAndAb
   RC_ASSERT(blended > 0u);
 }
 
+RC_GTEST_PROP(ConeStorage, InterpolatedOnFanTakesTheNearerCutWherePlanesAreNotParallel, ()) {
+  // A point light's planes form a pencil: no two cuts of an orientation are parallel, so none is blended and
+  // each key keeps the nearer of its cuts below and above the vertex, which is the nearest cut.
+  const ClothGenerator cloth(*rc::gen::element(ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag),
+                             {*rc::gen::inRange(6, 12), 12, 24.0, 0});
+  const Frame frame = cloth.frame(*rc::gen::inRange<std::size_t>(0, 12));
+  const glm::dvec3 light(*rc::gen::inRange(-3, 4), *rc::gen::inRange(-3, 4), *rc::gen::inRange(3, 6));
+  SlicingPlan plan = make_point_light_plan(cloth.topology(), frame, light);
+  plan.storage = ConeStorage::InterpolatedOnFan;
+  const FrameVisibility interpolated = compute_visibility(cloth.topology(), frame, plan, {false});
+  plan.storage = ConeStorage::NearestOnFan;
+  const FrameVisibility nearest = compute_visibility(cloth.topology(), frame, plan, {false});
+  std::size_t wedges = 0;
+  for (int side = 0; side < 2; ++side)
+    for (std::size_t v = 0; v < interpolated.cones[side].size(); ++v) {
+      const VisibilityCone &a = interpolated.cones[side][v], &b = nearest.cones[side][v];
+      RC_ASSERT(a.pieces.size() == b.pieces.size());
+      for (std::size_t i = 0; i < a.pieces.size(); ++i) RC_ASSERT(a.pieces[i] == b.pieces[i]);
+      wedges += a.pieces.size();
+      assert_same_measures(interpolated.measures[side][v], nearest.measures[side][v]);
+    }
+  RC_ASSERT(wedges > 0u);
+}
+
 TEST(ConeStorage, NearestOnFanLeavesFewerVerticesToBorrow) {
   // The point of the rule: a vertex gets a cone in an orientation whenever a plane cuts one of its own edges.
   const ClothGenerator cloth(ClothKind::Curtain, {30, 12, 24.0, 0});
