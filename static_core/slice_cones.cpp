@@ -159,6 +159,26 @@ bool is_needed(VertexHandle v, const SliceConeScratch& s) {
   return x >= 0 && s.vertex_needed[x];
 }
 
+/// The funnel trees of a region without holes of `t`, window by window: `visible(i, x, pa, pb)` for each
+/// corner corners[i] (at x) whose shortest paths to the window's ends leave it towards pa and pb turning
+/// left, the window being seen from x between those two rays.
+template <class Visible>
+void for_each_visible_window(const SliceTriangulation& t, std::span<const SliceWindow> windows,
+                             std::span<const int> corners, std::vector<int>& parent_a,
+                             std::vector<int>& parent_b, FunnelScratch& funnel, Visible&& visible) {
+  for (const SliceWindow& window : windows) {
+    grow_shortest_path_tree(t, window, false, parent_a, funnel);
+    grow_shortest_path_tree(t, window, true, parent_b, funnel);
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+      const int c = corners[i];
+      const Point2& x = t.corner_vertex(c)->point();
+      const Point2& pa = t.corner_vertex(parent_a[c])->point();
+      const Point2& pb = t.corner_vertex(parent_b[c])->point();
+      if (CGAL::orientation(x, pa, pb) == CGAL::LEFT_TURN) visible(i, x, pa, pb);
+    }
+  }
+}
+
 /// Funnel-tree cones of every corner of a region without holes: for each window, the wedge between the
 /// first segments of the shortest paths to its two endpoints, when they turn the right way.
 void cones_of_simple_region(const SliceTriangulation& st, const SliceRegion& region, int region_index,
@@ -172,17 +192,11 @@ void cones_of_simple_region(const SliceTriangulation& st, const SliceRegion& reg
       if (is_needed(f->vertex(k), s)) s.region_corners.push_back(c);
     }
   if (s.region_corners.empty()) return;
-  for (const SliceWindow& window : region.windows) {
-    grow_shortest_path_tree(st, window, false, s.parent_a, s.funnel);
-    grow_shortest_path_tree(st, window, true, s.parent_b, s.funnel);
-    for (int c : s.region_corners) {
-      const Point2& x = st.corner_vertex(c)->point();
-      const Point2& pa = st.corner_vertex(s.parent_a[c])->point();
-      const Point2& pb = st.corner_vertex(s.parent_b[c])->point();
-      if (CGAL::orientation(x, pa, pb) == CGAL::LEFT_TURN)
-        s.corner_wedges[c].push_back(thin_wedge_between(direction(x, pa), direction(x, pb)));
-    }
-  }
+  for_each_visible_window(st, region.windows, s.region_corners, s.parent_a, s.parent_b, s.funnel,
+                          [&](std::size_t i, const Point2& x, const Point2& pa, const Point2& pb) {
+                            s.corner_wedges[s.region_corners[i]].push_back(
+                                thin_wedge_between(direction(x, pa), direction(x, pb)));
+                          });
 }
 
 /// Resets the per-corner scratch for a triangulation with `corners` corners.
@@ -264,9 +278,6 @@ bool cones_by_outer_polygon(const SliceTriangulation& st, const SliceRegion& reg
   const Cdt& cdt = st.cdt();
   OuterPolygonScratch& o = s.outer;
   auto id = [](VertexHandle v) { return v->info().slice_vertex; };
-  for (const FaceHandle f : region.faces)
-    for (int k = 0; k < 3; ++k)
-      if (id(f->vertex(k)) < 0) return false;  // a crossing point of chains: no slice vertex to key on
   const std::size_t n = s.vertex_needed.size();
   if (o.root.size() < n) {
     o.root.resize(n, -1);
@@ -282,6 +293,7 @@ bool cones_by_outer_polygon(const SliceTriangulation& st, const SliceRegion& reg
   for (const FaceHandle f : region.faces)
     for (int k = 0; k < 3; ++k) {
       const int v = id(f->vertex(k));
+      if (v < 0) return false;  // a crossing point of chains: no slice vertex to key on
       if (o.root[v] < 0) {
         o.root[v] = v;
         o.touched.push_back(v);
@@ -317,19 +329,19 @@ bool cones_by_outer_polygon(const SliceTriangulation& st, const SliceRegion& reg
   polygon.build(o.outer);
   if (polygon.dimension() < 2 || polygon.crossings() > 0) return false;
   // P: the region of the new triangulation on R's first window; it must have R's windows and no holes.
-  const SliceRegion* p_region = nullptr;
-  SliceRegion candidate;
   const VertexHandle wa = st.corner_vertex(first_window.corner_a),
                      wb = st.corner_vertex(first_window.corner_b);
-  for (std::size_t r = 0; r < polygon.num_regions() && p_region == nullptr; ++r) {
-    candidate = polygon.region(r);
-    for (const SliceWindow& w : candidate.windows)
-      if (o.vertex_of_sub[polygon.corner_vertex(w.corner_a)->info().slice_vertex] == wa &&
-          o.vertex_of_sub[polygon.corner_vertex(w.corner_b)->info().slice_vertex] == wb)
-        p_region = &candidate;
-  }
-  if (p_region == nullptr || p_region->has_holes || p_region->windows.size() != region.windows.size())
-    return false;
+  auto has_first_window = [&](const SliceRegion& candidate) {
+    return std::any_of(candidate.windows.begin(), candidate.windows.end(), [&](const SliceWindow& w) {
+      return o.vertex_of_sub[id(polygon.corner_vertex(w.corner_a))] == wa &&
+             o.vertex_of_sub[id(polygon.corner_vertex(w.corner_b))] == wb;
+    });
+  };
+  std::size_t r = 0;
+  while (r < polygon.num_regions() && !has_first_window(polygon.region(r))) ++r;
+  if (r == polygon.num_regions()) return false;
+  const SliceRegion p_region = polygon.region(r);
+  if (p_region.has_holes || p_region.windows.size() != region.windows.size()) return false;
 
   // The holes (the other boundary components: island chains, loops, isolated points) and their hulls.
   o.members.clear();
@@ -359,14 +371,15 @@ bool cones_by_outer_polygon(const SliceTriangulation& st, const SliceRegion& reg
     for (int k = 0; k < 3; ++k)
       if (is_separator(cdt, f, cdt.cw(k)) && is_needed(f->vertex(k), s))
         o.keys.push_back({id(f->vertex(k)), id(f->vertex(cdt.ccw(k))), f->info().corner[k]});
-  for (const FaceHandle f : p_region->faces)
+  for (const FaceHandle f : p_region.faces)
     for (int k = 0; k < 3; ++k)
       if (is_separator(polygon.cdt(), f, polygon.cdt().cw(k)))
         o.p_keys.push_back({id(o.vertex_of_sub[id(f->vertex(k))]),
                             id(o.vertex_of_sub[id(f->vertex(polygon.cdt().ccw(k)))]), f->info().corner[k]});
   std::sort(o.keys.begin(), o.keys.end());
   std::sort(o.p_keys.begin(), o.p_keys.end());
-  o.pairs.clear();
+  o.r_corners.clear();
+  o.p_corners.clear();
   for (std::size_t i = 0, j = 0; i < o.keys.size() && j < o.p_keys.size();) {
     const auto& [x, w, c] = o.keys[i];
     const auto& [px, pw, pc] = o.p_keys[j];
@@ -375,7 +388,8 @@ bool cones_by_outer_polygon(const SliceTriangulation& st, const SliceRegion& reg
     } else if (std::tie(px, pw) < std::tie(x, w)) {
       ++j;
     } else {
-      o.pairs.emplace_back(c, pc);
+      o.r_corners.push_back(c);
+      o.p_corners.push_back(pc);
       o.ranges[c].clear();
       o.by_expansion[c] = 0;
       ++i;
@@ -386,19 +400,13 @@ bool cones_by_outer_polygon(const SliceTriangulation& st, const SliceRegion& reg
   // Funnel trees in P: through each window, the range between the first segments of the paths to its ends.
   o.parent_a.assign(polygon.num_corners(), -1);
   o.parent_b.assign(polygon.num_corners(), -1);
-  for (const SliceWindow& w : p_region->windows) {
-    grow_shortest_path_tree(polygon, w, false, o.parent_a, s.funnel);
-    grow_shortest_path_tree(polygon, w, true, o.parent_b, s.funnel);
-    for (const auto& [c, pc] : o.pairs) {
-      const Point2& x = polygon.corner_vertex(pc)->point();
-      const Point2& pa = polygon.corner_vertex(o.parent_a[pc])->point();
-      const Point2& pb = polygon.corner_vertex(o.parent_b[pc])->point();
-      if (CGAL::orientation(x, pa, pb) == CGAL::LEFT_TURN) o.ranges[c].emplace_back(pa, pb);
-    }
-  }
+  for_each_visible_window(polygon, p_region.windows, o.p_corners, o.parent_a, o.parent_b, s.funnel,
+                          [&](std::size_t i, const Point2&, const Point2& pa, const Point2& pb) {
+                            o.ranges[o.r_corners[i]].emplace_back(pa, pb);
+                          });
 
   // Minus each hole's shadow: the range between its hull's tangents from x (x strictly outside the hull).
-  for (const auto& [c, pc] : o.pairs) {
+  for (const int c : o.r_corners) {
     const Point2& x = st.corner_vertex(c)->point();
     auto& ranges = o.ranges[c];
     for (std::size_t h = 0; h < holes && !ranges.empty(); ++h) {

@@ -71,7 +71,7 @@ struct OuterPolygonScratch {
   std::vector<char> by_expansion;  ///< per corner: left to the triangular expansion
   /// (vertex, the far end of the separator that bounds a corner clockwise, the corner), in R and in P
   std::vector<std::array<int, 3>> keys, p_keys;
-  std::vector<std::pair<int, int>> pairs;    ///< (corner, the outer polygon's corner standing for it)
+  std::vector<int> r_corners, p_corners;     ///< corners of R, and the corners of P standing for them
   std::vector<std::pair<int, int>> members;  ///< (component root, vertex) of the holes
   std::vector<cgal::Point2> points;
 };
