@@ -58,24 +58,25 @@ struct SpatialWedge {
   const glm::dvec3& middle() const { return sample[2]; }
   glm::dvec3 lift(const glm::dvec2& d) const { return d.x * plane->u + d.y * plane->w; }
   /// Whether direction d (any length) projects into the arc, ends included within kContainTolerance (as a
-  /// sine). A direction along the plane's normal projects onto the apex: not contained.
+  /// sine). A direction along the plane's normal projects onto the apex: not contained. (Squared lengths:
+  /// no square root.)
   bool contains(const glm::dvec3& d) const {
     const glm::dvec2 p(glm::dot(d, plane->u), glm::dot(d, plane->w));
-    const double len = std::sqrt(p.x * p.x + p.y * p.y);
-    if (!(len > 1e-12 * glm::length(d))) return false;
-    const double tolerance = kContainTolerance * len;
+    const double len2 = p.x * p.x + p.y * p.y;
+    if (!(len2 > 1e-24 * glm::dot(d, d))) return false;
+    const double tolerance2 = kContainTolerance * kContainTolerance * len2;
+    // Whether a signed sine times len is at least -kContainTolerance * len.
+    auto within = [&](double sine) { return sine >= 0 || sine * sine <= tolerance2; };
     const double from_start = start2.x * p.y - start2.y * p.x;  // > 0: p counter-clockwise of the start
     const double to_end = p.x * end2.y - p.y * end2.x;          // > 0: p clockwise of the end
-    if (!reflex) return from_start >= -tolerance && to_end >= -tolerance;
-    return !(from_start < -tolerance && to_end < -tolerance);  // outside only strictly within the gap
+    if (!reflex) return within(from_start) && within(to_end);
+    return within(from_start) || within(to_end);  // outside only strictly within the gap
   }
 };
 
-/// Whether a unit direction lies within kLinkTolerance of a wedge's arc, counting as 0 any direction whose
-/// projection onto the wedge's plane lies within the arc (see same_region).
-bool near_arc(const glm::dvec3& d, const SpatialWedge& w) {
-  return w.contains(d) || glm::dot(d, w.start_direction()) > kCosLink ||
-         glm::dot(d, w.end_direction()) > kCosLink;
+/// Whether a unit direction lies within kLinkTolerance of one of a wedge's ends.
+bool near_ends(const glm::dvec3& d, const SpatialWedge& w) {
+  return glm::dot(d, w.start_direction()) > kCosLink || glm::dot(d, w.end_direction()) > kCosLink;
 }
 
 /// True when two wedges belong to one visible region: their arcs cross (the paper's test: the cones share
@@ -85,14 +86,19 @@ bool near_arc(const glm::dvec3& d, const SpatialWedge& w) {
 /// opening rarely cross exactly. (Measured: linking only arcs within kLinkTolerance on the sphere, i.e.
 /// without the "at any height" clause, doubles the 95th-percentile error on the roll.)
 bool same_region(const SpatialWedge& a, const SpatialWedge& b) {
+  // The disjunction above, its cheapest terms (dot products with the ends) first.
+  for (const glm::dvec3& d : a.sample)
+    if (near_ends(d, b)) return true;
+  for (const glm::dvec3& d : b.sample)
+    if (near_ends(d, a)) return true;
   const glm::dvec3 line = glm::cross(a.plane->normal, b.plane->normal);
   if (glm::length(line) > 1e-12) {
     if ((a.contains(line) && b.contains(line)) || (a.contains(-line) && b.contains(-line))) return true;
   }
   for (const glm::dvec3& d : a.sample)
-    if (near_arc(d, b)) return true;
+    if (b.contains(d)) return true;
   for (const glm::dvec3& d : b.sample)
-    if (near_arc(d, a)) return true;
+    if (a.contains(d)) return true;
   return false;
 }
 

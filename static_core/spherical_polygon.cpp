@@ -344,7 +344,8 @@ double solid_angle(const SphericalPolygon& poly, const glm::dvec3& irradiance) {
   const double len = glm::length(irradiance);
   const glm::dvec3 apex = len > 0.0 ? irradiance / len : poly[0];
   // Sum of the fan's 2 atan2(num_i, den_i), modulo 4 pi, with one atan2: the argument of the product of the
-  // complex numbers den_i + i num_i is the sum of the atan2s modulo 2 pi (renormalised at each step).
+  // complex numbers den_i + i num_i is the sum of the atan2s modulo 2 pi. Each factor has modulus at most 4,
+  // so the product is rescaled by a power of two (exact, no rounding) only when it leaves [2^-256, 2^256].
   double re = 1.0, im = 0.0;
   const std::size_t n = poly.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -354,10 +355,16 @@ double solid_angle(const SphericalPolygon& poly, const glm::dvec3& irradiance) {
     const double den = 1.0 + glm::dot(apex, b) + glm::dot(b, c) + glm::dot(c, apex);
     if (num == 0.0 && den <= 0.0) continue;  // degenerate (an antipodal pair): measure zero
     const double r = re * den - im * num, m = re * num + im * den;
-    const double scale = std::sqrt(r * r + m * m);  // |r + i m| <= 4: no overflow; underflow only at 1e-154
-    if (scale == 0.0) continue;
-    re = r / scale;
-    im = m / scale;
+    if (r == 0.0 && m == 0.0) continue;  // a zero factor: no argument
+    re = r;
+    im = m;
+    const double size = std::max(std::abs(re), std::abs(im));
+    if (size > 0x1p256 || size < 0x1p-256) {
+      int exponent = 0;
+      std::frexp(size, &exponent);
+      re = std::ldexp(re, -exponent);
+      im = std::ldexp(im, -exponent);
+    }
   }
   double omega = 2.0 * std::atan2(im, re);  // in (-2 pi, 2 pi]
   if (omega < 0.0) omega += kFourPi;
