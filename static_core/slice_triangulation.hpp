@@ -94,6 +94,7 @@ class SliceTriangulation {
   };
 
   cgal::Cdt m_cdt;
+  cgal::Delaunay m_delaunay;  ///< build's point insertion (then swapped into m_cdt); empty between builds
   std::vector<cgal::VertexHandle> m_vertex_of_slice_vertex;
   // Flat, region by region (a kinetic slice keeps these between frames: no heap object per region).
   std::vector<RegionStart> m_regions;
