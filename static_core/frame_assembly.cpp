@@ -48,6 +48,53 @@ void compute_plane_cones(Index num_vertices, ConeStorage storage, const Frame& f
   compute_slice_cones(out.slice, triangulation, s.cones, out.cones, s.needed);
 }
 
+void nearest_sources(const MeshConnectivity& connectivity, std::span<const double> edge_length,
+                     std::span<const char> own, NearestSourceScratch& scratch, std::span<std::int32_t> src) {
+  const Index n = connectivity.num_vertices();
+  PLEAT_ASSERT(own.size() == n && src.size() == n && edge_length.size() == connectivity.num_edges(),
+               "nearest_sources: sizes do not match the mesh");
+  std::vector<double>& dist = scratch.dist;
+  auto& heap = scratch.heap;
+  dist.resize(n);
+  heap.clear();
+  for (Index v = 0; v < n; ++v) {
+    dist[v] = own[v] ? 0.0 : INFINITY;
+    src[v] = own[v] ? static_cast<std::int32_t>(v) : -1;
+  }
+  // Only sources next to a vertex without a cone (or on an edge of length 0) start the search: from any
+  // other source, every step reaches a source at distance 0 by a positive length and changes nothing, so
+  // the result is that of starting from every source.
+  for (Index v = 0; v < n; ++v) {
+    if (!own[v]) continue;
+    const auto around = connectivity.neighbours(v);
+    const auto along = connectivity.incident_edges(v);
+    for (std::size_t i = 0; i < around.size(); ++i)
+      if (!own[around[i]] || !(edge_length[along[i]] > 0)) {
+        heap.emplace_back(0.0, v);
+        break;
+      }
+  }
+  std::make_heap(heap.begin(), heap.end(), std::greater<>());
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+    const auto [d, v] = heap.back();
+    heap.pop_back();
+    if (d > dist[v]) continue;
+    const auto around = connectivity.neighbours(v);
+    const auto along = connectivity.incident_edges(v);
+    for (std::size_t i = 0; i < around.size(); ++i) {
+      const Index u = around[i];
+      const double du = d + edge_length[along[i]];
+      if (du < dist[u] || (du == dist[u] && src[v] < src[u])) {
+        dist[u] = du;
+        src[u] = src[v];
+        heap.emplace_back(du, u);
+        std::push_heap(heap.begin(), heap.end(), std::greater<>());
+      }
+    }
+  }
+}
+
 namespace {
 /// Whether two planes belong to one family of parallel planes (the same normal and in-plane frame).
 bool parallel(const SlicingPlane& a, const SlicingPlane& b) {
@@ -88,9 +135,9 @@ struct FrameAssembler::Impl {
   std::vector<Ref> refs;
   std::vector<std::int32_t> source;
   std::vector<std::int32_t> fill_source;  // one orientation's, per vertex (step 3)
-  std::vector<double> dist;
-  std::vector<double> edge_length;  // per edge (MeshConnectivity::endpoints)
-  std::vector<std::pair<double, Index>> heap;
+  std::vector<char> own;                  // one orientation's: the vertex has a cone of its own
+  std::vector<double> edge_length;        // per edge (MeshConnectivity::endpoints)
+  NearestSourceScratch fill;
 };
 
 void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCones* const> planes,
@@ -168,48 +215,21 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
   //    sides at once, so the sides have the same sources: the fill runs once per orientation.
   stats.filled_fraction.assign(orientations, 0.0);
   source.assign(keys, -1);
-  dist.resize(n);
   const auto& endpoints = connectivity.endpoints();
   edge_length.resize(endpoints.size());
   for (std::size_t e = 0; e < endpoints.size(); ++e)
     edge_length[e] = glm::distance(frame.positions[endpoints[e][1]], frame.positions[endpoints[e][0]]);
   fill_source.resize(n);
+  own.resize(n);
   for (std::size_t o = 0; o < orientations; ++o) {
-    std::int32_t* src = fill_source.data();  // (may be empty: no vertex)
-    heap.clear();
     for (Index v = 0; v < n; ++v) {
       const std::size_t k = key_of(0, o, v);
       PLEAT_ASSERT((first[k + 1] > first[k]) == (first[key_of(1, o, v) + 1] > first[key_of(1, o, v)]),
                    "a cone stored for one side only");
-      if (first[k + 1] > first[k]) {
-        dist[v] = 0;
-        src[v] = static_cast<std::int32_t>(v);
-        heap.emplace_back(0.0, v);
-      } else {
-        dist[v] = INFINITY;
-        src[v] = -1;
-      }
+      own[v] = first[k + 1] > first[k];
     }
-    if (heap.empty()) continue;
-    std::make_heap(heap.begin(), heap.end(), std::greater<>());
-    while (!heap.empty()) {
-      std::pop_heap(heap.begin(), heap.end(), std::greater<>());
-      const auto [d, v] = heap.back();
-      heap.pop_back();
-      if (d > dist[v]) continue;
-      const auto around = connectivity.neighbours(v);
-      const auto along = connectivity.incident_edges(v);
-      for (std::size_t i = 0; i < around.size(); ++i) {
-        const Index u = around[i];
-        const double du = d + edge_length[along[i]];
-        if (du < dist[u] || (du == dist[u] && src[v] < src[u])) {
-          dist[u] = du;
-          src[u] = src[v];
-          heap.emplace_back(du, u);
-          std::push_heap(heap.begin(), heap.end(), std::greater<>());
-        }
-      }
-    }
+    nearest_sources(connectivity, edge_length, own, fill, fill_source);
+    const std::int32_t* src = fill_source.data();  // (may be empty: no vertex)
     for (Index v = 0; v < n; ++v) source[key_of(0, o, v)] = source[key_of(1, o, v)] = src[v];
     std::size_t filled = 0;
     for (Index v = 0; v < n; ++v) filled += src[v] >= 0 && src[v] != static_cast<std::int32_t>(v);

@@ -65,6 +65,19 @@ struct PlaneConeScratch {
 void compute_plane_cones(Index num_vertices, ConeStorage storage, const Frame& frame,
                          const SliceTriangulation& triangulation, PlaneConeScratch& scratch, PlaneCones& out);
 
+/// Per-thread memory of nearest_sources.
+struct NearestSourceScratch {
+  std::vector<double> dist;
+  std::vector<std::pair<double, Index>> heap;
+};
+
+/// The fill of one orientation: for every vertex, the vertex with a cone of its own (`own`) nearest to it
+/// along mesh edges of the given lengths (ties: the lower index; paths of equal length by the sum Dijkstra
+/// forms), itself when it has one, -1 when none is reachable. Multi-source Dijkstra, started only from the
+/// sources next to a vertex without one. O(m log m) for the m edges of the vertices that borrow.
+void nearest_sources(const MeshConnectivity& connectivity, std::span<const double> edge_length,
+                     std::span<const char> own, NearestSourceScratch& scratch, std::span<std::int32_t> src);
+
 /// Steps after the planes: CSR of stored cones, Dijkstra fill, 3D assembly and measures. Keeps its memory
 /// between frames. `topology` and `plan` must outlive it.
 class FrameAssembler {

@@ -1,7 +1,7 @@
 // How 2D cones reach mesh vertices (SlicingPlan::storage, static_core/frame_assembly): store_cones against a
 // brute-force choice per plane, and the engine's 3D cones under NearestOnFan against 3D cones assembled from
 // a brute-force choice over all planes of each orientation, on generated cloth of every kind and random
-// frames.
+// frames; the fill (nearest_sources) against all-pairs shortest paths.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -13,9 +13,11 @@
 #include <map>
 #include <vector>
 
+#include "oracles/test_meshes.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "static_core/cone_assembly.hpp"
 #include "static_core/frame_assembly.hpp"
+#include "static_core/mesh_connectivity.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/slice_cones.hpp"
 #include "static_core/slice_triangulation.hpp"
@@ -250,6 +252,49 @@ RC_GTEST_PROP(ConeStorage, InterpolatedOnFanTakesTheNearerCutWherePlanesAreNotPa
       assert_same_measures(interpolated.measures[side][v], nearest.measures[side][v]);
     }
   RC_ASSERT(wedges > 0u);
+}
+
+/// The fill's oracle: all-pairs shortest paths (Floyd-Warshall), then per vertex the lowest-indexed source
+/// among the nearest.
+std::vector<std::int32_t> nearest_sources_by_all_pairs(const MeshConnectivity& connectivity,
+                                                       const std::vector<double>& length,
+                                                       const std::vector<char>& own) {
+  const std::size_t n = connectivity.num_vertices();
+  std::vector<double> d(n * n, INFINITY);
+  for (std::size_t v = 0; v < n; ++v) d[v * n + v] = 0;
+  for (std::size_t e = 0; e < length.size(); ++e) {
+    const auto [a, b] = connectivity.endpoints()[e];
+    d[a * n + b] = d[b * n + a] = std::min(d[a * n + b], length[e]);
+  }
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < n; ++j) d[i * n + j] = std::min(d[i * n + j], d[i * n + k] + d[k * n + j]);
+  std::vector<std::int32_t> src(n, -1);
+  for (std::size_t v = 0; v < n; ++v)
+    for (std::size_t s = 0; s < n; ++s)
+      if (own[s] && d[v * n + s] < INFINITY && (src[v] < 0 || d[v * n + s] < d[v * n + std::size_t(src[v])]))
+        src[v] = std::int32_t(s);
+  return src;
+}
+
+RC_GTEST_PROP(ConeStorage, FillTakesTheNearestSourceAlongEdgesLowestIndexOnTies, ()) {
+  // Small whole-number lengths (0 included) make every path length exact, so ties are real ties.
+  const int nx = *rc::gen::inRange(1, 8), ny = *rc::gen::inRange(1, 8);
+  MeshTopology topology = test::flat_sheet(nx + 1, ny + 1).topology;
+  const int removed = *rc::gen::inRange(0, int(topology.triangles.size()));  // leaves parts and lone vertices
+  for (int i = 0; i < removed; ++i)
+    topology.triangles.erase(topology.triangles.begin() +
+                             *rc::gen::inRange(0, int(topology.triangles.size())));
+  const MeshConnectivity connectivity(topology);
+  std::vector<double> length(connectivity.num_edges());
+  for (double& l : length) l = *rc::gen::inRange(0, 4);
+  const int one_in = *rc::gen::element(1, 2, 5, 20);
+  std::vector<char> own(topology.num_vertices);
+  for (char& o : own) o = *rc::gen::inRange(0, one_in) == 0;
+  NearestSourceScratch scratch;
+  std::vector<std::int32_t> src(topology.num_vertices, 7);
+  nearest_sources(connectivity, length, own, scratch, src);
+  RC_ASSERT(src == nearest_sources_by_all_pairs(connectivity, length, own));
 }
 
 TEST(ConeStorage, NearestOnFanLeavesFewerVerticesToBorrow) {
