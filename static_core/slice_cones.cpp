@@ -243,17 +243,13 @@ void cones_by_expansion(const SliceTriangulation& st, const SliceRegion& region,
           // edge (a, c) is opposite b = vertex(ccw(j)), edge (c, b) opposite a = vertex(cw(j)).
           const int j = g->index(task.face);
           const VertexHandle c = g->vertex(j);
-          const bool c_left_of_right =
-              CGAL::orientation(px, task.right->point(), c->point()) == CGAL::LEFT_TURN;
-          const bool c_right_of_left =
-              CGAL::orientation(px, c->point(), task.left->point()) == CGAL::LEFT_TURN;
-          if (c_left_of_right && c_right_of_left) {
+          if (CGAL::orientation(px, task.right->point(), c->point()) != CGAL::LEFT_TURN) {
+            task = {g, cdt.cw(j), task.right, task.left};  // c on or beyond the right ray
+          } else if (CGAL::orientation(px, c->point(), task.left->point()) != CGAL::LEFT_TURN) {
+            task = {g, cdt.ccw(j), task.right, task.left};  // c on or beyond the left ray
+          } else {  // c strictly inside the range: split it at the ray x->c
             s.expansion.push_back({g, cdt.cw(j), c, task.left});
             task = {g, cdt.ccw(j), task.right, c};
-          } else if (c_left_of_right) {
-            task = {g, cdt.ccw(j), task.right, task.left};  // c on or beyond the left ray
-          } else {
-            task = {g, cdt.cw(j), task.right, task.left};  // c on or beyond the right ray
           }
         }
       }
