@@ -13,13 +13,7 @@ double wrap_angle(double a) {
   return a;
 }
 
-double direction_angle(const glm::dvec2& d) {
-  // wrap_angle without its fmod: atan2 is already in [-pi, pi], where fmod returns its argument.
-  double a = std::atan2(d.y, d.x);
-  if (a < 0) a += kTwoPi;
-  if (a >= kTwoPi) a = 0.0;
-  return a;
-}
+double direction_angle(const glm::dvec2& d) { return wrap_angle(std::atan2(d.y, d.x)); }
 
 Wedge wedge_between(const glm::dvec2& from, const glm::dvec2& to) {
   double width = std::atan2(from.x * to.y - from.y * to.x, glm::dot(from, to));

@@ -7,6 +7,8 @@
 #include <memory>
 #include <numeric>
 
+#include "static_core/union_find.hpp"
+
 namespace pleat {
 namespace {
 
@@ -107,11 +109,6 @@ double pseudo_angle(double x, double y) {
   const double r = y / (std::abs(x) + std::abs(y));  // in [-1, 1]
   if (x >= 0) return r;                              // (-pi/2, pi/2) -> (-1, 1)
   return y >= 0 ? 2 - r : -2 - r;                    // the left half-plane -> (1, 2] and (-2, -1)
-}
-
-int find_root(std::vector<int>& parent, int i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
 }
 
 /// One piece from a group of wedges: their bounding directions sorted radially about the group's mean

@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "static_core/assert.hpp"
+#include "static_core/union_find.hpp"
 
 namespace pleat {
 namespace {
@@ -281,10 +282,7 @@ bool cones_by_outer_polygon(const SliceTriangulation& st, const SliceRegion& reg
   }
   for (int v : o.touched) o.root[v] = o.sub_index[v] = -1;
   o.touched.clear();
-  auto find = [&](int v) {
-    while (o.root[v] != v) v = o.root[v] = o.root[o.root[v]];
-    return v;
-  };
+  auto find = [&](int v) { return find_root(o.root, v); };
   // Boundary components: vertices joined by R's separators (chain edges and windows).
   for (const FaceHandle f : region.faces)
     for (int k = 0; k < 3; ++k) {

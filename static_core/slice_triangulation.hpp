@@ -95,6 +95,10 @@ class SliceTriangulation {
 
   cgal::Cdt m_cdt;
   cgal::Delaunay m_delaunay;  ///< build's point insertion (then swapped into m_cdt); empty between builds
+  // Scratch of build and flood_regions, kept so that a slice allocates nothing once warmed up.
+  std::vector<std::ptrdiff_t> m_order;
+  std::vector<cgal::Point2> m_points;
+  std::vector<cgal::FaceHandle> m_stack;
   std::vector<cgal::VertexHandle> m_vertex_of_slice_vertex;
   // Flat, region by region (a kinetic slice keeps these between frames: no heap object per region).
   std::vector<RegionStart> m_regions;
