@@ -531,10 +531,15 @@ void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, Slice
     }
     const VertexHandle xv = st.vertex_of(x);
     const int next = next_distinct(slice, st, x, true), prev = next_distinct(slice, st, x, false);
-    const ChainEdge out_edge =
-        next >= 0 ? first_constraint_edge(cdt, xv, cgal::to_point(slice.vertices[next].point)) : ChainEdge{};
-    const ChainEdge in_edge =
-        prev >= 0 ? first_constraint_edge(cdt, xv, cgal::to_point(slice.vertices[prev].point)) : ChainEdge{};
+    // The chain edge towards slice vertex y: as the corner assignment recorded it, else looked up (a
+    // constraint split by a vertex on it, a vertex with more than two chain edges).
+    auto chain_edge = [&](int y) -> ChainEdge {
+      if (y < 0) return {};
+      const VertexHandle w = st.vertex_of(y);
+      if (const FaceHandle left = st.left_of_constrained_edge(xv, w); left != FaceHandle()) return {w, left};
+      return first_constraint_edge(cdt, xv, cgal::to_point(slice.vertices[y].point));
+    };
+    const ChainEdge out_edge = chain_edge(next), in_edge = chain_edge(prev);
     for (Side side : kBothSides) {
       // Front: counter-clockwise of the outgoing edge (or clockwise of the incoming one); back: mirrored.
       const ChainEdge& ccw_of = side == Side::Front ? out_edge : in_edge;

@@ -77,6 +77,7 @@ void SliceTriangulation::clear_derived() {
   m_region_windows.clear();
   m_corner_vertex.clear();
   m_corner_region.clear();
+  m_constrained_count.clear();
   m_crossings = 0;
 }
 
@@ -87,32 +88,65 @@ void SliceTriangulation::assign(const cgal::Cdt& cdt, const Slice& slice) {
 
 void SliceTriangulation::assign_corners() {
   // A corner is a maximal run of finite faces around a vertex between separators. From each (face, vertex)
-  // not yet in a corner: turn clockwise to the run's first face, then number the run counter-clockwise.
+  // not yet in a corner, the run is numbered from that face counter-clockwise up to a separator, then
+  // clockwise up to one: each face of the run is visited once. The constrained edges met on the way are
+  // recorded with their counter-clockwise faces: at a run's clockwise end, and at its counter-clockwise end
+  // where the face beyond is infinite (no run starts there).
+  m_constrained_count.assign(m_vertex_of_slice_vertex.size(), 0);
+  m_constrained_at.resize(2 * m_vertex_of_slice_vertex.size());
   for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f)
     f->info().corner = {-1, -1, -1};
   for (auto f = m_cdt.finite_faces_begin(); f != m_cdt.finite_faces_end(); ++f)
     for (int i = 0; i < 3; ++i) {
       if (f->info().corner[i] >= 0) continue;
       const cgal::VertexHandle v = f->vertex(i);
-      cgal::FaceHandle first = f;
-      while (true) {  // the edge to the next face clockwise is (first, cw(index of v))
-        const int k = first->index(v);
-        if (is_separator(m_cdt, first, m_cdt.cw(k))) break;
-        const cgal::FaceHandle g = first->neighbor(m_cdt.cw(k));
-        if (g == cgal::FaceHandle(f)) break;  // no separator around v: one corner of every face
-        first = g;
-      }
       const int corner = static_cast<int>(m_corner_vertex.size());
       m_corner_vertex.push_back(v);
-      for (cgal::FaceHandle g = first;;) {
-        const int k = g->index(v);
-        g->info().corner[k] = corner;
-        if (is_separator(m_cdt, g, m_cdt.ccw(k))) break;
+      const cgal::FaceHandle start = f;
+      start->info().corner[i] = corner;
+      // Counter-clockwise: the edge to the next face is (g, ccw(index of v)).
+      bool closed = false;
+      cgal::FaceHandle g = start;
+      int k = i;
+      while (true) {
+        if (is_separator(m_cdt, g, m_cdt.ccw(k))) {
+          const cgal::FaceHandle beyond = g->neighbor(m_cdt.ccw(k));
+          if (g->is_constrained(m_cdt.ccw(k)) && m_cdt.is_infinite(beyond))
+            record_constrained_edge(v, g->vertex(m_cdt.cw(k)), beyond);
+          break;
+        }
         g = g->neighbor(m_cdt.ccw(k));
-        if (g == first) break;
+        if (g == start) {  // no separator around v: one corner of every face
+          closed = true;
+          break;
+        }
+        k = g->index(v);
+        g->info().corner[k] = corner;
+      }
+      if (closed) continue;
+      // Clockwise from the start: the edge to the next face is (g, cw(index of v)).
+      g = start;
+      k = i;
+      while (true) {
+        if (is_separator(m_cdt, g, m_cdt.cw(k))) {
+          if (g->is_constrained(m_cdt.cw(k))) record_constrained_edge(v, g->vertex(m_cdt.ccw(k)), g);
+          break;
+        }
+        g = g->neighbor(m_cdt.cw(k));
+        k = g->index(v);
+        g->info().corner[k] = corner;
       }
     }
   m_corner_region.assign(m_corner_vertex.size(), -1);
+}
+
+void SliceTriangulation::record_constrained_edge(cgal::VertexHandle x, cgal::VertexHandle w,
+                                                 cgal::FaceHandle left) {
+  const int s = x->info().slice_vertex;
+  if (s < 0) return;
+  std::uint8_t& count = m_constrained_count[s];
+  if (count < 2) m_constrained_at[2 * s + count] = {w, left};
+  if (count <= 2) ++count;
 }
 
 void SliceTriangulation::flood_regions() {
@@ -189,6 +223,31 @@ bool SliceTriangulation::check_invariants(std::string* why) const {
         if (g->info().corner[g->index(f->vertex(k))] != f->info().corner[k])
           return fail("corner changes across an unconstrained edge");
     }
+  }
+  // Every recorded constrained edge x -> w is one, with its recorded face counter-clockwise of it; and every
+  // constrained edge at a vertex with at most two is recorded.
+  for (auto v = m_cdt.finite_vertices_begin(); v != m_cdt.finite_vertices_end(); ++v) {
+    std::size_t constrained = 0;
+    auto e = m_cdt.incident_edges(v), done = e;
+    do {
+      if (!m_cdt.is_constrained(*e)) continue;
+      ++constrained;
+      // f is left of its edge (ccw(i) -> cw(i)); the face left of v -> w is f or its neighbour.
+      const cgal::FaceHandle f = e->first;
+      const int i = e->second;
+      const bool v_first = f->vertex(m_cdt.ccw(i)) == cgal::VertexHandle(v);
+      const cgal::VertexHandle w = v_first ? f->vertex(m_cdt.cw(i)) : f->vertex(m_cdt.ccw(i));
+      const cgal::FaceHandle left = v_first ? f : f->neighbor(i);
+      const cgal::FaceHandle recorded = left_of_constrained_edge(v, w);
+      if (recorded != cgal::FaceHandle() && recorded != left)
+        return fail("a constrained edge recorded with the wrong face");
+      if (recorded == cgal::FaceHandle() && v->info().slice_vertex >= 0 &&
+          m_constrained_count[v->info().slice_vertex] <= 2)
+        return fail("a constrained edge not recorded");
+    } while (++e != done);
+    if (v->info().slice_vertex >= 0 &&
+        std::min<std::size_t>(constrained, 3) != m_constrained_count[v->info().slice_vertex])
+      return fail("constrained edges at a vertex miscounted");
   }
   // Every finite face in exactly one region, the one of its corners; every window on a face of its region.
   std::size_t listed = 0;

@@ -54,6 +54,17 @@ class SliceTriangulation {
   std::size_t num_corners() const { return m_corner_vertex.size(); }
   cgal::VertexHandle corner_vertex(int corner) const { return m_corner_vertex[corner]; }
   int corner_region(int corner) const { return m_corner_region[corner]; }
+  /// The face counter-clockwise of the constrained edge x -> w (infinite for a chain edge on the hull), as
+  /// the corner assignment found it; null when x -> w is not a constrained edge, or x is a crossing point or
+  /// has more than two constrained edges (callers look those up in the triangulation).
+  cgal::FaceHandle left_of_constrained_edge(cgal::VertexHandle x, cgal::VertexHandle w) const {
+    const int s = x->info().slice_vertex;
+    if (s < 0 || std::size_t(s) >= m_constrained_count.size()) return {};
+    const std::uint8_t count = m_constrained_count[s];
+    for (std::uint8_t j = 0; j < count && count <= 2; ++j)
+      if (m_constrained_at[2 * s + j].w == w) return m_constrained_at[2 * s + j].left;
+    return {};
+  }
   /// Points inserted where chains cross (self-intersecting input); 0 for a valid surface.
   std::size_t crossings() const { return m_crossings; }
 
@@ -86,6 +97,7 @@ class SliceTriangulation {
   void clear_derived();
   void assign_corners();
   void flood_regions();
+  void record_constrained_edge(cgal::VertexHandle x, cgal::VertexHandle w, cgal::FaceHandle left);
 
   /// Where region r's faces and windows start in the flat arrays; one more entry ends the last region.
   struct RegionStart {
@@ -106,6 +118,14 @@ class SliceTriangulation {
   std::vector<SliceWindow> m_region_windows;
   std::vector<cgal::VertexHandle> m_corner_vertex;
   std::vector<int> m_corner_region;
+  /// Per CDT vertex, by the slice vertex in its info: up to two constrained edges x -> w and the face
+  /// counter-clockwise of each (left_of_constrained_edge); a count above 2 means "more: not recorded".
+  struct ConstrainedEdgeAt {
+    cgal::VertexHandle w;
+    cgal::FaceHandle left;
+  };
+  std::vector<ConstrainedEdgeAt> m_constrained_at;
+  std::vector<std::uint8_t> m_constrained_count;
   std::size_t m_crossings = 0;
 };
 
