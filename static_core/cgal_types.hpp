@@ -19,10 +19,15 @@
 #include <glm/vec2.hpp>
 #include <type_traits>
 
+#include "static_core/filtered_predicates.hpp"
+
 namespace pleat::cgal {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point2 = Kernel::Point_2;
+/// The triangulations' geometric traits: EPICK with a cheaper filter in front of its orientation and
+/// in-circle predicates (filtered_predicates.hpp; the same exact answers).
+using TriangulationTraits = FilteredKernel;
 
 /// Per CDT vertex: the slice vertex it was inserted for (-1: a crossing point of two chains).
 struct VertexInfo {
@@ -36,16 +41,16 @@ struct FaceInfo {
   std::array<int, 3> corner{-1, -1, -1};
 };
 
-using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, Kernel>;
-using Fbb = CGAL::Triangulation_face_base_with_info_2<FaceInfo, Kernel>;
-using Fb = CGAL::Constrained_triangulation_face_base_2<Kernel, Fbb>;
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, TriangulationTraits>;
+using Fbb = CGAL::Triangulation_face_base_with_info_2<FaceInfo, TriangulationTraits>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<TriangulationTraits, Fbb>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 /// Crossing constraints (chains of a self-intersecting surface) are split at computed crossing points.
-using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<TriangulationTraits, Tds, CGAL::Exact_predicates_tag>;
 static_assert(sizeof(Cdt::Face) <= 72, "a triangulation face grew");
 /// The unconstrained Delaunay triangulation on the same data structure and base class: its point insertion
 /// does no constraint bookkeeping, and Cdt::Triangulation::swap takes its result over in constant time.
-using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
+using Delaunay = CGAL::Delaunay_triangulation_2<TriangulationTraits, Tds>;
 static_assert(std::is_same_v<Delaunay::Triangulation, Cdt::Triangulation>);
 using VertexHandle = Cdt::Vertex_handle;
 using FaceHandle = Cdt::Face_handle;

@@ -12,7 +12,7 @@ void grow_shortest_path_tree(const SliceTriangulation& slice, const SliceWindow&
   const cgal::VertexHandle root_vertex = window.face->vertex(root_index);
   auto point = [&](int corner) -> const cgal::Point2& { return slice.corner_vertex(corner)->point(); };
   auto turn = [&](int from, int to, const cgal::Point2& x) {
-    return CGAL::orientation(point(from), point(to), x);
+    return cgal::orientation(point(from), point(to), x);
   };
   std::vector<int>& funnel = scratch.funnel;
   std::vector<std::pair<int, int>>& undo = scratch.undo;

@@ -25,7 +25,7 @@ glm::dvec2 direction(const Point2& from, const Point2& to) { return {to.x() - fr
 /// reflex, or a full turn when p and q lie in the same direction) decided by exact predicates.
 Wedge exact_wedge(const Point2& x, const Point2& p, const Point2& q) {
   const glm::dvec2 dp = direction(x, p), dq = direction(x, q);
-  switch (CGAL::orientation(x, p, q)) {
+  switch (cgal::orientation(x, p, q)) {
     case CGAL::LEFT_TURN:
       return thin_wedge_between(dp, dq);
     case CGAL::RIGHT_TURN:
@@ -66,7 +66,7 @@ ChainEdge first_constraint_edge(const Cdt& cdt, VertexHandle x, const Point2& y)
     const bool x_first = f->vertex(cdt.ccw(i)) == x;
     const VertexHandle w = x_first ? f->vertex(cdt.cw(i)) : f->vertex(cdt.ccw(i));
     if (cdt.is_infinite(w)) continue;
-    if (w->point() == y || (CGAL::orientation(x->point(), w->point(), y) == CGAL::COLLINEAR &&
+    if (w->point() == y || (cgal::orientation(x->point(), w->point(), y) == CGAL::COLLINEAR &&
                             CGAL::collinear_are_ordered_along_line(x->point(), w->point(), y)))
       return {w, x_first ? f : f->neighbor(i)};
   } while (++ec != done);
@@ -175,7 +175,7 @@ void for_each_visible_window(const SliceTriangulation& t, std::span<const SliceW
       const Point2& x = t.corner_vertex(c)->point();
       const Point2& pa = t.corner_vertex(parent_a[c])->point();
       const Point2& pb = t.corner_vertex(parent_b[c])->point();
-      if (CGAL::orientation(x, pa, pb) == CGAL::LEFT_TURN) visible(i, x, pa, pb);
+      if (cgal::orientation(x, pa, pb) == CGAL::LEFT_TURN) visible(i, x, pa, pb);
     }
   }
 }
@@ -244,9 +244,9 @@ void cones_by_expansion(const SliceTriangulation& st, const SliceRegion& region,
           // edge (a, c) is opposite b = vertex(ccw(j)), edge (c, b) opposite a = vertex(cw(j)).
           const int j = g->index(task.face);
           const VertexHandle c = g->vertex(j);
-          if (CGAL::orientation(px, task.right->point(), c->point()) != CGAL::LEFT_TURN) {
+          if (cgal::orientation(px, task.right->point(), c->point()) != CGAL::LEFT_TURN) {
             task = {g, cdt.cw(j), task.right, task.left};  // c on or beyond the right ray
-          } else if (CGAL::orientation(px, c->point(), task.left->point()) != CGAL::LEFT_TURN) {
+          } else if (cgal::orientation(px, c->point(), task.left->point()) != CGAL::LEFT_TURN) {
             task = {g, cdt.ccw(j), task.right, task.left};  // c on or beyond the left ray
           } else {  // c strictly inside the range: split it at the ray x->c
             s.expansion.push_back({g, cdt.cw(j), c, task.left});
@@ -408,14 +408,14 @@ bool cones_by_outer_polygon(const SliceTriangulation& st, const SliceRegion& reg
       Point2 right, left;             // the shadow: counter-clockwise from ray x->right to ray x->left
       if (hull.size() < 2) continue;  // an isolated point blocks a single direction
       if (hull.size() == 2) {
-        const CGAL::Orientation turn = CGAL::orientation(x, hull[0], hull[1]);
+        const CGAL::Orientation turn = cgal::orientation(x, hull[0], hull[1]);
         if (turn == CGAL::COLLINEAR) continue;  // a segment seen edge-on blocks a single direction
         right = turn == CGAL::LEFT_TURN ? hull[0] : hull[1];
         left = turn == CGAL::LEFT_TURN ? hull[1] : hull[0];
       } else {
         bool outside = false;
         for (std::size_t i = 0; i < hull.size() && !outside; ++i)
-          outside = CGAL::orientation(hull[i], hull[(i + 1) % hull.size()], x) == CGAL::RIGHT_TURN;
+          outside = cgal::orientation(hull[i], hull[(i + 1) % hull.size()], x) == CGAL::RIGHT_TURN;
         if (!outside) {
           o.by_expansion[c] = 1;
           break;
@@ -423,15 +423,15 @@ bool cones_by_outer_polygon(const SliceTriangulation& st, const SliceRegion& reg
         // Seen from x the hull lies within less than a half-turn, where "clockwise of" is a total order.
         right = left = hull[0];
         for (const Point2& q : hull) {
-          if (CGAL::orientation(x, right, q) == CGAL::RIGHT_TURN) right = q;
-          if (CGAL::orientation(x, left, q) == CGAL::LEFT_TURN) left = q;
+          if (cgal::orientation(x, right, q) == CGAL::RIGHT_TURN) right = q;
+          if (cgal::orientation(x, left, q) == CGAL::LEFT_TURN) left = q;
         }
       }
       // Both ranges are under a half-turn: they meet iff one contains the other's first ray, and what is left
       // of [a, b] is [a, right] where right is past a, and [left, b] where b is past left.
       auto contains = [&x](const Point2& from, const Point2& to, const Point2& d) {
-        return CGAL::orientation(x, from, d) != CGAL::RIGHT_TURN &&
-               CGAL::orientation(x, d, to) != CGAL::RIGHT_TURN;
+        return cgal::orientation(x, from, d) != CGAL::RIGHT_TURN &&
+               cgal::orientation(x, d, to) != CGAL::RIGHT_TURN;
       };
       o.next.clear();
       for (const auto& [a, b] : ranges) {
@@ -439,8 +439,8 @@ bool cones_by_outer_polygon(const SliceTriangulation& st, const SliceRegion& reg
           o.next.emplace_back(a, b);
           continue;
         }
-        if (CGAL::orientation(x, a, right) == CGAL::LEFT_TURN) o.next.emplace_back(a, right);
-        if (CGAL::orientation(x, left, b) == CGAL::LEFT_TURN) o.next.emplace_back(left, b);
+        if (cgal::orientation(x, a, right) == CGAL::LEFT_TURN) o.next.emplace_back(a, right);
+        if (cgal::orientation(x, left, b) == CGAL::LEFT_TURN) o.next.emplace_back(left, b);
       }
       ranges.swap(o.next);
     }
