@@ -8,6 +8,9 @@
 // predicate (EPICK: semi-static filter, interval arithmetic, then exact arithmetic), so every answer is the
 // exact one; the filter only decides sooner (no maxima, no sorting, no range checks) on the many calls that
 // are far from degenerate. Sums below 1e-250 (where underflow could spoil the bound) go to CGAL too.
+// Orientation has a second stage before CGAL (Shewchuk's stage B): where the coordinate differences are
+// exact, as between nearby points, the 2x2 determinant is summed exactly from error-free products, so
+// nearly collinear points (a flat stretch of cloth cut by a plane) are decided without multiprecision.
 // tests/filtered_predicates_test.cpp compares both with CGAL on random, near-degenerate and degenerate
 // input.
 #pragma once
@@ -15,6 +18,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <cmath>
+#include <optional>
 
 namespace pleat::cgal {
 
@@ -24,6 +28,11 @@ inline constexpr double kOrientBound = (3.0 + 16.0 * kEpsilon) * kEpsilon;
 inline constexpr double kInCircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon;
 inline constexpr double kSmallestSum = 1e-250;
 }  // namespace predicates_detail
+
+/// The exact sign of (ax - cx)(by - cy) - (ay - cy)(bx - cx) when the four differences are exact doubles
+/// of moderate size (filtered_predicates.cpp); std::nullopt when they are not.
+std::optional<CGAL::Orientation> orientation_of_exact_differences(double ax, double ay, double bx, double by,
+                                                                  double cx, double cy);
 
 /// CGAL::orientation(p, q, r), exactly: LEFT_TURN when p, q, r turn counter-clockwise.
 inline CGAL::Orientation orientation(const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q,
@@ -38,6 +47,8 @@ inline CGAL::Orientation orientation(const CGAL::Epick::Point_2& p, const CGAL::
     if (det > bound) return CGAL::LEFT_TURN;
     if (-det > bound) return CGAL::RIGHT_TURN;
   }
+  if (const auto exact = orientation_of_exact_differences(p.x(), p.y(), q.x(), q.y(), r.x(), r.y()))
+    return *exact;
   return CGAL::orientation(p, q, r);
 }
 
