@@ -365,7 +365,7 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
       if (h.c->info().slice_vertex < 0) return;  // the next hull vertex vanishes
       ++counts.certificates;
       const cgal::Point2 a = next_point(h.a), b = next_point(h.b), c = next_point(h.c);
-      const CGAL::Orientation o = CGAL::orientation(c, b, a);
+      const CGAL::Orientation o = cgal::orientation(c, b, a);
       if (o == CGAL::LEFT_TURN ||
           (o == CGAL::COLLINEAR && CGAL::collinear_are_strictly_ordered_along_line(a, b, c)))
         return;
@@ -374,7 +374,7 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
       ++counts.certificates;
       const cgal::Point2 p0 = next_point(f->vertex(0)), p1 = next_point(f->vertex(1)),
                          p2 = next_point(f->vertex(2));
-      if (CGAL::orientation(p0, p1, p2) == CGAL::LEFT_TURN) return;
+      if (cgal::orientation(p0, p1, p2) == CGAL::LEFT_TURN) return;
       // The vertex that moved farthest since frame k.
       double farthest = -1.0;
       for (int i = 0; i < 3; ++i) {

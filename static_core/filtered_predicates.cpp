@@ -71,4 +71,18 @@ std::optional<CGAL::Orientation> orientation_of_exact_differences(double ax, dou
   return CGAL::COLLINEAR;
 }
 
+CGAL::Orientation orientation_beyond_filter(const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q,
+                                            const CGAL::Epick::Point_2& r) {
+  if (const auto exact = orientation_of_exact_differences(p.x(), p.y(), q.x(), q.y(), r.x(), r.y()))
+    return *exact;
+  return CGAL::orientation(p, q, r);
+}
+
+CGAL::Oriented_side side_of_oriented_circle_beyond_filter(const CGAL::Epick::Point_2& p,
+                                                          const CGAL::Epick::Point_2& q,
+                                                          const CGAL::Epick::Point_2& r,
+                                                          const CGAL::Epick::Point_2& t) {
+  return CGAL::side_of_oriented_circle(p, q, r, t);
+}
+
 }  // namespace pleat::cgal

@@ -34,6 +34,15 @@ inline constexpr double kSmallestSum = 1e-250;
 std::optional<CGAL::Orientation> orientation_of_exact_differences(double ax, double ay, double bx, double by,
                                                                   double cx, double cy);
 
+/// Where the first stages cannot decide (out of line, so that the filters inline at every call):
+/// orientation_of_exact_differences, then CGAL; and CGAL's in-circle.
+CGAL::Orientation orientation_beyond_filter(const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q,
+                                            const CGAL::Epick::Point_2& r);
+CGAL::Oriented_side side_of_oriented_circle_beyond_filter(const CGAL::Epick::Point_2& p,
+                                                          const CGAL::Epick::Point_2& q,
+                                                          const CGAL::Epick::Point_2& r,
+                                                          const CGAL::Epick::Point_2& t);
+
 /// CGAL::orientation(p, q, r), exactly: LEFT_TURN when p, q, r turn counter-clockwise.
 inline CGAL::Orientation orientation(const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q,
                                      const CGAL::Epick::Point_2& r) {
@@ -47,9 +56,7 @@ inline CGAL::Orientation orientation(const CGAL::Epick::Point_2& p, const CGAL::
     if (det > bound) return CGAL::LEFT_TURN;
     if (-det > bound) return CGAL::RIGHT_TURN;
   }
-  if (const auto exact = orientation_of_exact_differences(p.x(), p.y(), q.x(), q.y(), r.x(), r.y()))
-    return *exact;
-  return CGAL::orientation(p, q, r);
+  return orientation_beyond_filter(p, q, r);
 }
 
 /// CGAL::side_of_oriented_circle(p, q, r, t), exactly: ON_POSITIVE_SIDE when t lies inside the circle
@@ -77,7 +84,7 @@ inline CGAL::Oriented_side side_of_oriented_circle(const CGAL::Epick::Point_2& p
     if (det > bound) return CGAL::ON_POSITIVE_SIDE;
     if (-det > bound) return CGAL::ON_NEGATIVE_SIDE;
   }
-  return CGAL::side_of_oriented_circle(p, q, r, t);
+  return side_of_oriented_circle_beyond_filter(p, q, r, t);
 }
 
 /// EPICK with the two predicates above: the geometric traits of the slices' triangulations (every other
