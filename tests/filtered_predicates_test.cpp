@@ -80,7 +80,7 @@ RC_GTEST_PROP(FilteredPredicates, AgreeWithCgalOnNearlyCollinearPointsFarFromThe
 
 RC_GTEST_PROP(FilteredPredicates, AgreeWithCgalOnNearlyCollinearNearbyPoints, ()) {
   // A flat stretch of cloth cut by a plane: points a few edge lengths apart on a line at cloth scale, off it
-  // by a few ulps. The coordinate differences are exact, so the second stage decides most of these.
+  // by a few ulps. The coordinate differences are exact, so the second stages decide most of these.
   const Point o(*rc::gen::inRange(-1000, 1000) * 0.013 + 0.5, *rc::gen::inRange(-1000, 1000) * 0.007 - 0.25);
   const double angle = *rc::gen::inRange(0, 6283) / 1000.0;
   const double step = std::ldexp(1.0, *rc::gen::inRange(-30, -4));
@@ -88,11 +88,12 @@ RC_GTEST_PROP(FilteredPredicates, AgreeWithCgalOnNearlyCollinearNearbyPoints, ()
     return Point(o.x() + k * step * std::cos(angle), o.y() + k * step * std::sin(angle));
   };
   const Point p = on_line(*rc::gen::inRange(-8, 9)), q = on_line(*rc::gen::inRange(-8, 9)),
-              r = on_line(*rc::gen::inRange(-8, 9));
+              r = on_line(*rc::gen::inRange(-8, 9)), t = on_line(*rc::gen::inRange(-8, 9));
   for (int i = 0; i < 64; ++i) {
-    const Point a = nudge(p), b = nudge(q), c = nudge(r);
+    const Point a = nudge(p), b = nudge(q), c = nudge(r), d = nudge(t);
     expect_same(a, b, c);
     expect_same(c, a, b);
+    expect_same(a, b, c, d);  // four points nearly on a line: the in-circle test's hardest case
   }
 }
 
