@@ -40,10 +40,36 @@ void two_product(double a, double b, double& p, double& e) {
 }
 
 /// Zero, or a magnitude whose products and their errors stay normal doubles and whose split cannot overflow.
-bool moderate(double d) {
+/// Zero, or a magnitude whose products (two for orientation: up to 2^±400; four for the in-circle test: up
+/// to 2^±200) and their errors stay normal doubles and whose split cannot overflow.
+bool moderate(double d, double limit) {
   const double m = std::abs(d);
-  return m == 0.0 || (m >= 0x1p-400 && m <= 0x1p+400);
+  return m == 0.0 || (m >= 1.0 / limit && m <= limit);
 }
+
+/// a * b - c * d exactly, as a nonoverlapping expansion h[0..3] in increasing magnitude (zero components
+/// kept): two error-free products grown into one (Shewchuk's Grow-Expansion, twice).
+void exact_products_difference(double a, double b, double c, double d, double h[4]) {
+  double y1 = 0, y0 = 0;
+  two_product(a, b, h[1], h[0]);
+  two_product(c, d, y1, y0);
+  int size = 2;
+  for (const double v : {-y0, -y1}) {
+    double q = v;
+    for (int i = 0; i < size; ++i) two_sum(q, h[i], q, h[i]);
+    h[size++] = q;
+  }
+}
+
+/// The sign of an expansion: its largest nonzero component's.
+int sign_of(const double h[4]) {
+  for (int i = 4; i-- > 0;)
+    if (h[i] != 0.0) return h[i] > 0.0 ? 1 : -1;
+  return 0;
+}
+
+/// The expansion's value, rounded: within 3.01 epsilon of it (the partial sums never exceed it much).
+double approximate(const double h[4]) { return ((h[0] + h[1]) + h[2]) + h[3]; }
 
 }  // namespace
 
@@ -53,22 +79,12 @@ std::optional<CGAL::Orientation> orientation_of_exact_differences(double ax, dou
       !exact_difference(by, cy))
     return std::nullopt;
   const double acx = ax - cx, acy = ay - cy, bcx = bx - cx, bcy = by - cy;
-  if (!moderate(acx) || !moderate(acy) || !moderate(bcx) || !moderate(bcy)) return std::nullopt;
-  // acx * bcy - acy * bcx = (l1 + l0) - (r1 + r0) exactly; grown into a nonoverlapping expansion (Shewchuk's
-  // Grow-Expansion: components in increasing magnitude, zeros aside), whose sign is its largest component's.
-  double l1 = 0, l0 = 0, r1 = 0, r0 = 0;
-  two_product(acx, bcy, l1, l0);
-  two_product(acy, bcx, r1, r0);
-  double h[4] = {l0, l1, 0.0, 0.0};
-  std::size_t size = 2;
-  for (const double b : {-r0, -r1}) {
-    double q = b;
-    for (std::size_t i = 0; i < size; ++i) two_sum(q, h[i], q, h[i]);
-    h[size++] = q;
-  }
-  for (std::size_t i = size; i-- > 0;)
-    if (h[i] != 0.0) return h[i] > 0.0 ? CGAL::LEFT_TURN : CGAL::RIGHT_TURN;
-  return CGAL::COLLINEAR;
+  for (const double d : {acx, acy, bcx, bcy})
+    if (!moderate(d, 0x1p+400)) return std::nullopt;
+  double h[4];
+  exact_products_difference(acx, bcy, acy, bcx, h);
+  const int sign = sign_of(h);
+  return sign > 0 ? CGAL::LEFT_TURN : sign < 0 ? CGAL::RIGHT_TURN : CGAL::COLLINEAR;
 }
 
 CGAL::Orientation orientation_beyond_filter(const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q,
@@ -78,10 +94,40 @@ CGAL::Orientation orientation_beyond_filter(const CGAL::Epick::Point_2& p, const
   return CGAL::orientation(p, q, r);
 }
 
+std::optional<CGAL::Oriented_side> side_of_oriented_circle_of_exact_differences(
+    const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q, const CGAL::Epick::Point_2& r,
+    const CGAL::Epick::Point_2& t) {
+  for (const CGAL::Epick::Point_2* a : {&p, &q, &r})
+    if (!exact_difference(a->x(), t.x()) || !exact_difference(a->y(), t.y())) return std::nullopt;
+  const double adx = p.x() - t.x(), ady = p.y() - t.y(), bdx = q.x() - t.x(), bdy = q.y() - t.y(),
+               cdx = r.x() - t.x(), cdy = r.y() - t.y();
+  for (const double d : {adx, ady, bdx, bdy, cdx, cdy})
+    if (!moderate(d, 0x1p+200)) return std::nullopt;
+  // det = alift (bdx cdy - cdx bdy) + blift (cdx ady - adx cdy) + clift (adx bdy - bdx ady), the three
+  // 2x2 determinants exact (where the first stage loses everything: nearly collinear points make them tiny
+  // beside their products) and rounded once each (3.01 eps), the lifts (2.01 eps), the three products and
+  // the two sums: |det - exact| <= 8.05 eps (|ta| + |tb| + |tc|). Beyond 16 eps of that, det's sign is exact;
+  // where all three determinants are 0, so is det.
+  double bc[4], ca[4], ab[4];
+  exact_products_difference(bdx, cdy, cdx, bdy, bc);
+  exact_products_difference(cdx, ady, adx, cdy, ca);
+  exact_products_difference(adx, bdy, bdx, ady, ab);
+  const double ta = (adx * adx + ady * ady) * approximate(bc);
+  const double tb = (bdx * bdx + bdy * bdy) * approximate(ca);
+  const double tc = (cdx * cdx + cdy * cdy) * approximate(ab);
+  const double det = (ta + tb) + tc;
+  const double bound = 16.0 * predicates_detail::kEpsilon * (std::abs(ta) + std::abs(tb) + std::abs(tc));
+  if (det > bound) return CGAL::ON_POSITIVE_SIDE;
+  if (-det > bound) return CGAL::ON_NEGATIVE_SIDE;
+  if (sign_of(bc) == 0 && sign_of(ca) == 0 && sign_of(ab) == 0) return CGAL::ON_ORIENTED_BOUNDARY;
+  return std::nullopt;
+}
+
 CGAL::Oriented_side side_of_oriented_circle_beyond_filter(const CGAL::Epick::Point_2& p,
                                                           const CGAL::Epick::Point_2& q,
                                                           const CGAL::Epick::Point_2& r,
                                                           const CGAL::Epick::Point_2& t) {
+  if (const auto decided = side_of_oriented_circle_of_exact_differences(p, q, r, t)) return *decided;
   return CGAL::side_of_oriented_circle(p, q, r, t);
 }
 

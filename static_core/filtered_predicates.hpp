@@ -8,9 +8,11 @@
 // predicate (EPICK: semi-static filter, interval arithmetic, then exact arithmetic), so every answer is the
 // exact one; the filter only decides sooner (no maxima, no sorting, no range checks) on the many calls that
 // are far from degenerate. Sums below 1e-250 (where underflow could spoil the bound) go to CGAL too.
-// Orientation has a second stage before CGAL (Shewchuk's stage B): where the coordinate differences are
-// exact, as between nearby points, the 2x2 determinant is summed exactly from error-free products, so
-// nearly collinear points (a flat stretch of cloth cut by a plane) are decided without multiprecision.
+// Both have a second stage before CGAL, where the coordinate differences are exact, as between nearby
+// points: orientation sums its 2x2 determinant exactly from error-free products (Shewchuk's stage B); the
+// in-circle test takes its three 2x2 determinants so and bounds the rest's rounding. Nearly collinear
+// points (a flat stretch of cloth cut by a plane) are then decided without interval or multiprecision
+// arithmetic.
 // tests/filtered_predicates_test.cpp compares both with CGAL on random, near-degenerate and degenerate
 // input.
 #pragma once
@@ -34,8 +36,15 @@ inline constexpr double kSmallestSum = 1e-250;
 std::optional<CGAL::Orientation> orientation_of_exact_differences(double ax, double ay, double bx, double by,
                                                                   double cx, double cy);
 
+/// The in-circle sign, where the six differences to t are exact doubles of moderate size and it can be
+/// decided from the three 2x2 determinants summed exactly (filtered_predicates.cpp); std::nullopt
+/// otherwise.
+std::optional<CGAL::Oriented_side> side_of_oriented_circle_of_exact_differences(
+    const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q, const CGAL::Epick::Point_2& r,
+    const CGAL::Epick::Point_2& t);
+
 /// Where the first stages cannot decide (out of line, so that the filters inline at every call):
-/// orientation_of_exact_differences, then CGAL; and CGAL's in-circle.
+/// the exact-differences stage, then CGAL.
 CGAL::Orientation orientation_beyond_filter(const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q,
                                             const CGAL::Epick::Point_2& r);
 CGAL::Oriented_side side_of_oriented_circle_beyond_filter(const CGAL::Epick::Point_2& p,
