@@ -15,6 +15,13 @@ void two_sum(double a, double b, double& s, double& e) {
   e = (a - a_virtual) + (b - b_virtual);
 }
 
+/// The rounding error of d = fl(a - b): a - b = d + tail exactly (Shewchuk's Two-Diff).
+double difference_tail(double a, double b, double d) {
+  const double b_virtual = a - d;
+  const double a_virtual = d + b_virtual;
+  return (a - a_virtual) + (b_virtual - b);
+}
+
 /// Whether fl(a - b) is a - b exactly.
 bool exact_difference(double a, double b) {
   const double d = a - b;
@@ -73,24 +80,39 @@ double approximate(const double h[4]) { return ((h[0] + h[1]) + h[2]) + h[3]; }
 
 }  // namespace
 
-std::optional<CGAL::Orientation> orientation_of_exact_differences(double ax, double ay, double bx, double by,
-                                                                  double cx, double cy) {
-  if (!exact_difference(ax, cx) || !exact_difference(ay, cy) || !exact_difference(bx, cx) ||
-      !exact_difference(by, cy))
-    return std::nullopt;
+std::optional<CGAL::Orientation> orientation_second_stage(double ax, double ay, double bx, double by,
+                                                          double cx, double cy) {
   const double acx = ax - cx, acy = ay - cy, bcx = bx - cx, bcy = by - cy;
   for (const double d : {acx, acy, bcx, bcy})
     if (!moderate(d, 0x1p+400)) return std::nullopt;
+  // B: the determinant of the rounded differences, exactly (Shewchuk's stage B).
   double h[4];
   exact_products_difference(acx, bcy, acy, bcx, h);
-  const int sign = sign_of(h);
-  return sign > 0 ? CGAL::LEFT_TURN : sign < 0 ? CGAL::RIGHT_TURN : CGAL::COLLINEAR;
+  const double acx_tail = difference_tail(ax, cx, acx), acy_tail = difference_tail(ay, cy, acy),
+               bcx_tail = difference_tail(bx, cx, bcx), bcy_tail = difference_tail(by, cy, bcy);
+  if (acx_tail == 0.0 && acy_tail == 0.0 && bcx_tail == 0.0 && bcy_tail == 0.0) {
+    const int sign = sign_of(h);
+    return sign > 0 ? CGAL::LEFT_TURN : sign < 0 ? CGAL::RIGHT_TURN : CGAL::COLLINEAR;
+  }
+  // Inexact differences (each difference = rounded + tail exactly, |tail| <= eps |rounded|): the exact
+  // determinant is B + T1 + T2, T1 the four products of a rounded difference and a tail, |T2| <= eps^2 S
+  // (S = |acx bcy| + |acy bcx|). With B rounded (3.01 eps |B|), T1 rounded (6.1 eps^2 S) and their sum
+  // rounded (eps), |det - exact| <= 4.02 eps |det| + 13.3 eps^2 S: beyond twice that, det's sign is exact
+  // (Shewchuk's stage C, with bounds of our own derivation). Sums so small that underflow could matter go on.
+  const double sum = std::abs(acx * bcy) + std::abs(acy * bcx);
+  if (!(sum >= predicates_detail::kSmallestSum)) return std::nullopt;
+  const double t1 = (acx * bcy_tail + bcy * acx_tail) - (acy * bcx_tail + bcx * acy_tail);
+  const double det = approximate(h) + t1;
+  constexpr double eps = predicates_detail::kEpsilon;
+  const double bound = 8.0 * eps * std::abs(det) + 32.0 * eps * eps * sum;
+  if (det > bound) return CGAL::LEFT_TURN;
+  if (-det > bound) return CGAL::RIGHT_TURN;
+  return std::nullopt;
 }
 
 CGAL::Orientation orientation_beyond_filter(const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q,
                                             const CGAL::Epick::Point_2& r) {
-  if (const auto exact = orientation_of_exact_differences(p.x(), p.y(), q.x(), q.y(), r.x(), r.y()))
-    return *exact;
+  if (const auto exact = orientation_second_stage(p.x(), p.y(), q.x(), q.y(), r.x(), r.y())) return *exact;
   return CGAL::orientation(p, q, r);
 }
 

@@ -8,9 +8,11 @@
 // predicate (EPICK: semi-static filter, interval arithmetic, then exact arithmetic), so every answer is the
 // exact one; the filter only decides sooner (no maxima, no sorting, no range checks) on the many calls that
 // are far from degenerate. Sums below 1e-250 (where underflow could spoil the bound) go to CGAL too.
-// Both have a second stage before CGAL, where the coordinate differences are exact, as between nearby
-// points: orientation sums its 2x2 determinant exactly from error-free products (Shewchuk's stage B); the
-// in-circle test takes its three 2x2 determinants so and bounds the rest's rounding. Nearly collinear
+// Both have a second stage before CGAL. Orientation sums its 2x2 determinant of the rounded differences
+// exactly from error-free products (Shewchuk's stage B), which is the answer where the differences are
+// exact, as between nearby points, and adds the differences' rounding errors with a bound where they are
+// not (his stage C). The in-circle test, where the differences are exact, takes its three 2x2
+// determinants so and bounds the rest's rounding. Nearly collinear
 // points (a flat stretch of cloth cut by a plane) are then decided without interval or multiprecision
 // arithmetic.
 // tests/filtered_predicates_test.cpp compares both with CGAL on random, near-degenerate and degenerate
@@ -31,10 +33,11 @@ inline constexpr double kInCircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon;
 inline constexpr double kSmallestSum = 1e-250;
 }  // namespace predicates_detail
 
-/// The exact sign of (ax - cx)(by - cy) - (ay - cy)(bx - cx) when the four differences are exact doubles
-/// of moderate size (filtered_predicates.cpp); std::nullopt when they are not.
-std::optional<CGAL::Orientation> orientation_of_exact_differences(double ax, double ay, double bx, double by,
-                                                                  double cx, double cy);
+/// The sign of (ax - cx)(by - cy) - (ay - cy)(bx - cx), exactly, from the determinant of the rounded
+/// differences summed exactly and, where a difference was rounded, its error terms bounded
+/// (filtered_predicates.cpp); std::nullopt where that cannot decide.
+std::optional<CGAL::Orientation> orientation_second_stage(double ax, double ay, double bx, double by,
+                                                          double cx, double cy);
 
 /// The in-circle sign, where the six differences to t are exact doubles of moderate size and it can be
 /// decided from the three 2x2 determinants summed exactly (filtered_predicates.cpp); std::nullopt

@@ -97,6 +97,22 @@ RC_GTEST_PROP(FilteredPredicates, AgreeWithCgalOnNearlyCollinearNearbyPoints, ()
   }
 }
 
+RC_GTEST_PROP(FilteredPredicates, AgreeWithCgalOnLatticePointsWithInexactDifferences, ()) {
+  // Two points far out (about 2^57, on a lattice of 256) on a line through the origin, and a third near the
+  // origin, off that line by a lattice step or none: the differences are rounded, and the determinant,
+  // 256 (n - m) cross(d, r), can be as small as eps^2 times its products, where only a correct bound on the
+  // rounding errors keeps the second stage exact.
+  const double dx = *rc::gen::inRange(-5, 6), dy = *rc::gen::inRange(1, 6);
+  const double m = std::ldexp(1.0, 48) + *rc::gen::inRange(0, 1 << 20);
+  const double n = m + *rc::gen::inRange(-4, 5);
+  const double k = *rc::gen::inRange(-100, 101);
+  const Point p(256.0 * m * dx, 256.0 * m * dy), q(256.0 * n * dx, 256.0 * n * dy);
+  const Point r(k * dx + *rc::gen::inRange(-1, 2), k * dy + *rc::gen::inRange(-1, 2));
+  expect_same(p, q, r);
+  expect_same(q, r, p);
+  expect_same(r, p, q);
+}
+
 RC_GTEST_PROP(FilteredPredicates, AgreeWithCgalOnNearlyCocircularPoints, ()) {
   // Four points on a circle (angles rounded), nudged by ulps: the in-circle sign hangs on the last bits.
   const Point c(*rc::gen::inRange(-1000, 1000) * 0.37, *rc::gen::inRange(-1000, 1000) * 0.91);
