@@ -22,14 +22,6 @@ double difference_tail(double a, double b, double d) {
   return (a - a_virtual) + (b_virtual - b);
 }
 
-/// Whether fl(a - b) is a - b exactly.
-bool exact_difference(double a, double b) {
-  const double d = a - b;
-  const double b_virtual = a - d;
-  const double a_virtual = d + b_virtual;
-  return a - a_virtual == 0.0 && b_virtual - b == 0.0;
-}
-
 /// a = high + low with each half of at most 26 significant bits (Veltkamp's split).
 void split(double a, double& high, double& low) {
   const double c = 134217729.0 * a;  // 2^27 + 1
@@ -116,32 +108,50 @@ CGAL::Orientation orientation_beyond_filter(const CGAL::Epick::Point_2& p, const
   return CGAL::orientation(p, q, r);
 }
 
-std::optional<CGAL::Oriented_side> side_of_oriented_circle_of_exact_differences(
-    const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q, const CGAL::Epick::Point_2& r,
-    const CGAL::Epick::Point_2& t) {
-  for (const CGAL::Epick::Point_2* a : {&p, &q, &r})
-    if (!exact_difference(a->x(), t.x()) || !exact_difference(a->y(), t.y())) return std::nullopt;
+std::optional<CGAL::Oriented_side> side_of_oriented_circle_second_stage(const CGAL::Epick::Point_2& p,
+                                                                        const CGAL::Epick::Point_2& q,
+                                                                        const CGAL::Epick::Point_2& r,
+                                                                        const CGAL::Epick::Point_2& t) {
   const double adx = p.x() - t.x(), ady = p.y() - t.y(), bdx = q.x() - t.x(), bdy = q.y() - t.y(),
                cdx = r.x() - t.x(), cdy = r.y() - t.y();
   for (const double d : {adx, ady, bdx, bdy, cdx, cdy})
     if (!moderate(d, 0x1p+200)) return std::nullopt;
-  // det = alift (bdx cdy - cdx bdy) + blift (cdx ady - adx cdy) + clift (adx bdy - bdx ady), the three
-  // 2x2 determinants exact (where the first stage loses everything: nearly collinear points make them tiny
-  // beside their products) and rounded once each (3.01 eps), the lifts (2.01 eps), the three products and
-  // the two sums: |det - exact| <= 8.05 eps (|ta| + |tb| + |tc|). Beyond 16 eps of that, det's sign is exact;
-  // where all three determinants are 0, so is det.
+  const double adx_tail = difference_tail(p.x(), t.x(), adx), ady_tail = difference_tail(p.y(), t.y(), ady),
+               bdx_tail = difference_tail(q.x(), t.x(), bdx), bdy_tail = difference_tail(q.y(), t.y(), bdy),
+               cdx_tail = difference_tail(r.x(), t.x(), cdx), cdy_tail = difference_tail(r.y(), t.y(), cdy);
+  const bool exact = adx_tail == 0.0 && ady_tail == 0.0 && bdx_tail == 0.0 && bdy_tail == 0.0 &&
+                     cdx_tail == 0.0 && cdy_tail == 0.0;
+  // det = la ca + lb cb + lc cc: lifts la = adx^2 + ady^2 ..., and the 2x2 determinants ca = bdx cdy - cdx
+  // bdy, cb = cdx ady - adx cdy, cc = adx bdy - bdx ady, where nearly collinear points cancel everything the
+  // first stage had. Each 2x2 determinant of the rounded differences is summed exactly, plus its first-order
+  // terms in the differences' rounding errors (|tail| <= eps |difference|); the lifts are those of the
+  // rounded differences. With P_k the two products of determinant k and L_k its lift, every rounding and
+  // every neglected term together is at most 11.2 eps sum |t_k| + 13.3 eps^2 sum L_k P_k (8.05 eps sum |t_k|
+  // where the differences are exact): beyond twice that, det's sign is exact. Where the differences are exact
+  // and all three determinants 0, so is det.
   double bc[4], ca[4], ab[4];
   exact_products_difference(bdx, cdy, cdx, bdy, bc);
   exact_products_difference(cdx, ady, adx, cdy, ca);
   exact_products_difference(adx, bdy, bdx, ady, ab);
-  const double ta = (adx * adx + ady * ady) * approximate(bc);
-  const double tb = (bdx * bdx + bdy * bdy) * approximate(ca);
-  const double tc = (cdx * cdx + cdy * cdy) * approximate(ab);
+  const double la = adx * adx + ady * ady, lb = bdx * bdx + bdy * bdy, lc = cdx * cdx + cdy * cdy;
+  double ta = la * approximate(bc), tb = lb * approximate(ca), tc = lc * approximate(ab);
+  constexpr double eps = predicates_detail::kEpsilon;
+  double margin = 0.0;
+  if (!exact) {
+    ta = la * (approximate(bc) + ((bdx * cdy_tail + cdy * bdx_tail) - (cdx * bdy_tail + bdy * cdx_tail)));
+    tb = lb * (approximate(ca) + ((cdx * ady_tail + ady * cdx_tail) - (adx * cdy_tail + cdy * adx_tail)));
+    tc = lc * (approximate(ab) + ((adx * bdy_tail + bdy * adx_tail) - (bdx * ady_tail + ady * bdx_tail)));
+    const double permanent = la * (std::abs(bdx * cdy) + std::abs(cdx * bdy)) +
+                             lb * (std::abs(cdx * ady) + std::abs(adx * cdy)) +
+                             lc * (std::abs(adx * bdy) + std::abs(bdx * ady));
+    if (!(permanent >= predicates_detail::kSmallestSum)) return std::nullopt;  // where underflow could matter
+    margin = 32.0 * eps * eps * permanent;
+  }
   const double det = (ta + tb) + tc;
-  const double bound = 16.0 * predicates_detail::kEpsilon * (std::abs(ta) + std::abs(tb) + std::abs(tc));
+  const double bound = (exact ? 16.0 : 24.0) * eps * (std::abs(ta) + std::abs(tb) + std::abs(tc)) + margin;
   if (det > bound) return CGAL::ON_POSITIVE_SIDE;
   if (-det > bound) return CGAL::ON_NEGATIVE_SIDE;
-  if (sign_of(bc) == 0 && sign_of(ca) == 0 && sign_of(ab) == 0) return CGAL::ON_ORIENTED_BOUNDARY;
+  if (exact && sign_of(bc) == 0 && sign_of(ca) == 0 && sign_of(ab) == 0) return CGAL::ON_ORIENTED_BOUNDARY;
   return std::nullopt;
 }
 
@@ -149,7 +159,7 @@ CGAL::Oriented_side side_of_oriented_circle_beyond_filter(const CGAL::Epick::Poi
                                                           const CGAL::Epick::Point_2& q,
                                                           const CGAL::Epick::Point_2& r,
                                                           const CGAL::Epick::Point_2& t) {
-  if (const auto decided = side_of_oriented_circle_of_exact_differences(p, q, r, t)) return *decided;
+  if (const auto decided = side_of_oriented_circle_second_stage(p, q, r, t)) return *decided;
   return CGAL::side_of_oriented_circle(p, q, r, t);
 }
 

@@ -11,8 +11,8 @@
 // Both have a second stage before CGAL. Orientation sums its 2x2 determinant of the rounded differences
 // exactly from error-free products (Shewchuk's stage B), which is the answer where the differences are
 // exact, as between nearby points, and adds the differences' rounding errors with a bound where they are
-// not (his stage C). The in-circle test, where the differences are exact, takes its three 2x2
-// determinants so and bounds the rest's rounding. Nearly collinear
+// not (his stage C). The in-circle test takes its three 2x2 determinants so (with the differences' errors
+// to first order) and bounds the rest. Nearly collinear
 // points (a flat stretch of cloth cut by a plane) are then decided without interval or multiprecision
 // arithmetic.
 // tests/filtered_predicates_test.cpp compares both with CGAL on random, near-degenerate and degenerate
@@ -39,12 +39,13 @@ inline constexpr double kSmallestSum = 1e-250;
 std::optional<CGAL::Orientation> orientation_second_stage(double ax, double ay, double bx, double by,
                                                           double cx, double cy);
 
-/// The in-circle sign, where the six differences to t are exact doubles of moderate size and it can be
-/// decided from the three 2x2 determinants summed exactly (filtered_predicates.cpp); std::nullopt
-/// otherwise.
-std::optional<CGAL::Oriented_side> side_of_oriented_circle_of_exact_differences(
-    const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q, const CGAL::Epick::Point_2& r,
-    const CGAL::Epick::Point_2& t);
+/// The in-circle sign, where it can be decided from the three 2x2 determinants of the rounded differences
+/// summed exactly, with the differences' rounding errors to first order and a bound on the rest
+/// (filtered_predicates.cpp); std::nullopt otherwise.
+std::optional<CGAL::Oriented_side> side_of_oriented_circle_second_stage(const CGAL::Epick::Point_2& p,
+                                                                        const CGAL::Epick::Point_2& q,
+                                                                        const CGAL::Epick::Point_2& r,
+                                                                        const CGAL::Epick::Point_2& t);
 
 /// Where the first stages cannot decide (out of line, so that the filters inline at every call):
 /// the exact-differences stage, then CGAL.

@@ -106,11 +106,15 @@ RC_GTEST_PROP(FilteredPredicates, AgreeWithCgalOnLatticePointsWithInexactDiffere
   const double m = std::ldexp(1.0, 48) + *rc::gen::inRange(0, 1 << 20);
   const double n = m + *rc::gen::inRange(-4, 5);
   const double k = *rc::gen::inRange(-100, 101);
-  const Point p(256.0 * m * dx, 256.0 * m * dy), q(256.0 * n * dx, 256.0 * n * dy);
+  const double l = m + *rc::gen::inRange(-4, 5);
+  const Point p(256.0 * m * dx, 256.0 * m * dy), q(256.0 * n * dx, 256.0 * n * dy),
+      s(256.0 * l * dx + 256.0 * *rc::gen::inRange(-1, 2), 256.0 * l * dy);
   const Point r(k * dx + *rc::gen::inRange(-1, 2), k * dy + *rc::gen::inRange(-1, 2));
   expect_same(p, q, r);
   expect_same(q, r, p);
   expect_same(r, p, q);
+  expect_same(p, q, s, r);  // four points nearly on a line, three far out: the in-circle test's second stage
+  expect_same(r, p, q, s);
 }
 
 RC_GTEST_PROP(FilteredPredicates, AgreeWithCgalOnNearlyCocircularPoints, ()) {
