@@ -415,7 +415,23 @@ def write_outputs(rows, info, out_dir, command_line, elapsed):
     print("\n".join(md))
 
 
+def run_under_python_with_matplotlib():
+    """Re-runs this script under Debian's python3 when the python3 on PATH (a pyenv or venv) lacks matplotlib and
+    Debian's has it, so that static_core.png is drawn in the same run."""
+    try:
+        import matplotlib  # noqa: F401
+        return
+    except ImportError:
+        pass
+    system = "/usr/bin/python3"
+    if not os.path.exists(system) or os.path.realpath(sys.executable) == os.path.realpath(system):
+        return
+    if subprocess.run([system, "-c", "import matplotlib"], capture_output=True).returncode == 0:
+        os.execv(system, [system, os.path.abspath(__file__)] + sys.argv[1:])
+
+
 def main():
+    run_under_python_with_matplotlib()
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--build-dir", default=os.path.join(ROOT, "build-bench"))
     parser.add_argument("--out-dir", default=os.path.join(ROOT, "bench", "results"))
