@@ -1,5 +1,7 @@
 #include "static_core/filtered_predicates.hpp"
 
+#include <optional>
+
 namespace pleat::cgal {
 
 namespace {
@@ -38,7 +40,6 @@ void two_product(double a, double b, double& p, double& e) {
   e = al * bl - (((p - ah * bh) - al * bh) - ah * bl);
 }
 
-/// Zero, or a magnitude whose products and their errors stay normal doubles and whose split cannot overflow.
 /// Zero, or a magnitude whose products (two for orientation: up to 2^±400; four for the in-circle test: up
 /// to 2^±200) and their errors stay normal doubles and whose split cannot overflow.
 bool moderate(double d, double limit) {
@@ -70,8 +71,9 @@ int sign_of(const double h[4]) {
 /// The expansion's value, rounded: within 3.01 epsilon of it (the partial sums never exceed it much).
 double approximate(const double h[4]) { return ((h[0] + h[1]) + h[2]) + h[3]; }
 
-}  // namespace
-
+/// The sign of (ax - cx)(by - cy) - (ay - cy)(bx - cx), exactly, from the determinant of the rounded
+/// differences summed exactly and, where a difference was rounded, its error terms bounded; std::nullopt
+/// where that cannot decide.
 std::optional<CGAL::Orientation> orientation_second_stage(double ax, double ay, double bx, double by,
                                                           double cx, double cy) {
   const double acx = ax - cx, acy = ay - cy, bcx = bx - cx, bcy = by - cy;
@@ -102,12 +104,9 @@ std::optional<CGAL::Orientation> orientation_second_stage(double ax, double ay, 
   return std::nullopt;
 }
 
-CGAL::Orientation orientation_beyond_filter(const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q,
-                                            const CGAL::Epick::Point_2& r) {
-  if (const auto exact = orientation_second_stage(p.x(), p.y(), q.x(), q.y(), r.x(), r.y())) return *exact;
-  return CGAL::orientation(p, q, r);
-}
-
+/// The in-circle sign, where it can be decided from the three 2x2 determinants of the rounded differences
+/// summed exactly, with the differences' rounding errors to first order and a bound on the rest;
+/// std::nullopt otherwise.
 std::optional<CGAL::Oriented_side> side_of_oriented_circle_second_stage(const CGAL::Epick::Point_2& p,
                                                                         const CGAL::Epick::Point_2& q,
                                                                         const CGAL::Epick::Point_2& r,
@@ -134,13 +133,16 @@ std::optional<CGAL::Oriented_side> side_of_oriented_circle_second_stage(const CG
   exact_products_difference(cdx, ady, adx, cdy, ca);
   exact_products_difference(adx, bdy, bdx, ady, ab);
   const double la = adx * adx + ady * ady, lb = bdx * bdx + bdy * bdy, lc = cdx * cdx + cdy * cdy;
-  double ta = la * approximate(bc), tb = lb * approximate(ca), tc = lc * approximate(ab);
+  // t_k: lift times determinant with its first-order tail terms (exactly 0 where the differences are exact).
+  const double ta =
+      la * (approximate(bc) + ((bdx * cdy_tail + cdy * bdx_tail) - (cdx * bdy_tail + bdy * cdx_tail)));
+  const double tb =
+      lb * (approximate(ca) + ((cdx * ady_tail + ady * cdx_tail) - (adx * cdy_tail + cdy * adx_tail)));
+  const double tc =
+      lc * (approximate(ab) + ((adx * bdy_tail + bdy * adx_tail) - (bdx * ady_tail + ady * bdx_tail)));
   constexpr double eps = predicates_detail::kEpsilon;
   double margin = 0.0;
   if (!exact) {
-    ta = la * (approximate(bc) + ((bdx * cdy_tail + cdy * bdx_tail) - (cdx * bdy_tail + bdy * cdx_tail)));
-    tb = lb * (approximate(ca) + ((cdx * ady_tail + ady * cdx_tail) - (adx * cdy_tail + cdy * adx_tail)));
-    tc = lc * (approximate(ab) + ((adx * bdy_tail + bdy * adx_tail) - (bdx * ady_tail + ady * bdx_tail)));
     const double permanent = la * (std::abs(bdx * cdy) + std::abs(cdx * bdy)) +
                              lb * (std::abs(cdx * ady) + std::abs(adx * cdy)) +
                              lc * (std::abs(adx * bdy) + std::abs(bdx * ady));
@@ -153,6 +155,14 @@ std::optional<CGAL::Oriented_side> side_of_oriented_circle_second_stage(const CG
   if (-det > bound) return CGAL::ON_NEGATIVE_SIDE;
   if (exact && sign_of(bc) == 0 && sign_of(ca) == 0 && sign_of(ab) == 0) return CGAL::ON_ORIENTED_BOUNDARY;
   return std::nullopt;
+}
+
+}  // namespace
+
+CGAL::Orientation orientation_beyond_filter(const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q,
+                                            const CGAL::Epick::Point_2& r) {
+  if (const auto exact = orientation_second_stage(p.x(), p.y(), q.x(), q.y(), r.x(), r.y())) return *exact;
+  return CGAL::orientation(p, q, r);
 }
 
 CGAL::Oriented_side side_of_oriented_circle_beyond_filter(const CGAL::Epick::Point_2& p,

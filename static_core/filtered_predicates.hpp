@@ -12,9 +12,8 @@
 // exactly from error-free products (Shewchuk's stage B), which is the answer where the differences are
 // exact, as between nearby points, and adds the differences' rounding errors with a bound where they are
 // not (his stage C). The in-circle test takes its three 2x2 determinants so (with the differences' errors
-// to first order) and bounds the rest. Nearly collinear
-// points (a flat stretch of cloth cut by a plane) are then decided without interval or multiprecision
-// arithmetic.
+// to first order) and bounds the rest. Nearly collinear points (a flat stretch of cloth cut by a plane) are
+// then decided without interval or multiprecision arithmetic.
 // tests/filtered_predicates_test.cpp compares both with CGAL on random, near-degenerate and degenerate
 // input.
 #pragma once
@@ -22,7 +21,6 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <cmath>
-#include <optional>
 
 namespace pleat::cgal {
 
@@ -33,22 +31,8 @@ inline constexpr double kInCircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon;
 inline constexpr double kSmallestSum = 1e-250;
 }  // namespace predicates_detail
 
-/// The sign of (ax - cx)(by - cy) - (ay - cy)(bx - cx), exactly, from the determinant of the rounded
-/// differences summed exactly and, where a difference was rounded, its error terms bounded
-/// (filtered_predicates.cpp); std::nullopt where that cannot decide.
-std::optional<CGAL::Orientation> orientation_second_stage(double ax, double ay, double bx, double by,
-                                                          double cx, double cy);
-
-/// The in-circle sign, where it can be decided from the three 2x2 determinants of the rounded differences
-/// summed exactly, with the differences' rounding errors to first order and a bound on the rest
-/// (filtered_predicates.cpp); std::nullopt otherwise.
-std::optional<CGAL::Oriented_side> side_of_oriented_circle_second_stage(const CGAL::Epick::Point_2& p,
-                                                                        const CGAL::Epick::Point_2& q,
-                                                                        const CGAL::Epick::Point_2& r,
-                                                                        const CGAL::Epick::Point_2& t);
-
 /// Where the first stages cannot decide (out of line, so that the filters inline at every call):
-/// the exact-differences stage, then CGAL.
+/// the second stage (filtered_predicates.cpp), then CGAL.
 CGAL::Orientation orientation_beyond_filter(const CGAL::Epick::Point_2& p, const CGAL::Epick::Point_2& q,
                                             const CGAL::Epick::Point_2& r);
 CGAL::Oriented_side side_of_oriented_circle_beyond_filter(const CGAL::Epick::Point_2& p,

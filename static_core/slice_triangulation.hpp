@@ -61,7 +61,8 @@ class SliceTriangulation {
     const int s = x->info().slice_vertex;
     if (s < 0 || std::size_t(s) >= m_constrained_count.size()) return {};
     const std::uint8_t count = m_constrained_count[s];
-    for (std::uint8_t j = 0; j < count && count <= 2; ++j)
+    if (count > 2) return {};
+    for (std::uint8_t j = 0; j < count; ++j)
       if (m_constrained_at[2 * s + j].w == w) return m_constrained_at[2 * s + j].left;
     return {};
   }
