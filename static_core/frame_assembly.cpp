@@ -106,7 +106,7 @@ struct FrameAssembler::Impl {
   /// A stored cone in the CSR: its plane and slice vertex.
   struct Ref {
     std::uint32_t plane;
-    std::uint32_t item;
+    std::uint32_t slice_vertex;
   };
   /// What step 2 compares of an offer, beside its Ref in the CSR: the offers are read in CSR order, not
   /// gathered from the planes' lists (that gather was 2% of the 30k roll's frame).
@@ -247,7 +247,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     result.measures[side].assign(n, {});
   }
   auto cone_of = [&](const Ref& r, int side) {
-    return planes[r.plane]->cones.cone(r.item, static_cast<Side>(side));
+    return planes[r.plane]->cones.cone(r.slice_vertex, static_cast<Side>(side));
   };
   // Under InterpolatedOnFan, a key with offers from a plane below the vertex (lo) and one above it (hi), of
   // parallel planes (step 2 kept only the nearer of a pencil's two): the blend of their cones at the vertex's
