@@ -121,22 +121,6 @@ std::size_t find_fan_swaps(const Slice& old, const Slice& next, KineticScratch& 
   return relabeled;
 }
 
-/// A kinetic slice's kept triangulation lent to the thread's SliceTriangulation for a scope (swapped in, and
-/// out again on exit, also by an exception).
-class Lent {
- public:
-  Lent(SliceTriangulation& triangulation, Cdt& kept) : m_triangulation(triangulation), m_kept(kept) {
-    m_triangulation.swap_cdt(m_kept);
-  }
-  ~Lent() { m_triangulation.swap_cdt(m_kept); }
-  Lent(const Lent&) = delete;
-  Lent& operator=(const Lent&) = delete;
-
- private:
-  SliceTriangulation& m_triangulation;
-  Cdt& m_kept;
-};
-
 }  // namespace
 
 void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& connectivity,
@@ -144,11 +128,13 @@ void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& c
                          std::span<const Index> faces, KineticScratch& scratch) {
   m_storage = storage;
   slice_mesh(topology, connectivity, frame, plane, faces, scratch.slicer, m_out.slice);
-  {
-    const Lent lent(scratch.triangulation, m_cdt);
+  try {
     finish_build(topology, frame, scratch);
+  } catch (...) {
+    m_editable = false;
+    m_kept.release();
+    throw;
   }
-  if (!m_editable) m_cdt.clear();  // rebuilt at the next interval anyway
 }
 
 void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
@@ -164,6 +150,10 @@ void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame
     m_unkept_check = tri.check_invariants(&why) ? std::string() : (why.empty() ? "invalid" : why);
   }
   grow_cones(topology, frame, scratch);
+  if (m_editable)
+    keep_triangulation(tri.cdt_for_editing(), m_kept);
+  else
+    m_kept.release();  // rebuilt at the next interval anyway
 }
 
 void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
@@ -171,6 +161,7 @@ void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame
   scratch.triangulation.adopt_edits(m_out.slice);
   m_out.crossings = 0;
   grow_cones(topology, frame, scratch);
+  keep_triangulation(scratch.triangulation.cdt_for_editing(), m_kept);
 }
 
 void KineticSlice::grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
@@ -186,14 +177,12 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
   const auto start = std::chrono::steady_clock::now();
   KineticCounts counts;
   try {
-    const Lent lent(scratch.triangulation, m_cdt);
     counts = carry(topology, connectivity, next, plane, faces, policy, scratch);
   } catch (...) {
     m_editable = false;  // perhaps half-edited: the next interval rebuilds it
-    m_cdt.clear();
+    m_kept.release();
     throw;
   }
-  if (!m_editable) m_cdt.clear();
   counts.cone_seconds = m_cone_seconds;
   counts.structure_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - m_cone_seconds;
@@ -201,9 +190,11 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
 }
 
 void KineticSlice::rederive_triangulation(SliceTriangulation& out) const {
-  if (m_editable)
-    out.assign(m_cdt, m_out.slice);
-  else
+  if (m_editable) {
+    RestoreScratch scratch;
+    restore_triangulation(m_kept, m_out.slice, out.cdt_for_editing(), scratch);
+    out.adopt_edits(m_out.slice);
+  } else
     out.build(m_out.slice);  // what the interval built (deterministic); not kept
 }
 
@@ -229,6 +220,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   // Match slice vertices by mesh edge: survivors, and those that vanish or appear.
   const Slice& old = m_out.slice;
   SliceTriangulation& tri = scratch.triangulation;
+  restore_triangulation(m_kept, old, tri.cdt_for_editing(), scratch.restore);
   tri.map_vertices(old);
   if (scratch.old_of_edge.size() != connectivity.num_edges())
     scratch.old_of_edge.assign(connectivity.num_edges(), -1);
@@ -455,7 +447,7 @@ bool KineticSlice::check_invariants(std::string* why) const {
   // A slice that is not editable (chains cross or touch, points merged, or not 2D) is rebuilt every interval
   // and keeps nothing; the triangulation it was built with was checked then (KineticScratch::check_unkept).
   if (!m_editable) {
-    if (m_cdt.number_of_vertices() != 0) return fail("a slice that is rebuilt kept its triangulation");
+    if (!m_kept.empty()) return fail("a slice that is rebuilt kept its triangulation");
     if (!m_unkept_check) {  // not checked in the interval: build it again (deterministic) and check that
       SliceTriangulation built;
       rederive_triangulation(built);

@@ -12,7 +12,9 @@
 // and corners are those of every valid constrained triangulation of the same chains — in particular of the
 // static engine's — and the shortest paths grown on it are unique, so its cones equal the static ones.
 //
-// An interval (frame k -> k+1), all decisions exact (CGAL's filtered predicates):
+// An interval (frame k -> k+1), all decisions exact (CGAL's filtered predicates), in the thread's CGAL
+// triangulation, into which the slice's kept one (indices: kept_triangulation.hpp) is restored at frame k's
+// points first:
 //   1. Edits: the mesh vertices that cross the plane change which mesh edges cross it. Where a chain's
 //      run of vanishing slice vertices p -> x1 .. xm -> q between two survivors becomes p -> y1 .. yk -> q
 //      (a regular vertex crossing: the paper's §6 fan swap, the run being the cuts of its fan), x1 .. x_r,
@@ -32,7 +34,8 @@
 //      the edits' new slice vertices are inserted at their next points (CGAL, located from a chain
 //      neighbour), then every chain edge that is not a constrained edge yet is inserted as one.
 //   4. Regions, windows and corners are derived from the triangulation (they depend on nothing else), in the
-//      thread's scratch; the funnel trees and cones are grown on it (static_core's code).
+//      thread's scratch; the funnel trees and cones are grown on it (static_core's code); the triangulation
+//      is kept again as indices.
 // The slice is rebuilt with static_core, and the reason counted, when it is degenerate or not editable
 // (collinear, points merged, chains that cross or touch), when its hull winds more than once, when an
 // inserted point meets another or a chain edge, or when edits and put-back vertices exceed the policy's
@@ -45,6 +48,7 @@
 #include <utility>
 #include <vector>
 
+#include "kinetic/kept_triangulation.hpp"
 #include "kinetic/kinetic_visibility.hpp"
 #include "static_core/frame_assembly.hpp"
 #include "static_core/slice_triangulation.hpp"
@@ -57,9 +61,10 @@ struct KineticScratch {
   /// The next frame's slice while a slice is carried to it; then, swapped, the previous frame's buffers,
   /// reused by the next slice this thread carries (a slice keeps one Slice between frames, not two).
   Slice next;
-  /// While a slice is carried: its kept triangulation (lent) and everything derived from it — slice-vertex
-  /// map, corners, regions, windows — which are not kept between frames (see KineticSlice).
+  /// While a slice is carried: its kept triangulation, restored, and everything derived from it —
+  /// slice-vertex map, corners, regions, windows — which are not kept between frames (see KineticSlice).
   SliceTriangulation triangulation;
+  RestoreScratch restore;
   /// Set by the engine when invariants are checked (KineticParams::check_invariants): a slice rebuilt without
   /// keeping its triangulation has it checked before it is dropped (KineticSlice::check_invariants reports;
   /// without this it rebuilds the triangulation to check it).
@@ -123,12 +128,12 @@ class KineticSlice {
   RebuildReason certify_at_next_frame(std::size_t budget, KineticScratch& scratch, KineticCounts& counts);
 
   PlaneCones m_out;
-  /// What is kept between frames besides the slice: the constrained triangulation of an editable slice
-  /// (empty for one that is rebuilt every interval). Its slice-vertex map, corners, regions and windows are
-  /// derived again each frame in the thread's scratch: at the native frame rate structure changes in all
-  /// but 2 of 1,711 slices of the 30k curtain (28 of 538 on the drape), so keeping them saved no work but
-  /// cost about 60 bytes per slice vertex.
-  cgal::Cdt m_cdt;
+  /// What is kept between frames besides the slice: the constrained triangulation of an editable slice, as
+  /// indices (kept_triangulation.hpp; empty for one that is rebuilt every interval). Its slice-vertex map,
+  /// corners, regions and windows are derived again each frame in the thread's scratch: at the native frame
+  /// rate structure changes in all but 2 of 1,711 slices of the 30k curtain (28 of 538 on the drape), so
+  /// keeping them saved no work but cost about 60 bytes per slice vertex.
+  KeptTriangulation m_kept;
   ConeStorage m_storage = ConeStorage::NearestOnFan;
   std::vector<Index> m_changed_edges;
   /// 2D, no merged points, no crossings, and every chain edge one constrained edge (no chain touching another

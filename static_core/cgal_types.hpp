@@ -36,9 +36,10 @@ struct VertexInfo {
 
 /// Per CDT face: the corner id of each of its vertices (its region is its corners'). With GCC a face takes 72
 /// bytes: CGAL's links (48), its scratch flag and three constraint flags, and this info in the base's tail
-/// padding. A kinetic slice keeps about two faces per slice vertex.
+/// padding. A slice has about two faces per slice vertex.
 struct FaceInfo {
   std::array<int, 3> corner{-1, -1, -1};
+  int index = -1;  ///< scratch of the kinetic layer: the face's place in its compact copy
 };
 
 using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, TriangulationTraits>;

@@ -81,11 +81,6 @@ void SliceTriangulation::clear_derived() {
   m_crossings = 0;
 }
 
-void SliceTriangulation::assign(const cgal::Cdt& cdt, const Slice& slice) {
-  m_cdt = cdt;
-  adopt_edits(slice);
-}
-
 void SliceTriangulation::assign_corners() {
   // A corner is a maximal run of finite faces around a vertex between separators. From each (face, vertex)
   // not yet in a corner, the run is numbered from that face counter-clockwise up to a separator, then

@@ -69,21 +69,18 @@ class SliceTriangulation {
   /// Points inserted where chains cross (self-intersecting input); 0 for a valid surface.
   std::size_t crossings() const { return m_crossings; }
 
-  /// The kinetic layer keeps only the constrained triangulation of a slice between frames: everything else
-  /// here is derived from it. To carry a slice it swaps its triangulation in (constant time; handles stay
-  /// valid), maps the vertices, edits the triangulation in place (moves points, removes and inserts vertices
-  /// and constraints), adopts the edits, grows the cones, and swaps the triangulation out again. Every
-  /// finite CDT vertex must name a distinct slice vertex of `slice` in its info, and every slice vertex must
-  /// have one (no merged points, no crossing points).
-  void swap_cdt(cgal::Cdt& kept) { m_cdt.swap(kept); }
+  /// The kinetic layer keeps only the constrained triangulation of a slice between frames, compactly
+  /// (kinetic/kept_triangulation.hpp): everything else here is derived from it. To carry a slice it restores
+  /// its triangulation here, maps the vertices, edits the triangulation in place (moves points, removes and
+  /// inserts vertices and constraints), adopts the edits, grows the cones, and keeps the triangulation
+  /// again. Every finite CDT vertex must name a distinct slice vertex of `slice` in its info, and every slice
+  /// vertex must have one (no merged points, no crossing points).
   cgal::Cdt& cdt_for_editing() { return m_cdt; }
   /// Rebuilds the slice-vertex map from the CDT vertices' info.
   void map_vertices(const Slice& slice);
   /// map_vertices, then corners, regions and windows (they depend only on the triangulation's combinatorics
   /// and constraints).
   void adopt_edits(const Slice& slice);
-  /// A copy of `cdt` (a triangulation of `slice` as for adopt_edits), with everything derived.
-  void assign(const cgal::Cdt& cdt, const Slice& slice);
 
   SliceTriangulation() = default;
   SliceTriangulation(const SliceTriangulation&) = delete;  // handles would point into the source
