@@ -13,7 +13,9 @@
 //                                     filtered exact) of every finite face of every plane's triangulation at
 //                                     frame k, on its slice vertices' frame-k+1 points (matched by mesh edge;
 //                                     faces whose vertex vanishes, or is a crossing point of two chains, are
-//                                     skipped). Counters: s_per_certificate, failed (not left turns at k+1).
+//                                     skipped). Counters: s_per_certificate, failed (not left turns at k+1),
+//                                     motion_p10 / _median / _p90: how far the slice vertices that survive
+//                                     to k+1 move, in mean chain-edge lengths of their slice at k.
 //   slice/rebuild/<seq>               KineticSlice::build of every plane at frame k+1 (the static path:
 //                                     slicing, constrained triangulation, regions, cones).
 //                                     s_per_slice_vertex.
@@ -41,6 +43,7 @@
 #include <cstring>
 #include <deque>
 #include <filesystem>
+#include <glm/geometric.hpp>
 #include <map>
 #include <memory>
 #include <string>
@@ -121,8 +124,11 @@ struct Workload {
   std::vector<std::array<cgal::Point2, 3>> points1;  // every finite face of frame k, at frame k+1's points
   std::size_t skipped_vanishing = 0;  // faces with a slice vertex whose mesh edge stops crossing at k+1
   std::size_t skipped_crossing = 0;   // faces with a crossing point of two chains (no mesh edge)
-  std::vector<TreeTask> trees;        // every window of every region without holes
-  std::size_t tree_corners = 0;       // sum over trees of both ends: corners reached
+  /// Per slice vertex that survives to k+1: how far its point moves, in mean chain-edge lengths of its slice
+  /// at frame k (sorted).
+  std::vector<double> motion;
+  std::vector<TreeTask> trees;   // every window of every region without holes
+  std::size_t tree_corners = 0;  // sum over trees of both ends: corners reached
   std::size_t max_corners = 0;
 
   void load(const std::string& name) {
@@ -160,6 +166,13 @@ struct Workload {
       slice_vertices0 += slice.vertices.size();
       slice_vertices1 += next.vertices.size();
       for (Index y = 0; y < next.vertices.size(); ++y) next_of_edge[next.vertices[y].edge] = std::int32_t(y);
+      double edge_length = 0.0;
+      for (const SliceEdge& e : slice.edges)
+        edge_length += glm::length(slice.vertices[e.to].point - slice.vertices[e.from].point);
+      edge_length /= double(std::max<std::size_t>(slice.edges.size(), 1));
+      for (const SliceVertex& v : slice.vertices)
+        if (const std::int32_t y = next_of_edge[v.edge]; y >= 0 && edge_length > 0.0)
+          motion.push_back(glm::length(next.vertices[y].point - v.point) / edge_length);
 
       // Frame certificates: the triangles of frame k's triangulation on frame k+1's points.
       const SliceTriangulation& tri = triangulations_k.emplace_back();
@@ -201,6 +214,7 @@ struct Workload {
         }
       }
     }
+    std::sort(motion.begin(), motion.end());
   }
 };
 
@@ -231,6 +245,12 @@ void certificate_benchmark(benchmark::State& state, std::string name) {
   state.counters["skipped_vanishing"] = double(w.skipped_vanishing);
   state.counters["skipped_crossing"] = double(w.skipped_crossing);
   state.counters["failed"] = double(w.points1.size() - left);
+  auto motion_quantile = [&](double q) {
+    return w.motion.empty() ? 0.0 : w.motion[std::size_t(q * double(w.motion.size() - 1))];
+  };
+  state.counters["motion_median"] = motion_quantile(0.5);
+  state.counters["motion_p10"] = motion_quantile(0.1);
+  state.counters["motion_p90"] = motion_quantile(0.9);
   state.counters["s_per_certificate"] = per_item(double(w.points1.size()));
 }
 
