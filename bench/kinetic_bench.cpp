@@ -15,7 +15,11 @@
 //                                     faces whose vertex vanishes, or is a crossing point of two chains, are
 //                                     skipped). Counters: s_per_certificate, failed (not left turns at k+1),
 //                                     motion_p10 / _median / _p90: how far the slice vertices that survive
-//                                     to k+1 move, in mean chain-edge lengths of their slice at k.
+//                                     to k+1 move, in mean chain-edge lengths of their slice at k;
+//                                     margin_certified: the certificates a margin would decide without the
+//                                     predicate (twice the area at k above 2 d (|ab| + |ac|) + 4 d^2, d the
+//                                     largest movement of the three vertices, a opposite the longest side);
+//                                     margin_certified_4x with a quarter of d (4x the frame rate, about).
 //   slice/rebuild/<seq>               KineticSlice::build of every plane at frame k+1 (the static path:
 //                                     slicing, constrained triangulation, regions, cones).
 //                                     s_per_slice_vertex.
@@ -127,8 +131,12 @@ struct Workload {
   /// Per slice vertex that survives to k+1: how far its point moves, in mean chain-edge lengths of its slice
   /// at frame k (sorted).
   std::vector<double> motion;
-  std::vector<TreeTask> trees;   // every window of every region without holes
-  std::size_t tree_corners = 0;  // sum over trees of both ends: corners reached
+  /// Of the faces in points1: those whose area at frame k exceeds what the movement of their vertices to
+  /// k+1 could take away (a margin certificate would keep them without evaluating the predicate).
+  std::size_t margin_certified = 0;
+  std::size_t margin_certified_4x = 0;  ///< the same with a quarter of the movement (4x the frame rate)
+  std::vector<TreeTask> trees;          // every window of every region without holes
+  std::size_t tree_corners = 0;         // sum over trees of both ends: corners reached
   std::size_t max_corners = 0;
 
   void load(const std::string& name) {
@@ -197,6 +205,24 @@ struct Workload {
             continue;
           }
           points1.push_back(t);
+          // Could a margin certify it without the predicate? Twice its area at frame k against the most it
+          // can change when each vertex moves at most delta: 2 delta (|ab| + |ac|) + 4 delta^2, at the vertex
+          // a opposite the longest edge.
+          std::array<glm::dvec2, 3> q;
+          double delta = 0.0;
+          for (int i = 0; i < 3; ++i) {
+            q[i] = cgal::to_glm(f->vertex(i)->point());
+            delta = std::max(delta, glm::length(cgal::to_glm(t[i]) - q[i]));
+          }
+          const double twice_area =
+              std::abs((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x));
+          const std::array<double, 3> side{glm::length(q[2] - q[1]), glm::length(q[0] - q[2]),
+                                           glm::length(q[1] - q[0])};  // side i opposite vertex i
+          const double longest = std::max({side[0], side[1], side[2]});
+          const double shorter_two = side[0] + side[1] + side[2] - longest;
+          margin_certified += twice_area > 2.0 * delta * shorter_two + 4.0 * delta * delta;
+          const double quarter = delta / 4;  // at 4x the frame rate, about
+          margin_certified_4x += twice_area > 2.0 * quarter * shorter_two + 4.0 * quarter * quarter;
         }
       for (const SliceVertex& v : next.vertices) next_of_edge[v.edge] = -1;
 
@@ -248,6 +274,8 @@ void certificate_benchmark(benchmark::State& state, std::string name) {
   auto motion_quantile = [&](double q) {
     return w.motion.empty() ? 0.0 : w.motion[std::size_t(q * double(w.motion.size() - 1))];
   };
+  state.counters["margin_certified"] = double(w.margin_certified);
+  state.counters["margin_certified_4x"] = double(w.margin_certified_4x);
   state.counters["motion_median"] = motion_quantile(0.5);
   state.counters["motion_p10"] = motion_quantile(0.1);
   state.counters["motion_p90"] = motion_quantile(0.9);
