@@ -24,7 +24,8 @@
 //                                     slicing, constrained triangulation, regions, cones).
 //                                     s_per_slice_vertex.
 //   slice/repair/<seq>                KineticSlice::build at frame k (not timed) then advance to k+1 with
-//                                     KineticPolicy{100} (repair whatever can be repaired), every plane.
+//                                     KineticPolicy{100, 8, false} (repair whatever can be repaired), every
+//                                     plane.
 //                                     Counters: s_per_slice_vertex (frame k+1's), every KineticCounts
 //                                     counter, rebuilt_<reason>, s_per_edit (the whole advance over slice
 //                                     vertices removed, inserted and put back).
@@ -366,7 +367,7 @@ void register_benchmarks() {
     const std::string label = sequence_label(s);
     add("certificate/at_frame/" + label, certificate_benchmark, s);
     add("slice/rebuild/" + label, rebuild_benchmark, s);
-    add("slice/repair/" + label, advance_benchmark, s, KineticPolicy{100});
+    add("slice/repair/" + label, advance_benchmark, s, KineticPolicy{100, 8, false});
     add("slice/advance_default/" + label, advance_benchmark, s, KineticPolicy{});
     add("funnel/trees/" + label, funnel_benchmark, s);
   }

@@ -23,6 +23,8 @@ const char* rebuild_reason_name(RebuildReason reason) {
       return "policy";
     case RebuildReason::repair_failed:
       return "repair_failed";
+    case RebuildReason::cost:
+      return "cost";
     case RebuildReason::count:
       break;
   }
@@ -33,6 +35,10 @@ KineticScratch::KineticScratch() = default;
 KineticScratch::~KineticScratch() = default;
 
 namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 /// An infinite face (oo, a, b) walks the hull clockwise from a to b; c follows b.
 struct HullCorner {
@@ -127,9 +133,12 @@ void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& c
                          const Frame& frame, const SlicingPlane& plane, ConeStorage storage,
                          std::span<const Index> faces, KineticScratch& scratch) {
   m_storage = storage;
+  const auto start = std::chrono::steady_clock::now();
   slice_mesh(topology, connectivity, frame, plane, faces, scratch.slicer, m_out.slice);
   try {
-    finish_build(topology, frame, scratch);
+    finish_build(topology, frame, scratch, true);
+    m_rebuild_cost = seconds_since(start) / double(std::max<std::size_t>(m_out.slice.vertices.size(), 1));
+    m_carry_cost = -1.0;
   } catch (...) {
     m_editable = false;
     m_kept.release();
@@ -137,11 +146,12 @@ void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& c
   }
 }
 
-void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
+void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch,
+                                bool keep) {
   SliceTriangulation& tri = scratch.triangulation;
   tri.build(m_out.slice);
   m_out.crossings = tri.crossings();
-  m_editable = tri.dimension() == 2 && m_out.crossings == 0 &&
+  m_editable = keep && tri.dimension() == 2 && m_out.crossings == 0 &&
                tri.cdt().number_of_vertices() == m_out.slice.vertices.size() &&
                chains_are_edges(tri.cdt(), m_out.slice.edges, [&](Index x) { return tri.vertex_of(x); });
   m_unkept_check.reset();
@@ -153,7 +163,7 @@ void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame
   if (m_editable)
     keep_triangulation(tri.cdt_for_editing(), m_kept);
   else
-    m_kept.release();  // rebuilt at the next interval anyway
+    m_kept.release();  // rebuilt at the next interval anyway (or not to be kept)
 }
 
 void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
@@ -167,7 +177,7 @@ void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame
 void KineticSlice::grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
   compute_plane_cones(topology.num_vertices, m_storage, frame, scratch.triangulation, scratch.cones, m_out);
-  m_cone_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  m_cone_seconds = seconds_since(start);
 }
 
 KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConnectivity& connectivity,
@@ -184,8 +194,20 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
     throw;
   }
   counts.cone_seconds = m_cone_seconds;
-  counts.structure_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - m_cone_seconds;
+  const double seconds = seconds_since(start);
+  counts.structure_seconds = seconds - m_cone_seconds;
+  // What this interval cost per slice vertex, as the cost of carrying the slice (kept, or an attempt that
+  // ended in a rebuild) or of rebuilding it outright; each averaged over the intervals that measured it,
+  // a carry that follows a run of outright rebuilds starting afresh.
+  const double sample = seconds / double(std::max<std::size_t>(m_out.slice.vertices.size(), 1));
+  auto average = [&](double& cost, bool afresh) {
+    cost = cost < 0 || afresh ? sample : 0.5 * (cost + sample);
+  };
+  if (m_attempted)
+    average(m_carry_cost, m_carry_cost_stale);
+  else
+    average(m_rebuild_cost, false);
+  m_carry_cost_stale = !m_attempted;
   return counts;
 }
 
@@ -203,19 +225,31 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
                                   const KineticPolicy& policy, KineticScratch& scratch) {
   KineticCounts counts;
   m_changed_edges.clear();
+  m_attempted = false;
   slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, scratch.next);
+  const int retry = std::max(policy.retry_interval, 1);
   auto rebuild = [&](RebuildReason reason) {
-    m_policy_streak = reason == RebuildReason::policy ? m_policy_streak + 1 : 0;
+    const bool by_policy = reason == RebuildReason::policy || reason == RebuildReason::cost;
+    if (by_policy && m_policy_streak % retry == 0) m_streak_reason = reason;
+    m_policy_streak = by_policy ? m_policy_streak + 1 : 0;
     counts.removed = counts.inserted = counts.relabeled = 0;  // not applied as local edits
     counts.slices_rebuilt = 1;
     ++counts.rebuilt_because[static_cast<std::size_t>(reason)];
     std::swap(m_out.slice, scratch.next);
-    finish_build(topology, next, scratch);
+    // A slice the next interval rebuilds outright keeps nothing: it is built as the static engine builds it.
+    finish_build(topology, next, scratch, !(by_policy && m_policy_streak % retry != 0));
     return counts;
   };
+  // Rebuilt by the policy in the last interval(s): rebuilt outright until it is time to try again, for the
+  // reason that started the run.
+  if (m_policy_streak % retry != 0) return rebuild(m_streak_reason);
   if (!m_editable) return rebuild(RebuildReason::degenerate);
-  // Rebuilt by the policy in the last interval(s): rebuilt outright until it is time to try again.
-  if (m_policy_streak % std::max(policy.retry_interval, 1) != 0) return rebuild(RebuildReason::policy);
+  // Carrying this slice has cost more than rebuilding it (both measured on it): rebuilt, and tried again
+  // after the retry interval (when the carry is measured afresh: no cost decision right after a rebuild).
+  if (policy.measured_cost && !m_carry_cost_stale && m_carry_cost >= 0 && m_rebuild_cost >= 0 &&
+      m_carry_cost > m_rebuild_cost)
+    return rebuild(RebuildReason::cost);
+  m_attempted = true;
 
   // Match slice vertices by mesh edge: survivors, and those that vanish or appear.
   const Slice& old = m_out.slice;

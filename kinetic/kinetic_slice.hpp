@@ -38,9 +38,11 @@
 //      is kept again as indices.
 // The slice is rebuilt with static_core, and the reason counted, when it is degenerate or not editable
 // (collinear, points merged, chains that cross or touch), when its hull winds more than once, when an
-// inserted point meets another or a chain edge, or when edits and put-back vertices exceed the policy's
-// share (and then outright for the policy's retry interval). Checks: check_invariants (Debug builds, tests)
-// after every interval. Internal header (CGAL types): kinetic only.
+// inserted point meets another or a chain edge, when edits and put-back vertices exceed the policy's share,
+// or when carrying it has cost more than rebuilding it (both measured on the slice); after either of the last
+// two, outright for the policy's retry interval, as the static engine builds it (nothing checked or kept).
+// Checks: check_invariants (Debug builds, tests) after every interval. Internal header (CGAL types): kinetic
+// only.
 #pragma once
 
 #include <optional>
@@ -116,7 +118,9 @@ class KineticSlice {
   bool check_invariants(std::string* why) const;
 
  private:
-  void finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
+  /// The static build of the slice in m_out; `keep`: as an editable slice, its triangulation kept when it can
+  /// be (else not checked, not kept: the next interval rebuilds it).
+  void finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch, bool keep);
   void finish_frame(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
   /// advance() but its timing.
   KineticCounts carry(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& next,
@@ -141,6 +145,12 @@ class KineticSlice {
   bool m_editable = false;
   double m_cone_seconds = 0.0;  ///< of the last grow_cones
   int m_policy_streak = 0;      ///< intervals in a row that ended in a policy rebuild
+  RebuildReason m_streak_reason = RebuildReason::policy;  ///< policy or cost: what started the run
+  /// Seconds per slice vertex of the slice's intervals (slicing to cones), averaged: carried (or attempted),
+  /// and rebuilt outright (or built); -1 before the first. The measured policy compares them.
+  double m_carry_cost = -1.0, m_rebuild_cost = -1.0;
+  bool m_attempted = false;         ///< the last interval tried to carry the slice
+  bool m_carry_cost_stale = false;  ///< the last interval rebuilt it outright: the next carry starts afresh
   /// What the check of the interval's triangulation of a slice that keeps none found ("" = valid), when
   /// KineticScratch::check_unkept asked for it; else empty (check_invariants rebuilds and checks then).
   std::optional<std::string> m_unkept_check;

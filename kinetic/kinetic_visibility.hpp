@@ -28,7 +28,7 @@ namespace kinetic {
 class KineticSlice;
 
 /// Why a slice was built from scratch in an interval.
-enum class RebuildReason : int { none = 0, degenerate, crossing, policy, repair_failed, count };
+enum class RebuildReason : int { none = 0, degenerate, crossing, policy, repair_failed, cost, count };
 const char* rebuild_reason_name(RebuildReason reason);
 
 /// When repairing a slice costs more than rebuilding it. A slice is repaired by local edits (its crossing
@@ -45,6 +45,10 @@ struct KineticPolicy {
   /// top of the rebuild (the generated flag, one thread: kinetic ÷ static 1.27 with 1, 1.11 with 8). 1: try
   /// every interval.
   int retry_interval = 8;
+  /// Rebuild a slice, then for the retry interval, when carrying it has cost more per slice vertex than
+  /// rebuilding it: each slice measures both (wall time of its intervals, averaged) and takes the cheaper.
+  /// The output is the same either way; which slices are rebuilt, and the counters, depend on the timings.
+  bool measured_cost = true;
 };
 }  // namespace kinetic
 
