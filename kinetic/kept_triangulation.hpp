@@ -4,11 +4,12 @@
 //
 // Each frame a kinetic slice restores its kept triangulation into the thread's CGAL triangulation, carries
 // it to the next frame there (certificates, edits, CGAL's removals and insertions), grows the cones on it,
-// and keeps the result again. The CGAL triangulation is per thread, so every slice's work runs in memory the
-// previous slice warmed, where a CGAL triangulation kept per slice (72 bytes per face, 32 per vertex,
-// about 176 per slice vertex) would be read from far memory every frame; the flat form takes about 50.
-// Restoring creates the faces and vertices with CGAL's own data-structure operations, as CGAL's file input
-// does: no geometric predicate, no point location. Internal header (CGAL types): kinetic only.
+// and keeps the result again. A CGAL triangulation kept per slice takes about 176 bytes per slice vertex (72
+// per face, 32 per vertex); the flat form about 50 (the kinetic engine's peak at 300k vertices: 1.79x the
+// static engine's before, 1.40x after). Restoring and keeping cost what working in the thread's warm
+// triangulation saves (bench/results/kinetic_micro.md). Restoring creates the faces and vertices with CGAL's
+// own data-structure operations, as CGAL's file input does: no geometric predicate, no point location.
+// Internal header (CGAL types): kinetic only.
 #pragma once
 
 #include <cstdint>
