@@ -226,8 +226,8 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   KineticCounts counts;
   m_changed_edges.clear();
   m_attempted = false;
-  slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, scratch.next);
   const int retry = std::max(policy.retry_interval, 1);
+  bool sliced = false;  // the next frame's slice is in scratch.next (else it is sliced into m_out.slice)
   auto rebuild = [&](RebuildReason reason) {
     const bool by_policy = reason == RebuildReason::policy || reason == RebuildReason::cost;
     if (by_policy && m_policy_streak % retry == 0) m_streak_reason = reason;
@@ -235,7 +235,10 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     counts.removed = counts.inserted = counts.relabeled = 0;  // not applied as local edits
     counts.slices_rebuilt = 1;
     ++counts.rebuilt_because[static_cast<std::size_t>(reason)];
-    std::swap(m_out.slice, scratch.next);
+    if (sliced)
+      std::swap(m_out.slice, scratch.next);
+    else  // into the slice's own buffer, as the static engine slices each plane into its own
+      slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_out.slice);
     // A slice the next interval rebuilds outright keeps nothing: it is built as the static engine builds it.
     finish_build(topology, next, scratch, !(by_policy && m_policy_streak % retry != 0));
     return counts;
@@ -250,6 +253,8 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
       m_carry_cost > m_rebuild_cost)
     return rebuild(RebuildReason::cost);
   m_attempted = true;
+  slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, scratch.next);
+  sliced = true;
 
   // Match slice vertices by mesh edge: survivors, and those that vanish or appear.
   const Slice& old = m_out.slice;
