@@ -137,7 +137,7 @@ void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& c
   slice_mesh(topology, connectivity, frame, plane, faces, scratch.slicer, m_out.slice);
   try {
     finish_build(topology, frame, scratch, true);
-    m_rebuild_cost = seconds_since(start) / double(std::max<std::size_t>(m_out.slice.vertices.size(), 1));
+    m_rebuild_cost = per_slice_vertex(seconds_since(start));
     m_carry_cost = -1.0;
   } catch (...) {
     m_editable = false;
@@ -197,17 +197,16 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
   const double seconds = seconds_since(start);
   counts.structure_seconds = seconds - m_cone_seconds;
   // What this interval cost per slice vertex, as the cost of carrying the slice (kept, or an attempt that
-  // ended in a rebuild) or of rebuilding it outright; each averaged over the intervals that measured it,
-  // a carry that follows a run of outright rebuilds starting afresh.
-  const double sample = seconds / double(std::max<std::size_t>(m_out.slice.vertices.size(), 1));
-  auto average = [&](double& cost, bool afresh) {
-    cost = cost < 0 || afresh ? sample : 0.5 * (cost + sample);
-  };
-  if (m_attempted)
-    average(m_carry_cost, m_carry_cost_stale);
-  else
-    average(m_rebuild_cost, false);
-  m_carry_cost_stale = !m_attempted;
+  // ended in a rebuild) or of rebuilding it outright; each averaged over the intervals that measured it. An
+  // outright rebuild makes the carry cost unknown: the next carry is measured afresh.
+  const double sample = per_slice_vertex(seconds);
+  auto average = [&](double& cost) { cost = cost < 0 ? sample : 0.5 * (cost + sample); };
+  if (m_attempted) {
+    average(m_carry_cost);
+  } else {
+    average(m_rebuild_cost);
+    m_carry_cost = -1.0;
+  }
   return counts;
 }
 
@@ -248,9 +247,8 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   if (m_policy_streak % retry != 0) return rebuild(m_streak_reason);
   if (!m_editable) return rebuild(RebuildReason::degenerate);
   // Carrying this slice has cost more than rebuilding it (both measured on it): rebuilt, and tried again
-  // after the retry interval (when the carry is measured afresh: no cost decision right after a rebuild).
-  if (policy.measured_cost && !m_carry_cost_stale && m_carry_cost >= 0 && m_rebuild_cost >= 0 &&
-      m_carry_cost > m_rebuild_cost)
+  // after the retry interval (when the carry is measured afresh: unknown right after a rebuild).
+  if (policy.measured_cost && m_carry_cost >= 0 && m_rebuild_cost >= 0 && m_carry_cost > m_rebuild_cost)
     return rebuild(RebuildReason::cost);
   m_attempted = true;
   slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, scratch.next);

@@ -45,6 +45,7 @@
 // only.
 #pragma once
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <utility>
@@ -146,11 +147,14 @@ class KineticSlice {
   double m_cone_seconds = 0.0;  ///< of the last grow_cones
   int m_policy_streak = 0;      ///< intervals in a row that ended in a policy rebuild
   RebuildReason m_streak_reason = RebuildReason::policy;  ///< policy or cost: what started the run
-  /// Seconds per slice vertex of the slice's intervals (slicing to cones), averaged: carried (or attempted),
-  /// and rebuilt outright (or built); -1 before the first. The measured policy compares them.
+  /// Seconds per slice vertex of the slice's intervals (slicing to cones), averaged: carried (or attempted)
+  /// since the last outright rebuild, and rebuilt outright (or built); -1 while unknown. The measured policy
+  /// compares them.
   double m_carry_cost = -1.0, m_rebuild_cost = -1.0;
-  bool m_attempted = false;         ///< the last interval tried to carry the slice
-  bool m_carry_cost_stale = false;  ///< the last interval rebuilt it outright: the next carry starts afresh
+  bool m_attempted = false;  ///< the last interval tried to carry the slice
+  double per_slice_vertex(double seconds) const {
+    return seconds / double(std::max<std::size_t>(m_out.slice.vertices.size(), 1));
+  }
   /// What the check of the interval's triangulation of a slice that keeps none found ("" = valid), when
   /// KineticScratch::check_unkept asked for it; else empty (check_invariants rebuilds and checks then).
   std::optional<std::string> m_unkept_check;
