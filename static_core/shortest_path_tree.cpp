@@ -4,6 +4,44 @@
 
 namespace pleat {
 
+namespace {
+
+/// Where x's tangent touches the funnel funnel[lo..hi] with its cusp at funnel[apex] (see the header): the
+/// position of x's parent, and whether it lies on the L-chain (funnel[lo .. apex - 1]).
+/// L-chain funnel[apex - 1 .. lo]: x's tangent is there iff x is left of or on (cusp, l_1); it is the
+/// outermost l_i with x left of or on (l_{i-1}, l_i) (those i form a prefix: see the header). R-chain
+/// mirrored. Else the cusp.
+template <class Point>
+std::pair<int, bool> funnel_tangent(const std::vector<int>& funnel, int lo, int apex, int hi,
+                                    const cgal::Point2& x, Point&& point) {
+  auto turn = [&](int from, int to) { return cgal::orientation(point(funnel[from]), point(funnel[to]), x); };
+  if (lo < apex && turn(apex, apex - 1) != CGAL::RIGHT_TURN) {
+    int a = lo, b = apex - 1;  // the answer is in [a, b]
+    while (a < b) {
+      const int m = a + (b - a) / 2;
+      if (turn(m + 1, m) != CGAL::RIGHT_TURN)
+        b = m;
+      else
+        a = m + 1;
+    }
+    return {a, true};
+  }
+  if (apex < hi && turn(apex, apex + 1) != CGAL::LEFT_TURN) {
+    int a = apex + 1, b = hi;
+    while (a < b) {
+      const int m = b - (b - a) / 2;
+      if (turn(m - 1, m) != CGAL::LEFT_TURN)
+        a = m;
+      else
+        b = m - 1;
+    }
+    return {a, false};
+  }
+  return {apex, false};
+}
+
+}  // namespace
+
 void grow_shortest_path_tree(const SliceTriangulation& slice, const SliceWindow& window, bool from_b,
                              std::vector<int>& parent, FunnelScratch& scratch) {
   const cgal::Cdt& cdt = slice.cdt();
@@ -11,9 +49,6 @@ void grow_shortest_path_tree(const SliceTriangulation& slice, const SliceWindow&
   const int root = from_b ? window.corner_b : window.corner_a;
   const cgal::VertexHandle root_vertex = window.face->vertex(root_index);
   auto point = [&](int corner) -> const cgal::Point2& { return slice.corner_vertex(corner)->point(); };
-  auto turn = [&](int from, int to, const cgal::Point2& x) {
-    return cgal::orientation(point(from), point(to), x);
-  };
   std::vector<int>& funnel = scratch.funnel;
   std::vector<std::pair<int, int>>& undo = scratch.undo;
   std::vector<FunnelTask>& stack = scratch.stack;
@@ -65,33 +100,7 @@ void grow_shortest_path_tree(const SliceTriangulation& slice, const SliceWindow&
                  "funnel ends are not the diagonal's corners");
     const int cx = g->info().corner[j];
     const cgal::Point2& x = g->vertex(j)->point();
-    // L-chain funnel[apex - 1 .. lo]: x's tangent is there iff x is left of or on (cusp, l_1); it is the
-    // outermost l_i with x left of or on (l_{i-1}, l_i) (those i form a prefix: see the header). R-chain
-    // mirrored. Else the cusp.
-    int tangent = apex;
-    bool on_left = false;
-    if (lo < apex && turn(funnel[apex], funnel[apex - 1], x) != CGAL::RIGHT_TURN) {
-      on_left = true;
-      int a = lo, b = apex - 1;  // the answer is in [a, b]
-      while (a < b) {
-        const int m = a + (b - a) / 2;
-        if (turn(funnel[m + 1], funnel[m], x) != CGAL::RIGHT_TURN)
-          b = m;
-        else
-          a = m + 1;
-      }
-      tangent = a;
-    } else if (apex < hi && turn(funnel[apex], funnel[apex + 1], x) != CGAL::LEFT_TURN) {
-      int a = apex + 1, b = hi;
-      while (a < b) {
-        const int m = b - (b - a) / 2;
-        if (turn(funnel[m - 1], funnel[m], x) != CGAL::LEFT_TURN)
-          a = m;
-        else
-          b = m - 1;
-      }
-      tangent = a;
-    }
+    const auto [tangent, on_left] = funnel_tangent(funnel, lo, apex, hi, x, point);
     parent[cx] = funnel[tangent];
     // Across (L, x), edge cw(j): funnel[lo..tangent] then x. Across (x, R), edge ccw(j): x then
     // funnel[tangent..hi]. The cusp moves to the tangent on the side the tangent is not.
@@ -100,6 +109,120 @@ void grow_shortest_path_tree(const SliceTriangulation& slice, const SliceWindow&
       stack.push_back({g, cdt.cw(j), lo, on_left ? tangent : apex, tangent + 1, mark, -1, cx});
     if (!is_separator(cdt, g, cdt.ccw(j)))
       stack.push_back({g, cdt.ccw(j), tangent - 1, on_left ? apex : tangent, hi, mark, cx, -1});
+  }
+}
+
+void see_window_through_sleeves(const SliceTriangulation& slice, const SliceWindow& window,
+                                std::size_t region_faces, SleeveScratch& scratch,
+                                std::vector<SleeveSight>& sights) {
+  const cgal::Cdt& cdt = slice.cdt();
+  auto point = [&](int corner) -> const cgal::Point2& { return slice.corner_vertex(corner)->point(); };
+  const int max_depth = static_cast<int>(region_faces);
+  const int middle = max_depth + 2;
+  for (int s = 0; s < 2; ++s) {
+    if (scratch.funnel[s].size() < std::size_t(2 * middle + 1)) scratch.funnel[s].resize(2 * middle + 1);
+    scratch.undo[s].clear();
+  }
+  std::vector<SleeveTask>& stack = scratch.stack;
+  stack.clear();
+
+  // The window's triangle (c0, a, b), counter-clockwise: c0 sees the window directly. Its other two edges,
+  // seen from inside the triangle: (a, c0) with L = a, R = c0, and (c0, b) with L = c0, R = b.
+  const cgal::FaceHandle t0 = window.face;
+  const int i0 = window.index;
+  const int a = window.corner_a, b = window.corner_b, c0 = t0->info().corner[i0];
+  sights.push_back({c0, a, b});
+  scratch.funnel[0][middle] = a;
+  scratch.funnel[1][middle] = b;
+  if (max_depth > 1) {
+    SleeveTask task;
+    task.face = t0;
+    task.depth = 1;
+    if (!is_separator(cdt, t0, cdt.cw(i0))) {  // across (a, c0): funnels (a | c0) and (a, b, c0)
+      task.index = cdt.cw(i0);
+      task.funnel[0] = {middle, middle, middle + 1, 0, -1, c0, -1};
+      task.funnel[1] = {middle - 1, middle, middle + 1, 0, a, c0, -1};
+      stack.push_back(task);
+    }
+    if (!is_separator(cdt, t0, cdt.ccw(i0))) {  // across (c0, b): funnels (c0, a, b) and (c0 | b)
+      task.index = cdt.ccw(i0);
+      task.funnel[0] = {middle - 1, middle, middle + 1, 0, c0, b, -1};
+      task.funnel[1] = {middle - 1, middle, middle, 0, c0, -1, -1};
+      stack.push_back(task);
+    }
+  }
+
+  while (!stack.empty()) {
+    const SleeveTask task = stack.back();
+    stack.pop_back();
+    for (int s = 0; s < 2; ++s) {
+      std::vector<int>& funnel = scratch.funnel[s];
+      std::vector<std::pair<int, int>>& undo = scratch.undo[s];
+      while (undo.size() > task.funnel[s].undo) {
+        funnel[undo.back().first] = undo.back().second;
+        undo.pop_back();
+      }
+      auto write = [&](int at, int corner) {
+        PLEAT_ASSERT(at >= 0 && std::size_t(at) < funnel.size(), "sleeve funnel outgrew its array");
+        undo.emplace_back(at, funnel[at]);
+        funnel[at] = corner;
+      };
+      if (task.funnel[s].left >= 0) write(task.funnel[s].lo, task.funnel[s].left);
+      if (task.funnel[s].right >= 0) write(task.funnel[s].hi, task.funnel[s].right);
+    }
+    const cgal::FaceHandle g = task.face->neighbor(task.index);
+    const int j = cdt.mirror_index(task.face, task.index);
+    const int cx = g->info().corner[j];
+    const cgal::Point2& x = g->vertex(j)->point();
+    std::pair<int, bool> tangent[2];
+    for (int s = 0; s < 2; ++s) {
+      const SleeveFunnel& f = task.funnel[s];
+      PLEAT_ASSERT(g->info().corner[cdt.ccw(j)] == scratch.funnel[s][f.lo] &&
+                       g->info().corner[cdt.cw(j)] == scratch.funnel[s][f.hi],
+                   "sleeve funnel ends are not the edge's corners");
+      tangent[s] = funnel_tangent(scratch.funnel[s], f.lo, f.apex, f.hi, x, point);
+    }
+    const int from_a = scratch.funnel[0][tangent[0].first], from_b = scratch.funnel[1][tangent[1].first];
+    if (cgal::orientation(x, point(from_a), point(from_b)) == CGAL::LEFT_TURN)
+      sights.push_back({cx, from_a, from_b});
+    if (task.depth + 1 >= max_depth) continue;
+
+    // The two sleeves beyond: across (L, x), edge cw(j), and across (x, R), edge ccw(j), as in
+    // grow_shortest_path_tree; each funnel's cusp moves in at most one of them, along one of its chains, and
+    // the path from the root to the new cusp must still turn only one way: counter-clockwise from a,
+    // clockwise from b.
+    for (const bool towards_l : {true, false}) {
+      const int edge = towards_l ? cdt.cw(j) : cdt.ccw(j);
+      if (is_separator(cdt, g, edge)) continue;
+      SleeveTask child{g, edge, task.depth + 1, {}};
+      bool open = true;
+      for (int s = 0; s < 2 && open; ++s) {
+        const SleeveFunnel& f = task.funnel[s];
+        const std::vector<int>& funnel = scratch.funnel[s];
+        const auto [t, on_left] = tangent[s];
+        SleeveFunnel& c = child.funnel[s];
+        c.undo = static_cast<std::uint32_t>(scratch.undo[s].size());
+        c.before_cusp = f.before_cusp;
+        if (towards_l) {
+          c = {f.lo, on_left ? t : f.apex, t + 1, c.undo, -1, cx, c.before_cusp};
+        } else {
+          c = {t - 1, on_left ? f.apex : t, f.hi, c.undo, cx, -1, c.before_cusp};
+        }
+        if (c.apex == f.apex) continue;
+        // The cusp moves from funnel[f.apex] along a chain to funnel[t]: step is -1 on the L-chain.
+        const int step = c.apex < f.apex ? -1 : 1;
+        const CGAL::Orientation wrong = s == 0 ? CGAL::RIGHT_TURN : CGAL::LEFT_TURN;
+        const int first = funnel[f.apex + step];
+        if (f.before_cusp >= 0 &&
+            cgal::orientation(point(f.before_cusp), point(funnel[f.apex]), point(first)) == wrong)
+          open = false;
+        else if (c.apex != f.apex + step && cgal::orientation(point(funnel[f.apex]), point(first),
+                                                              point(funnel[f.apex + 2 * step])) == wrong)
+          open = false;  // the chain is convex: its first turn is every turn's
+        c.before_cusp = funnel[c.apex - step];
+      }
+      if (open) stack.push_back(child);
+    }
   }
 }
 

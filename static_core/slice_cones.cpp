@@ -1,15 +1,11 @@
 #include "static_core/slice_cones.hpp"
 
-#include <CGAL/convex_hull_2.h>
 #include <CGAL/number_utils.h>
 
 #include <algorithm>
 #include <glm/geometric.hpp>
-#include <iterator>
-#include <tuple>
 
 #include "static_core/assert.hpp"
-#include "static_core/union_find.hpp"
 
 namespace pleat {
 namespace {
@@ -209,248 +205,22 @@ void prepare_scratch(std::size_t corners, SliceConeScratch& s) {
   s.corner_stamp.assign(corners, -1);
 }
 
-/// Triangular expansion (Bungiu, Hemmer, Hershberger, Huang and Kroeller 2014), for regions with holes:
-/// the cone of a corner at x is the set of directions whose ray from x leaves the hull through a window
-/// before it meets a chain edge. From each of the corner's triangles the range of directions through the edge
-/// opposite x is carried across unconstrained edges, split where a triangle's third vertex lies inside it,
-/// dropped at chain edges and emitted at windows. Ranges are bounded by rays from x through triangulation
-/// vertices and every split is an exact orientation test, so the visible set is exact; only the wedges'
-/// angles are rounded. Cost: the triangles seen from x (each once per range piece that reaches it), not the
-/// region's size — no angular sweep over all its chain edges.
-void cones_by_expansion(const SliceTriangulation& st, const SliceRegion& region, SliceConeScratch& s,
-                        const std::vector<char>* only) {
-  const Cdt& cdt = st.cdt();
-  for (const FaceHandle f : region.faces)
-    for (int k = 0; k < 3; ++k) {
-      const VertexHandle x = f->vertex(k);
-      if (!is_needed(x, s) || (only != nullptr && !(*only)[f->info().corner[k]])) continue;
+/// Regions with holes: every window's sleeves (see_window_through_sleeves); each corner that sees the window
+/// through a sleeve gets the wedge between its paths' first segments, as in a region without holes.
+void cones_by_sleeves(const SliceTriangulation& st, const SliceRegion& region, SliceConeScratch& s) {
+  for (const SliceWindow& window : region.windows) {
+    s.sights.clear();
+    see_window_through_sleeves(st, window, region.faces.size(), s.sleeves, s.sights);
+    s.sleeve_sights += s.sights.size();
+    for (const SleeveSight& sight : s.sights) {
+      const VertexHandle x = st.corner_vertex(sight.corner);
+      if (!is_needed(x, s)) continue;
       const Point2& px = x->point();
-      std::vector<Wedge>& out = s.corner_wedges[f->info().corner[k]];
-      // The edge opposite x, from its right end a to its left end b seen from x: the range (a, b).
-      s.expansion.push_back({f, k, f->vertex(cdt.ccw(k)), f->vertex(cdt.cw(k))});
-      while (!s.expansion.empty()) {
-        ExpansionTask task = s.expansion.back();
-        s.expansion.pop_back();
-        // Follow the range from ray x->right to ray x->left across edge (task.face, task.index); where it
-        // splits, one part waits on the stack and the loop goes on with the other.
-        while (!task.face->is_constrained(task.index)) {
-          const FaceHandle g = task.face->neighbor(task.index);
-          if (cdt.is_infinite(g)) {
-            out.push_back(
-                thin_wedge_between(direction(px, task.right->point()), direction(px, task.left->point())));
-            break;
-          }
-          // Seen from x, g's vertices are a (right end of the crossed edge), b (left end) and c beyond it;
-          // edge (a, c) is opposite b = vertex(ccw(j)), edge (c, b) opposite a = vertex(cw(j)).
-          const int j = g->index(task.face);
-          const VertexHandle c = g->vertex(j);
-          if (cgal::orientation(px, task.right->point(), c->point()) != CGAL::LEFT_TURN) {
-            task = {g, cdt.cw(j), task.right, task.left};  // c on or beyond the right ray
-          } else if (cgal::orientation(px, c->point(), task.left->point()) != CGAL::LEFT_TURN) {
-            task = {g, cdt.ccw(j), task.right, task.left};  // c on or beyond the left ray
-          } else {  // c strictly inside the range: split it at the ray x->c
-            s.expansion.push_back({g, cdt.cw(j), c, task.left});
-            task = {g, cdt.ccw(j), task.right, c};
-          }
-        }
-      }
-    }
-}
-
-/// Stewart's §2.3.2 for a region R with holes, on the corners of its outer boundary: a ray from such a
-/// corner x leaves through a window iff it does so in the polygon P bounded by R's outer boundary alone (R
-/// with its holes filled) and meets no hole. P is simple, so funnel trees give the first (exact); a hole is
-/// connected, so the directions from x that meet it form one range, the one between its convex hull's
-/// tangents when x lies outside that hull (the second). P is triangulated afresh from the chains of R's
-/// outer boundary (a SliceTriangulation of them: R's windows are hull edges of any subset of the slice that
-/// keeps their ends). Every decision is an exact orientation test; the visible ranges are bounded by rays
-/// through triangulation vertices, as the expansion's are, so the cones are the expansion's up to the
-/// rounding of their angles. Corners on holes, corners inside or on a hole's hull and corners with no
-/// counterpart in P are left to the expansion (flagged in by_expansion). Measured: at 1,024 triangles and
-/// more it pays (the 300k curtain's frame 4-5% cheaper, the 30k curtain's 2-3%); below, building P costs
-/// more than the expansion it saves (regions of 256 triangles and more: the layered cloth 27% slower).
-/// Returns false, leaving everything to the expansion, where the method does not apply (crossing points,
-/// degenerate polygons).
-bool cones_by_outer_polygon(const SliceTriangulation& st, const SliceRegion& region, SliceConeScratch& s) {
-  const Cdt& cdt = st.cdt();
-  OuterPolygonScratch& o = s.outer;
-  auto id = [](VertexHandle v) { return v->info().slice_vertex; };
-  const std::size_t n = s.vertex_needed.size();
-  if (o.root.size() < n) {
-    o.root.resize(n, -1);
-    o.sub_index.resize(n, -1);
-  }
-  for (int v : o.touched) o.root[v] = o.sub_index[v] = -1;
-  o.touched.clear();
-  auto find = [&](int v) { return find_root(o.root, v); };
-  // Boundary components: vertices joined by R's separators (chain edges and windows).
-  for (const FaceHandle f : region.faces)
-    for (int k = 0; k < 3; ++k) {
-      const int v = id(f->vertex(k));
-      if (v < 0) return false;  // a crossing point of chains: no slice vertex to key on
-      if (o.root[v] < 0) {
-        o.root[v] = v;
-        o.touched.push_back(v);
-      }
-    }
-  for (const FaceHandle f : region.faces)
-    for (int i = 0; i < 3; ++i)
-      if (is_separator(cdt, f, i)) o.root[find(id(f->vertex(cdt.ccw(i))))] = find(id(f->vertex(cdt.cw(i))));
-  const SliceWindow& first_window = region.windows.front();
-  const int outer_root = find(id(st.corner_vertex(first_window.corner_a)));
-  for (const SliceWindow& w : region.windows)
-    if (find(id(st.corner_vertex(w.corner_a))) != outer_root) return false;
-
-  // The outer boundary's chains, as a slice of their own, and its triangulation.
-  o.outer.clear();
-  o.vertex_of_sub.clear();
-  for (int v : o.touched)
-    if (find(v) == outer_root) {
-      o.sub_index[v] = static_cast<int>(o.outer.vertices.size());
-      SliceVertex sv;
-      sv.point = cgal::to_glm(st.vertex_of(static_cast<Index>(v))->point());
-      o.outer.vertices.push_back(sv);
-      o.vertex_of_sub.push_back(st.vertex_of(static_cast<Index>(v)));
-    }
-  for (const FaceHandle f : region.faces)
-    for (int i = 0; i < 3; ++i) {
-      if (!f->is_constrained(i)) continue;
-      const int a = o.sub_index[id(f->vertex(cdt.ccw(i)))], b = o.sub_index[id(f->vertex(cdt.cw(i)))];
-      if (a >= 0 && b >= 0) o.outer.edges.push_back({static_cast<Index>(a), static_cast<Index>(b), 0});
-    }
-  if (!o.triangulation) o.triangulation = std::make_unique<SliceTriangulation>();
-  SliceTriangulation& polygon = *o.triangulation;
-  polygon.build(o.outer);
-  if (polygon.dimension() < 2 || polygon.crossings() > 0) return false;
-  // P: the region of the new triangulation on R's first window; it must have R's windows and no holes.
-  const VertexHandle wa = st.corner_vertex(first_window.corner_a),
-                     wb = st.corner_vertex(first_window.corner_b);
-  auto has_first_window = [&](const SliceRegion& candidate) {
-    return std::any_of(candidate.windows.begin(), candidate.windows.end(), [&](const SliceWindow& w) {
-      return o.vertex_of_sub[id(polygon.corner_vertex(w.corner_a))] == wa &&
-             o.vertex_of_sub[id(polygon.corner_vertex(w.corner_b))] == wb;
-    });
-  };
-  std::size_t r = 0;
-  while (r < polygon.num_regions() && !has_first_window(polygon.region(r))) ++r;
-  if (r == polygon.num_regions()) return false;
-  const SliceRegion p_region = polygon.region(r);
-  if (p_region.has_holes || p_region.windows.size() != region.windows.size()) return false;
-
-  // The holes (the other boundary components: island chains, loops, isolated points) and their hulls.
-  o.members.clear();
-  for (int v : o.touched)
-    if (find(v) != outer_root) o.members.emplace_back(find(v), v);
-  std::sort(o.members.begin(), o.members.end());
-  std::size_t holes = 0;
-  for (std::size_t i = 0; i < o.members.size();) {
-    o.points.clear();
-    const int r = o.members[i].first;
-    for (; i < o.members.size() && o.members[i].first == r; ++i)
-      o.points.push_back(st.vertex_of(static_cast<Index>(o.members[i].second))->point());
-    if (o.hulls.size() <= holes) o.hulls.resize(holes + 1);
-    o.hulls[holes].clear();
-    CGAL::convex_hull_2(o.points.begin(), o.points.end(), std::back_inserter(o.hulls[holes]));
-    ++holes;
-  }
-
-  // Which corner of P stands for which corner of R: the same run of directions at the same vertex, named by
-  // the separator that bounds it clockwise (a chain edge or a window, the same in both triangulations).
-  const std::size_t corners = st.num_corners();
-  o.by_expansion.assign(corners, 1);
-  if (o.ranges.size() < corners) o.ranges.resize(corners);
-  o.keys.clear();
-  o.p_keys.clear();
-  for (const FaceHandle f : region.faces)
-    for (int k = 0; k < 3; ++k)
-      if (is_separator(cdt, f, cdt.cw(k)) && is_needed(f->vertex(k), s))
-        o.keys.push_back({id(f->vertex(k)), id(f->vertex(cdt.ccw(k))), f->info().corner[k]});
-  for (const FaceHandle f : p_region.faces)
-    for (int k = 0; k < 3; ++k)
-      if (is_separator(polygon.cdt(), f, polygon.cdt().cw(k)))
-        o.p_keys.push_back({id(o.vertex_of_sub[id(f->vertex(k))]),
-                            id(o.vertex_of_sub[id(f->vertex(polygon.cdt().ccw(k)))]), f->info().corner[k]});
-  std::sort(o.keys.begin(), o.keys.end());
-  std::sort(o.p_keys.begin(), o.p_keys.end());
-  o.r_corners.clear();
-  o.p_corners.clear();
-  for (std::size_t i = 0, j = 0; i < o.keys.size() && j < o.p_keys.size();) {
-    const auto& [x, w, c] = o.keys[i];
-    const auto& [px, pw, pc] = o.p_keys[j];
-    if (std::tie(x, w) < std::tie(px, pw)) {
-      ++i;
-    } else if (std::tie(px, pw) < std::tie(x, w)) {
-      ++j;
-    } else {
-      o.r_corners.push_back(c);
-      o.p_corners.push_back(pc);
-      o.ranges[c].clear();
-      o.by_expansion[c] = 0;
-      ++i;
-      ++j;
+      s.corner_wedges[sight.corner].push_back(
+          thin_wedge_between(direction(px, st.corner_vertex(sight.from_a)->point()),
+                             direction(px, st.corner_vertex(sight.from_b)->point())));
     }
   }
-
-  // Funnel trees in P: through each window, the range between the first segments of the paths to its ends.
-  o.parent_a.assign(polygon.num_corners(), -1);
-  o.parent_b.assign(polygon.num_corners(), -1);
-  for_each_visible_window(polygon, p_region.windows, o.p_corners, o.parent_a, o.parent_b, s.funnel,
-                          [&](std::size_t i, const Point2&, const Point2& pa, const Point2& pb) {
-                            o.ranges[o.r_corners[i]].emplace_back(pa, pb);
-                          });
-
-  // Minus each hole's shadow: the range between its hull's tangents from x (x strictly outside the hull).
-  for (const int c : o.r_corners) {
-    const Point2& x = st.corner_vertex(c)->point();
-    auto& ranges = o.ranges[c];
-    for (std::size_t h = 0; h < holes && !ranges.empty(); ++h) {
-      const std::vector<Point2>& hull = o.hulls[h];
-      Point2 right, left;             // the shadow: counter-clockwise from ray x->right to ray x->left
-      if (hull.size() < 2) continue;  // an isolated point blocks a single direction
-      if (hull.size() == 2) {
-        const CGAL::Orientation turn = cgal::orientation(x, hull[0], hull[1]);
-        if (turn == CGAL::COLLINEAR) continue;  // a segment seen edge-on blocks a single direction
-        right = turn == CGAL::LEFT_TURN ? hull[0] : hull[1];
-        left = turn == CGAL::LEFT_TURN ? hull[1] : hull[0];
-      } else {
-        bool outside = false;
-        for (std::size_t i = 0; i < hull.size() && !outside; ++i)
-          outside = cgal::orientation(hull[i], hull[(i + 1) % hull.size()], x) == CGAL::RIGHT_TURN;
-        if (!outside) {
-          o.by_expansion[c] = 1;
-          break;
-        }
-        // Seen from x the hull lies within less than a half-turn, where "clockwise of" is a total order.
-        right = left = hull[0];
-        for (const Point2& q : hull) {
-          if (cgal::orientation(x, right, q) == CGAL::RIGHT_TURN) right = q;
-          if (cgal::orientation(x, left, q) == CGAL::LEFT_TURN) left = q;
-        }
-      }
-      // Both ranges are under a half-turn: they meet iff one contains the other's first ray, and what is left
-      // of [a, b] is [a, right] where right is past a, and [left, b] where b is past left.
-      auto contains = [&x](const Point2& from, const Point2& to, const Point2& d) {
-        return cgal::orientation(x, from, d) != CGAL::RIGHT_TURN &&
-               cgal::orientation(x, d, to) != CGAL::RIGHT_TURN;
-      };
-      o.next.clear();
-      for (const auto& [a, b] : ranges) {
-        if (!contains(a, b, right) && !contains(right, left, a)) {
-          o.next.emplace_back(a, b);
-          continue;
-        }
-        if (cgal::orientation(x, a, right) == CGAL::LEFT_TURN) o.next.emplace_back(a, right);
-        if (cgal::orientation(x, left, b) == CGAL::LEFT_TURN) o.next.emplace_back(left, b);
-      }
-      ranges.swap(o.next);
-    }
-    if (o.by_expansion[c]) continue;
-    ++s.outer_polygon_corners;
-    const glm::dvec2 px = cgal::to_glm(x);
-    for (const auto& [a, b] : ranges)
-      s.corner_wedges[c].push_back(thin_wedge_between(cgal::to_glm(a) - px, cgal::to_glm(b) - px));
-  }
-  return true;
 }
 
 /// Collinear or tiny slices (dimension < 2): nothing lies off the line, so a side sees its whole range:
@@ -514,9 +284,7 @@ void compute_slice_cones(const Slice& slice, const SliceTriangulation& st, Slice
     out.windows += region.windows.size();
     if (region.has_holes) {
       ++out.regions_with_holes;
-      const bool outer =
-          region.faces.size() >= s.outer_polygon_min_faces && cones_by_outer_polygon(st, region, s);
-      cones_by_expansion(st, region, s, outer ? &s.outer.by_expansion : nullptr);
+      cones_by_sleeves(st, region, s);
     } else {
       cones_of_simple_region(st, region, static_cast<int>(r), s);
     }

@@ -8,21 +8,17 @@
 //     path to a to the first segment of the path to b (funnel trees from a and b), when it turns the right
 //     way; empty when the two coincide;
 //   - in a region with holes: the directions whose ray from X leaves the hull through a window before it
-//     meets a chain edge, by triangular expansion from the corner's triangles (exact orientation tests).
-//     In a large region (SliceConeScratch::outer_polygon_min_faces) the corners on its outer boundary take
-//     the paper's §2.3.2 instead: funnel trees in the polygon bounded by the outer boundary alone, minus
-//     each hole's shadow (the range between the tangents to its convex hull); the corners on the holes, and
-//     those inside a hole's hull, stay with the expansion (the paper left them to a quadratic sweep).
+//     meets a chain edge. For each window, the same funnels grown along the sleeves through which the window
+//     can be seen (see_window_through_sleeves, shortest_path_tree.hpp): a corner gets one wedge per sleeve
+//     through which it sees the window (the paper's §2.3.2 takes the outer boundary's corners by funnel trees
+//     without the holes minus the holes' shadows, and leaves the corners on holes to a quadratic sweep).
 // Collinear slices (dimension 1, a flat sheet) give each side its open half-plane.
-// Cost: O(w n + f) per region without holes (w windows, n corners, f funnel walks); with holes, per corner
-// the triangles seen from it (output-sensitive; O(n) each at worst, so O(n^2) for a region), or for the
-// outer corners of a large region O(n log n) for the polygon's triangulation plus, per corner, the size of
-// the holes' hulls.
+// Cost: O(w n + f) per region without holes (w windows, n corners, f funnel walks); with holes, per window
+// the sleeve triangles through which it can be seen, O(log n) tests each (output-sensitive: a sleeve ends
+// where no point of its last edge sees the window).
 #pragma once
 
-#include <array>
 #include <cstdint>
-#include <memory>
 #include <span>
 #include <vector>
 
@@ -48,42 +44,8 @@ struct SliceCones {
   }
 };
 
-/// A range of directions from a corner's vertex x, from ray x->right counter-clockwise to ray x->left, that
-/// crosses the edge of `face` opposite `index` (triangular expansion in regions with holes).
-struct ExpansionTask {
-  cgal::FaceHandle face;
-  int index = 0;
-  cgal::VertexHandle right, left;
-};
-
-/// Reusable memory of the outer-polygon method for large regions with holes (slice_cones.cpp).
-struct OuterPolygonScratch {
-  std::vector<int> root;       ///< union-find over CDT vertices, by representative slice vertex
-  std::vector<int> touched;    ///< the entries of `root` and `sub_index` in use
-  std::vector<int> sub_index;  ///< per vertex: its index in the outer polygon's slice, or -1
-  std::vector<cgal::VertexHandle> vertex_of_sub;
-  Slice outer;  ///< the chains of the region's outer boundary
-  std::unique_ptr<SliceTriangulation> triangulation;
-  std::vector<int> parent_a, parent_b;
-  std::vector<std::vector<cgal::Point2>> hulls;  ///< the holes' convex hulls, counter-clockwise
-  std::vector<std::vector<std::pair<cgal::Point2, cgal::Point2>>> ranges;  ///< per corner: visible ranges
-  std::vector<std::pair<cgal::Point2, cgal::Point2>> next;
-  std::vector<char> by_expansion;  ///< per corner: left to the triangular expansion
-  /// (vertex, the far end of the separator that bounds a corner clockwise, the corner), in R and in P
-  std::vector<std::array<int, 3>> keys, p_keys;
-  std::vector<int> r_corners, p_corners;     ///< corners of R, and the corners of P standing for them
-  std::vector<std::pair<int, int>> members;  ///< (component root, vertex) of the holes
-  std::vector<cgal::Point2> points;
-};
-
 /// Reusable per-thread memory.
 struct SliceConeScratch {
-  /// Regions with holes of at least this many triangles take the outer-polygon method (funnel trees in the
-  /// polygon without its holes, minus the holes' shadows) for the corners on their outer boundary; the
-  /// triangular expansion's cost grows with the square of a region's size, this method's almost linearly.
-  std::size_t outer_polygon_min_faces = 1024;
-  std::size_t outer_polygon_corners = 0;  ///< corners given their cones by that method (a running count)
-  OuterPolygonScratch outer;
   std::vector<int> parent_a, parent_b;
   FunnelScratch funnel;
   std::vector<std::vector<Wedge>> corner_wedges;
@@ -91,7 +53,9 @@ struct SliceConeScratch {
   std::vector<int> region_corners;
   std::vector<Wedge> range_wedges;
   std::vector<std::pair<double, double>> intervals;
-  std::vector<ExpansionTask> expansion;
+  SleeveScratch sleeves;  ///< regions with holes
+  std::vector<SleeveSight> sights;
+  std::size_t sleeve_sights = 0;  ///< sights of a window through a sleeve found so far (a running count)
   std::vector<char>
       vertex_needed;  ///< per slice vertex that represents a CDT vertex (VertexInfo::slice_vertex)
 };

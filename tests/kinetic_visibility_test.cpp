@@ -1,9 +1,10 @@
 // The kinetic engine against a full static recompute at every frame (DESIGN.md §3, "Oracle"): per slice the
-// same hull, windows and shortest-path-tree parents (compared as multisets keyed by mesh edges, so numbering
-// does not matter) and the same 2D cones; per vertex the same 3D cones and measures to 1e-9. On random
-// coherent motions (every generated kind, random parameters, smooth perturbations, random frame steps,
-// planes through vertices at frame times) and on stress cases: a flat sheet, a fold closing and reopening,
-// a vertex on a plane at a frame time, events exactly at t = 1, simultaneous events; then 1000 frames.
+// same hull, windows, shortest-path-tree parents and, in regions with holes, sights through sleeves (compared
+// as multisets keyed by mesh edges, so numbering does not matter) and the same 2D cones; per vertex the same
+// 3D cones and measures to 1e-9. On random coherent motions (every generated kind, random parameters, smooth
+// perturbations, random frame steps, planes through vertices at frame times) and on stress cases: a flat
+// sheet, a fold closing and reopening, a vertex on a plane at a frame time, events exactly at t = 1,
+// simultaneous events; then 1000 frames.
 #include "kinetic/kinetic_visibility.hpp"
 
 #include <gtest/gtest.h>
@@ -33,7 +34,9 @@ struct SliceSignature {
   std::vector<Index> hull;                                           // mesh edges of hull vertices
   std::vector<std::pair<Index, Index>> windows;                      // (edge at a, edge at b)
   std::vector<std::tuple<Index, Index, int, Index, Index>> parents;  // (window, from_b, corner, parent)
-  std::vector<std::tuple<Index, int, std::vector<Wedge>>> cones;     // (edge, side, wedges)
+  // regions with holes: (window, corner, first vertices of its paths to a and b) per sleeve it sees through
+  std::vector<std::tuple<Index, Index, Index, Index, Index>> sights;
+  std::vector<std::tuple<Index, int, std::vector<Wedge>>> cones;  // (edge, side, wedges)
   std::size_t trees_unlike_the_walk =
       0;  // trees that differ from the walk oracle's on the same triangulation
 };
@@ -57,13 +60,23 @@ SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const
   std::sort(s.hull.begin(), s.hull.end());
   std::vector<int> parent(st.num_corners(), -1), walked(st.num_corners(), -1);
   FunnelScratch funnel;
+  SleeveScratch sleeves;
+  std::vector<SleeveSight> sights;
   for (std::size_t r = 0; r < st.num_regions(); ++r) {
     const SliceRegion region = st.region(r);
     for (const SliceWindow& w : region.windows) {
       const auto key =
           std::make_pair(edge_of(st.corner_vertex(w.corner_a)), edge_of(st.corner_vertex(w.corner_b)));
       s.windows.push_back(key);
-      if (region.has_holes) continue;  // cones there come from the outer polygon and the holes' spans
+      if (region.has_holes) {
+        sights.clear();
+        see_window_through_sleeves(st, w, region.faces.size(), sleeves, sights);
+        for (const SleeveSight& sight : sights)
+          s.sights.emplace_back(key.first, key.second, edge_of(st.corner_vertex(sight.corner)),
+                                edge_of(st.corner_vertex(sight.from_a)),
+                                edge_of(st.corner_vertex(sight.from_b)));
+        continue;
+      }
       for (int from_b = 0; from_b < 2; ++from_b) {
         std::fill(parent.begin(), parent.end(), -1);
         grow_shortest_path_tree(st, w, from_b, parent, funnel);
@@ -79,6 +92,7 @@ SliceSignature signature(const Slice& slice, const SliceTriangulation& st, const
   }
   std::sort(s.windows.begin(), s.windows.end());
   std::sort(s.parents.begin(), s.parents.end());
+  std::sort(s.sights.begin(), s.sights.end());
   return s;
 }
 
@@ -108,6 +122,7 @@ std::string compare_slice(const KineticVisibility& kinetic, std::size_t p, const
   if (a.hull != b.hull) return "hull";
   if (a.windows != b.windows) return "windows";
   if (a.parents != b.parents) return "shortest-path parents";
+  if (a.sights != b.sights) return "sights through sleeves in regions with holes";
   if (a.cones.size() != b.cones.size()) return "slice vertices";
   for (std::size_t i = 0; i < a.cones.size(); ++i) {
     const auto& [ea, sa, wa] = a.cones[i];

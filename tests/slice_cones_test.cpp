@@ -7,7 +7,6 @@
 #include <rapidcheck/gtest.h>
 
 #include <cstdio>
-#include <limits>
 #include <sstream>
 
 #include "oracles/random_slices.hpp"
@@ -28,26 +27,22 @@ std::string describe(const AngularSet& s) {
   return out.str();
 }
 
-/// How many regions with holes (solved by triangular expansion) the comparisons met: the properties must
-/// exercise them.
+/// How many regions with holes (solved along sleeves) the comparisons met, and how many sights of a window
+/// through a sleeve they found there: the properties must exercise them.
 std::size_t g_regions_with_holes = 0;
-/// How many corners the outer-polygon method gave their cones.
-std::size_t g_outer_polygon_corners = 0;
+std::size_t g_sleeve_sights = 0;
 
-/// Compares every slice vertex's cones, both sides; returns a description of the first mismatch. With
-/// `outer_polygon`, every region with holes takes the outer-polygon method (slice_cones.cpp) where it
-/// applies, whatever its size; without, only the expansion runs.
-std::string compare_with_oracle(const Slice& slice, bool outer_polygon) {
+/// Compares every slice vertex's cones, both sides; returns a description of the first mismatch.
+std::string compare_with_oracle(const Slice& slice) {
   SliceTriangulation triangulation;
   triangulation.build(slice);
   std::string why;
   if (!triangulation.check_invariants(&why)) return "invariant: " + why;
   SliceConeScratch scratch;
-  scratch.outer_polygon_min_faces = outer_polygon ? 0 : std::numeric_limits<std::size_t>::max();
   SliceCones cones;
   compute_slice_cones(slice, triangulation, scratch, cones);
   g_regions_with_holes += cones.regions_with_holes;
-  g_outer_polygon_corners += scratch.outer_polygon_corners;
+  g_sleeve_sights += scratch.sleeve_sights;
   const auto expected = oracle::brute_force_slice_cones(slice);
   for (Index x = 0; x < slice.vertices.size(); ++x)
     for (Side side : kBothSides) {
@@ -56,20 +51,14 @@ std::string compare_with_oracle(const Slice& slice, bool outer_polygon) {
       const AngularSet& slow = expected[x][static_cast<int>(side)];
       if (difference(fast, slow) > 1e-9) {
         std::ostringstream out;
-        out << (outer_polygon ? "outer polygon: " : "expansion: ") << "slice vertex " << x << " at ("
-            << slice.vertices[x].point.x << ", " << slice.vertices[x].point.y << ") side "
-            << static_cast<int>(side) << ": funnel " << describe(fast) << " oracle " << describe(slow) << " ("
-            << slice.vertices.size() << " vertices, " << slice.edges.size() << " edges)";
+        out << "slice vertex " << x << " at (" << slice.vertices[x].point.x << ", "
+            << slice.vertices[x].point.y << ") side " << static_cast<int>(side) << ": funnel "
+            << describe(fast) << " oracle " << describe(slow) << " (" << slice.vertices.size()
+            << " vertices, " << slice.edges.size() << " edges)";
         return out.str();
       }
     }
   return {};
-}
-
-/// Both methods for regions with holes against the oracle.
-std::string compare_with_oracle(const Slice& slice) {
-  std::string mismatch = compare_with_oracle(slice, false);
-  return mismatch.empty() ? compare_with_oracle(slice, true) : mismatch;
 }
 
 TEST(SliceCones, SingleSegmentSeesHalfPlanesPlusItsEnds) {
@@ -118,15 +107,15 @@ TEST(SliceCones, CollinearSliceGivesHalfPlanes) {
 
 TEST(SliceCones, PropertiesBelowExerciseRegionsWithHoles) {
   // Runs a fixed batch of random chain slices (nested loops make holes) and checks that they met regions
-  // with holes (triangular expansion), all matching the oracle.
+  // with holes (solved along sleeves) where corners see windows, all matching the oracle.
   std::mt19937_64 rng(7);
   g_regions_with_holes = 0;
-  g_outer_polygon_corners = 0;
+  g_sleeve_sights = 0;
   for (int k = 0; k < 300; ++k) ASSERT_EQ(compare_with_oracle(test::random_chain_slice(rng)), "");
   EXPECT_GT(g_regions_with_holes, 20u);
-  EXPECT_GT(g_outer_polygon_corners, 100u);
-  std::printf("regions with holes: %zu, corners by the outer polygon: %zu\n", g_regions_with_holes,
-              g_outer_polygon_corners);
+  EXPECT_GT(g_sleeve_sights, 100u);
+  std::printf("regions with holes: %zu, sights through sleeves: %zu\n", g_regions_with_holes,
+              g_sleeve_sights);
 }
 
 RC_GTEST_PROP(SliceCones, FunnelTreesMatchAngularSweepOnRandomChains, ()) {
