@@ -170,6 +170,19 @@ void see_window_through_sleeves(const SliceTriangulation& slice, const SliceWind
       if (task.funnel[s].left >= 0) write(task.funnel[s].lo, task.funnel[s].left);
       if (task.funnel[s].right >= 0) write(task.funnel[s].hi, task.funnel[s].right);
     }
+    // The path from a root turns at its cusp towards a point of the edge at best towards the first vertex of
+    // the chain on its own side (l_1 from a, r_1 from b: the funnel's directions at the cusp lie within a
+    // half-turn that does not hold the path's way back); when even that turn is the wrong way, no point of
+    // the edge sees the window.
+    const SleeveFunnel& fa = task.funnel[0];
+    const SleeveFunnel& fb = task.funnel[1];
+    if ((fa.before_cusp >= 0 && fa.apex > fa.lo &&
+         cgal::orientation(point(fa.before_cusp), point(scratch.funnel[0][fa.apex]),
+                           point(scratch.funnel[0][fa.apex - 1])) == CGAL::RIGHT_TURN) ||
+        (fb.before_cusp >= 0 && fb.apex < fb.hi &&
+         cgal::orientation(point(fb.before_cusp), point(scratch.funnel[1][fb.apex]),
+                           point(scratch.funnel[1][fb.apex + 1])) == CGAL::LEFT_TURN))
+      continue;
     const cgal::FaceHandle g = task.face->neighbor(task.index);
     const int j = cdt.mirror_index(task.face, task.index);
     const int cx = g->info().corner[j];
