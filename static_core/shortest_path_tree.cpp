@@ -213,14 +213,10 @@ void see_window_through_sleeves(const SliceTriangulation& slice, const SliceWind
         const SleeveFunnel& f = task.funnel[s];
         const std::vector<int>& funnel = scratch.funnel[s];
         const auto [t, on_left] = tangent[s];
+        const auto undo = static_cast<std::uint32_t>(scratch.undo[s].size());
         SleeveFunnel& c = child.funnel[s];
-        c.undo = static_cast<std::uint32_t>(scratch.undo[s].size());
-        c.before_cusp = f.before_cusp;
-        if (towards_l) {
-          c = {f.lo, on_left ? t : f.apex, t + 1, c.undo, -1, cx, c.before_cusp};
-        } else {
-          c = {t - 1, on_left ? f.apex : t, f.hi, c.undo, cx, -1, c.before_cusp};
-        }
+        c = towards_l ? SleeveFunnel{f.lo, on_left ? t : f.apex, t + 1, undo, -1, cx, f.before_cusp}
+                      : SleeveFunnel{t - 1, on_left ? f.apex : t, f.hi, undo, cx, -1, f.before_cusp};
         if (c.apex == f.apex) continue;
         // The cusp moves from funnel[f.apex] along a chain to funnel[t]: step is -1 on the L-chain.
         const int step = c.apex < f.apex ? -1 : 1;
