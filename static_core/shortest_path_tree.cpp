@@ -40,6 +40,22 @@ std::pair<int, bool> funnel_tangent(const std::vector<int>& funnel, int lo, int 
   return {apex, false};
 }
 
+/// Brings a funnel array back to a task's state: undoes the writes made since `mark` (the depth-first walk
+/// backtracking), then writes the task's new end corners (unless -1) at lo and hi, logged for the next undo.
+void restore_funnel(std::vector<int>& funnel, std::vector<std::pair<int, int>>& undo, std::uint32_t mark,
+                    int lo, int left, int hi, int right) {
+  while (undo.size() > mark) {
+    funnel[undo.back().first] = undo.back().second;
+    undo.pop_back();
+  }
+  for (const auto& [at, corner] : {std::pair{lo, left}, std::pair{hi, right}}) {
+    if (corner < 0) continue;
+    PLEAT_ASSERT(at >= 0 && std::size_t(at) < funnel.size(), "funnel outgrew its array");
+    undo.emplace_back(at, funnel[at]);
+    funnel[at] = corner;
+  }
+}
+
 }  // namespace
 
 void grow_shortest_path_tree(const SliceTriangulation& slice, const SliceWindow& window, bool from_b,
@@ -81,17 +97,7 @@ void grow_shortest_path_tree(const SliceTriangulation& slice, const SliceWindow&
   while (!stack.empty()) {
     const FunnelTask task = stack.back();
     stack.pop_back();
-    while (undo.size() > task.undo) {
-      funnel[undo.back().first] = undo.back().second;
-      undo.pop_back();
-    }
-    auto write = [&](int at, int corner) {
-      PLEAT_ASSERT(at >= 0 && std::size_t(at) < funnel.size(), "funnel outgrew its array");
-      undo.emplace_back(at, funnel[at]);
-      funnel[at] = corner;
-    };
-    if (task.left >= 0) write(task.lo, task.left);
-    if (task.right >= 0) write(task.hi, task.right);
+    restore_funnel(funnel, undo, task.undo, task.lo, task.left, task.hi, task.right);
     const int lo = task.lo, apex = task.apex, hi = task.hi;
 
     const cgal::FaceHandle g = task.face->neighbor(task.index);
@@ -156,19 +162,8 @@ void see_window_through_sleeves(const SliceTriangulation& slice, const SliceWind
     const SleeveTask task = stack.back();
     stack.pop_back();
     for (int s = 0; s < 2; ++s) {
-      std::vector<int>& funnel = scratch.funnel[s];
-      std::vector<std::pair<int, int>>& undo = scratch.undo[s];
-      while (undo.size() > task.funnel[s].undo) {
-        funnel[undo.back().first] = undo.back().second;
-        undo.pop_back();
-      }
-      auto write = [&](int at, int corner) {
-        PLEAT_ASSERT(at >= 0 && std::size_t(at) < funnel.size(), "sleeve funnel outgrew its array");
-        undo.emplace_back(at, funnel[at]);
-        funnel[at] = corner;
-      };
-      if (task.funnel[s].left >= 0) write(task.funnel[s].lo, task.funnel[s].left);
-      if (task.funnel[s].right >= 0) write(task.funnel[s].hi, task.funnel[s].right);
+      const SleeveFunnel& f = task.funnel[s];
+      restore_funnel(scratch.funnel[s], scratch.undo[s], f.undo, f.lo, f.left, f.hi, f.right);
     }
     // The path from a root turns at its cusp towards a point of the edge at best towards the first vertex of
     // the chain on its own side (l_1 from a, r_1 from b: the funnel's directions at the cusp lie within a
