@@ -56,6 +56,12 @@ void restore_funnel(std::vector<int>& funnel, std::vector<std::pair<int, int>>& 
   }
 }
 
+// Per funnel of a sleeve (0: from a, 1: from b): the turn a path from its root may not make (outward convex:
+// counter-clockwise only from a, clockwise only from b), and the direction of the chain on its own side in
+// the funnel array (the L-chain from a, the R-chain from b).
+constexpr CGAL::Orientation kWrongTurn[2] = {CGAL::RIGHT_TURN, CGAL::LEFT_TURN};
+constexpr int kOwnSide[2] = {-1, 1};
+
 }  // namespace
 
 void grow_shortest_path_tree(const SliceTriangulation& slice, const SliceWindow& window, bool from_b,
@@ -169,15 +175,14 @@ void see_window_through_sleeves(const SliceTriangulation& slice, const SliceWind
     // the chain on its own side (l_1 from a, r_1 from b: the funnel's directions at the cusp lie within a
     // half-turn that does not hold the path's way back); when even that turn is the wrong way, no point of
     // the edge sees the window.
-    const SleeveFunnel& fa = task.funnel[0];
-    const SleeveFunnel& fb = task.funnel[1];
-    if ((fa.before_cusp >= 0 && fa.apex > fa.lo &&
-         cgal::orientation(point(fa.before_cusp), point(scratch.funnel[0][fa.apex]),
-                           point(scratch.funnel[0][fa.apex - 1])) == CGAL::RIGHT_TURN) ||
-        (fb.before_cusp >= 0 && fb.apex < fb.hi &&
-         cgal::orientation(point(fb.before_cusp), point(scratch.funnel[1][fb.apex]),
-                           point(scratch.funnel[1][fb.apex + 1])) == CGAL::LEFT_TURN))
-      continue;
+    auto closed_at_cusp = [&](int s) {
+      const SleeveFunnel& f = task.funnel[s];
+      const int own = f.apex + kOwnSide[s];
+      return f.before_cusp >= 0 && own >= f.lo && own <= f.hi &&
+             cgal::orientation(point(f.before_cusp), point(scratch.funnel[s][f.apex]),
+                               point(scratch.funnel[s][own])) == kWrongTurn[s];
+    };
+    if (closed_at_cusp(0) || closed_at_cusp(1)) continue;
     const cgal::FaceHandle g = task.face->neighbor(task.index);
     const int j = cdt.mirror_index(task.face, task.index);
     const int cx = g->info().corner[j];
@@ -215,13 +220,13 @@ void see_window_through_sleeves(const SliceTriangulation& slice, const SliceWind
         if (c.apex == f.apex) continue;
         // The cusp moves from funnel[f.apex] along a chain to funnel[t]: step is -1 on the L-chain.
         const int step = c.apex < f.apex ? -1 : 1;
-        const CGAL::Orientation wrong = s == 0 ? CGAL::RIGHT_TURN : CGAL::LEFT_TURN;
         const int first = funnel[f.apex + step];
         if (f.before_cusp >= 0 &&
-            cgal::orientation(point(f.before_cusp), point(funnel[f.apex]), point(first)) == wrong)
+            cgal::orientation(point(f.before_cusp), point(funnel[f.apex]), point(first)) == kWrongTurn[s])
           open = false;
-        else if (c.apex != f.apex + step && cgal::orientation(point(funnel[f.apex]), point(first),
-                                                              point(funnel[f.apex + 2 * step])) == wrong)
+        else if (c.apex != f.apex + step &&
+                 cgal::orientation(point(funnel[f.apex]), point(first), point(funnel[f.apex + 2 * step])) ==
+                     kWrongTurn[s])
           open = false;  // the chain is convex: its first turn is every turn's
         c.before_cusp = funnel[c.apex - step];
       }
