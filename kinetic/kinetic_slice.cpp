@@ -322,6 +322,11 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   // vertices taken out and the new ones, and their chain edges.
   for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v)
     v->set_point(cgal::to_point(scratch.next.vertices[v->info().slice_vertex].point));
+  for (PlannedFlip& flip : scratch.flips)
+    if (flip.face != FaceHandle()) {
+      cdt.flip(flip.face, flip.index);
+      ++counts.flipped;
+    }
   if (!hull_winds_once(cdt)) return rebuild(RebuildReason::repair_failed);
   for (Index y = 0; y < scratch.next.vertices.size(); ++y)
     if (scratch.taken_out[y]) scratch.born.push_back(y);
@@ -368,7 +373,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     return rebuild(RebuildReason::crossing);
   m_policy_streak = 0;
   // (A run that grew leaves a new vertex inserted: its unmarked closing edge is counted there.)
-  const bool structure_changed = counts.removed + counts.inserted + counts.reinserted > 0;
+  const bool structure_changed = counts.removed + counts.inserted + counts.reinserted + counts.flipped > 0;
   ++(structure_changed ? counts.slices_repaired : counts.slices_unchanged);
   finish_frame(topology, next, scratch);
   return counts;
@@ -382,28 +387,109 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
   scratch.taken_out.assign(next.size(), 0);
   scratch.take_out.clear();
   scratch.recheck.clear();
+  scratch.flips.clear();
+  auto is_gone = [&](VertexHandle v) {
+    const int y = v->info().slice_vertex;
+    return y < 0 || scratch.taken_out[y];
+  };
+  auto is_free = [](FaceHandle f) { return f->info().index == -1; };
+  auto reserve = [&](const PlannedFlip& flip) {
+    const int n = static_cast<int>(scratch.flips.size());
+    flip.face->info().index = flip.face->neighbor(flip.index)->info().index = n;
+    if (flip.before != FaceHandle()) flip.before->info().index = n, flip.after->info().index = -2 - n;
+    scratch.flips.push_back(flip);
+  };
+  // Whether the hull corner (x_prev, x, x_next), walked in that order, is convex or straight with x between
+  // its neighbours at the next frame (the hull-corner certificate).
+  auto convex_corner = [&](VertexHandle previous, VertexHandle x, VertexHandle following) {
+    const cgal::Point2 a = next_point(previous), b = next_point(x), c = next_point(following);
+    const CGAL::Orientation o = cgal::orientation(c, b, a);
+    return o == CGAL::LEFT_TURN ||
+           (o == CGAL::COLLINEAR && CGAL::collinear_are_strictly_ordered_along_line(a, b, c));
+  };
+  // A failed triangle f repaired by flipping one of its edges at the next frame: the edge is not a chain
+  // edge, the triangle across it is finite and free, its fourth vertex is not yet joined to f's opposite
+  // one, none of the four vertices leaves, and the flip's two triangles are positive at the next frame.
+  // (The flip then replaces f and its neighbour, which needs no other repair.) Returns whether one qualifies.
+  auto plan_triangle_flip = [&](FaceHandle f) {
+    for (int i = 0; i < 3; ++i)
+      if (is_gone(f->vertex(i))) return false;
+    for (int i = 0; i < 3; ++i) {
+      if (f->is_constrained(i)) continue;
+      const FaceHandle g = f->neighbor(i);
+      if (cdt.is_infinite(g) || !is_free(g)) continue;
+      const VertexHandle v = f->vertex(i), w = g->vertex(cdt.mirror_index(f, i));
+      if (is_gone(w)) continue;
+      const cgal::Point2 apex = next_point(v), p = next_point(w);
+      if (cgal::orientation(apex, next_point(f->vertex(Cdt::ccw(i))), p) != CGAL::LEFT_TURN ||
+          cgal::orientation(apex, p, next_point(f->vertex(Cdt::cw(i)))) != CGAL::LEFT_TURN ||
+          cdt.is_edge(v, w))
+        continue;
+      reserve({f, i, FaceHandle(), FaceHandle()});
+      return true;
+    }
+    return false;
+  };
+  // A reflex hull corner at b, walked a -> b -> c (infinite faces f = (oo, a, b) and g = (oo, b, c)),
+  // repaired by flipping the edge (oo, b): b leaves the hull inside the new triangle (a, b, c), positive at
+  // the next frame exactly when the corner is strictly reflex. The hull corners at a and c change (a_prev
+  // -> a -> c, a -> c -> c_next) and must be convex; the four hull faces from (oo, a_prev, a) to
+  // (oo, c, c_next) must be free and no vertex among them leave, and a and c must not be joined yet.
+  auto plan_hull_flip = [&](FaceHandle f) {
+    const int i = f->index(cdt.infinite_vertex());
+    const FaceHandle g = f->neighbor(Cdt::ccw(i)), before = f->neighbor(Cdt::cw(i));
+    const int j = g->index(cdt.infinite_vertex());
+    const FaceHandle after = g->neighbor(Cdt::ccw(j));
+    const VertexHandle a = f->vertex(Cdt::ccw(i)), b = f->vertex(Cdt::cw(i)), c = g->vertex(Cdt::cw(j));
+    const VertexHandle a_prev = before->vertex(Cdt::ccw(before->index(cdt.infinite_vertex())));
+    const VertexHandle c_next = after->vertex(Cdt::cw(after->index(cdt.infinite_vertex())));
+    if (a_prev == c || !is_free(f) || !is_free(g) || !is_free(before) || !is_free(after)) return false;
+    for (const VertexHandle v : {a_prev, a, b, c, c_next})
+      if (is_gone(v)) return false;
+    if (cgal::orientation(next_point(a), next_point(b), next_point(c)) != CGAL::LEFT_TURN ||
+        !convex_corner(a_prev, a, c) || !convex_corner(a, c, c_next) || cdt.is_edge(a, c))
+      return false;
+    reserve({f, Cdt::ccw(i), before, after});
+    return true;
+  };
+  // Cancels flip n (a removal is about to change one of its faces); the certificate it repaired is checked
+  // again with its vertices' faces.
+  auto cancel = [&](int n) {
+    PlannedFlip& flip = scratch.flips[std::size_t(n)];
+    for (const FaceHandle f : {flip.face, flip.face->neighbor(flip.index), flip.before, flip.after})
+      if (f != FaceHandle()) f->info().index = -1;
+    for (int i = 0; i < 3; ++i)
+      if (const VertexHandle v = flip.face->vertex(i); !cdt.is_infinite(v) && !is_gone(v))
+        scratch.recheck.push_back(v->info().slice_vertex);
+    flip.face = FaceHandle();
+  };
   // Certifies face f at the next frame; a failure queues the vertex it takes out. Faces of a vanishing
   // vertex are not certified: its removal replaces them.
   auto certify = [&](FaceHandle f) {
     for (int i = 0; i < 3; ++i)
       if (!cdt.is_infinite(f->vertex(i)) && f->vertex(i)->info().slice_vertex < 0) return;
+    if (f->info().index >= 0) return;  // replaced by a planned flip, or its hull corner checked by one
     VertexHandle out;
     if (cdt.is_infinite(f)) {
       // The hull corner (c, b, a) at b: convex, or straight with b between a and c.
       const HullCorner h = hull_corner(cdt, f);
       if (h.c->info().slice_vertex < 0) return;  // the next hull vertex vanishes
       ++counts.certificates;
-      const cgal::Point2 a = next_point(h.a), b = next_point(h.b), c = next_point(h.c);
-      const CGAL::Orientation o = cgal::orientation(c, b, a);
-      if (o == CGAL::LEFT_TURN ||
-          (o == CGAL::COLLINEAR && CGAL::collinear_are_strictly_ordered_along_line(a, b, c)))
+      if (convex_corner(h.a, h.b, h.c)) return;
+      if (plan_hull_flip(f)) {
+        ++counts.certificates_failed;
         return;
+      }
       out = h.b;
     } else {
       ++counts.certificates;
       const cgal::Point2 p0 = next_point(f->vertex(0)), p1 = next_point(f->vertex(1)),
                          p2 = next_point(f->vertex(2));
       if (cgal::orientation(p0, p1, p2) == CGAL::LEFT_TURN) return;
+      if (plan_triangle_flip(f)) {
+        ++counts.certificates_failed;
+        return;
+      }
       // The vertex that moved farthest since frame k.
       double farthest = -1.0;
       for (int i = 0; i < 3; ++i) {
@@ -421,6 +507,10 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
   // Removes v at frame k's points (the triangulation is valid there), remembering its neighbours: every face
   // the removal creates has its vertices among them.
   auto remove = [&](VertexHandle v) {
+    auto g = cdt.incident_faces(v), around = g;
+    do
+      if (const int n = g->info().index; n != -1) cancel(n >= 0 ? n : -2 - n);
+    while (++g != around);
     auto u = cdt.incident_vertices(v), done = u;
     do
       if (!cdt.is_infinite(u) && u->info().slice_vertex >= 0)
@@ -434,6 +524,7 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
     cdt.Cdt::Ctr::remove(v);
     return cdt.dimension() == 2;
   };
+  // The restored faces are new (info().index -1: in no flip), as are those the removals make.
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f);
   // More vertices to take out than the budget allows already: rebuild before removing any.
   if (scratch.take_out.size() > budget) return RebuildReason::policy;

@@ -25,14 +25,22 @@
 //      Survivors and relabeled vertices take their frame-(k+1) ids.
 //   2. Certificates at frame k+1, on the kept vertices' next points: every finite triangle positive, every
 //      hull corner (c, b, a) convex or straight with b between a and c; faces of vanishing vertices are not
-//      certified. A failed certificate takes one slice vertex out (the triangle's vertex that moved farthest,
-//      the hull corner's apex). When the vertices to take out already exceed the policy's share, the slice is
-//      rebuilt before any CGAL edit; otherwise the vanishing vertices, then those taken out, are removed
-//      with their chain edges at frame k's points, where the kept triangulation is valid, and the faces
-//      each removal creates are certified in turn.
-//   3. Every kept vertex moves to its next point; the hull's winding is checked. The vertices taken out and
-//      the edits' new slice vertices are inserted at their next points (CGAL, located from a chain
-//      neighbour), then every chain edge that is not a constrained edge yet is inserted as one.
+//      certified. A failed triangle whose edge flip makes two positive triangles at frame k+1 (the edge not
+//      a chain edge, the triangle across it in no other flip, none of the four vertices leaving) is
+//      repaired by that flip, planned now and made in step 3; so is a reflex hull corner a -> b -> c, by
+//      flipping the edge from the infinite vertex to b (the new triangle (a, b, c) is positive, and the
+//      corners at a and c it changes must be convex). Any other failed certificate takes one slice
+//      vertex out (the triangle's vertex that moved farthest, the hull corner's apex). When the vertices to
+//      take out already exceed the policy's share, the slice is rebuilt before any CGAL edit; otherwise the
+//      vanishing vertices, then those taken out, are removed with their chain edges at frame k's points,
+//      where the kept triangulation is valid (a removal cancels the planned flips of its faces), and the
+//      faces each removal creates, and those of its neighbours, are certified in turn.
+//   3. Every kept vertex moves to its next point; the planned flips are made (each replaces a failed
+//      triangle and its neighbour, or two hull faces, unchanged since it was planned, by two that pass:
+//      every finite triangle is then positive and every hull corner convex); the hull's winding is
+//      checked. The vertices taken out and the edits' new slice vertices are inserted at their next points
+//      (CGAL, located from a chain neighbour), then every chain edge that is not a constrained edge yet is
+//      inserted as one.
 //   4. Regions, windows and corners are derived from the triangulation (they depend on nothing else), in the
 //      thread's scratch; the funnel trees and cones are grown on it (static_core's code); the triangulation
 //      is kept again as indices.
@@ -58,6 +66,17 @@
 
 namespace pleat::kinetic {
 
+/// An edge flip planned at the certificates (the header comment's step 2): flip edge `index` of `face`. It
+/// reserves the two faces it replaces and, for an edge to the infinite vertex (a reflex hull corner made
+/// into a triangle), the hull's faces on either side, whose corners it changes or depends on; a reserved
+/// face holds the flip's number n in info().index (-2 - n for the face after, whose own corner it does not
+/// change), a free one -1. A null face: cancelled.
+struct PlannedFlip {
+  cgal::FaceHandle face;
+  int index = 0;
+  cgal::FaceHandle before, after;  ///< hull faces beside an edge to the infinite vertex (else null)
+};
+
 /// Per-thread memory of KineticSlice (no allocation per frame once warmed up).
 struct KineticScratch {
   SlicerScratch slicer;
@@ -79,9 +98,11 @@ struct KineticScratch {
   std::vector<char> is_born;                      ///< per slice vertex of the next frame
   std::vector<cgal::VertexHandle> vertex_of_new;  ///< per slice vertex of the next frame
   std::vector<cgal::VertexHandle> take_out;       ///< vertices of failed certificates, still to remove
-  std::vector<cgal::VertexHandle> vanishing;      ///< vertices whose slice vertex vanishes, still to remove
-  std::vector<std::int32_t> recheck;              ///< neighbours of removed vertices: faces to certify
-  std::vector<char> taken_out;                    ///< per slice vertex of the next frame
+  /// Edge flips that repair failed certificates at the next frame, made once the vertices have moved there.
+  std::vector<PlannedFlip> flips;
+  std::vector<cgal::VertexHandle> vanishing;  ///< vertices whose slice vertex vanishes, still to remove
+  std::vector<std::int32_t> recheck;          ///< neighbours of removed vertices: faces to certify
+  std::vector<char> taken_out;                ///< per slice vertex of the next frame
   std::vector<std::int32_t>
       relabel;  ///< per vanishing slice vertex: the new one it hands its vertex to, or -1
   std::vector<Index> run_old, run_new;  ///< a fan swap's vanishing and new slice vertices, in chain order

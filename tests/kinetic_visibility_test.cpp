@@ -226,9 +226,9 @@ RC_GTEST_PROP(KineticVisibility, EqualsAFullRecomputeAtEveryFrameOnRandomCoheren
 
 /// The property above must exercise the kinetic paths, not only compare the static engine with itself:
 /// coherent motions of every kind, with a policy that repairs far more than the default, give failed
-/// certificates repaired by putting vertices back, regular and critical crossings, fan swaps (relabeled
-/// slice vertices) beside plain removals and insertions, and more slices repaired than rebuilt (and equal a
-/// recompute).
+/// certificates repaired by putting vertices back and by edge flips, regular and critical crossings, fan
+/// swaps (relabeled slice vertices) beside plain removals and insertions, and more slices repaired than
+/// rebuilt (and equal a recompute).
 TEST(KineticVisibility, CoherentMotionsExerciseEveryRepair) {
   KineticFrameStats totals;
   for (ClothKind kind : {ClothKind::Curtain, ClothKind::Roll, ClothKind::Flag, ClothKind::Sleeve}) {
@@ -242,6 +242,7 @@ TEST(KineticVisibility, CoherentMotionsExerciseEveryRepair) {
   for (const KineticCounter& c : kKineticCounters) std::cout << c.name << ' ' << totals.*c.field << '\n';
   EXPECT_GT(totals.certificates_failed, 0u);
   EXPECT_GT(totals.reinserted, 0u);
+  EXPECT_GT(totals.flipped, 0u);
   EXPECT_GT(totals.relabeled, 0u);
   EXPECT_GT(totals.removed, 0u);
   EXPECT_GT(totals.inserted, 0u);
