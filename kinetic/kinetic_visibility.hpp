@@ -73,7 +73,7 @@ struct KineticCounts {
       0;                       ///< of which failed: a triangle flat or inverted, a hull corner reflex
   std::size_t reinserted = 0;  ///< slice vertices taken out and put back to repair failed ones
   std::size_t flipped = 0;     ///< failed certificates repaired at the frame by one edge flip (a triangle's
-                            ///< edge, or a reflex hull corner made into a triangle)
+                               ///< edge, or a reflex hull corner made into a triangle)
   std::size_t relabeled =
       0;                    ///< fan swaps: a vanishing slice vertex's triangulation vertex given to a new one
   std::size_t removed = 0;  ///< slice vertices removed by local edits (their edge stopped crossing)
