@@ -525,6 +525,8 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
     return cdt.dimension() == 2;
   };
   // The restored faces are new (info().index -1: in no flip), as are those the removals make.
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
+    PLEAT_ASSERT(f->info().index == -1, "a restored face is reserved by a flip");
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f);
   // More vertices to take out than the budget allows already: rebuild before removing any.
   if (scratch.take_out.size() > budget) return RebuildReason::policy;

@@ -39,7 +39,9 @@ struct VertexInfo {
 /// padding. A slice has about two faces per slice vertex.
 struct FaceInfo {
   std::array<int, 3> corner{-1, -1, -1};
-  int index = -1;  ///< scratch of the kinetic layer: the face's place in its compact copy
+  /// Scratch of the kinetic layer: the face's place in its compact copy (kept_triangulation), or which
+  /// planned edge flip reserves it while a slice is certified (kinetic_slice.hpp's PlannedFlip).
+  int index = -1;
 };
 
 using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, TriangulationTraits>;
