@@ -40,16 +40,23 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// An infinite face (oo, a, b) walks the hull clockwise from a to b; c follows b.
+/// An infinite face (oo, a, b) walks the hull clockwise from a to b; the next one, (oo, b, c), from b to c.
+FaceHandle next_hull_face(const Cdt& cdt, FaceHandle f) {
+  return f->neighbor(Cdt::ccw(f->index(cdt.infinite_vertex())));
+}
+FaceHandle previous_hull_face(const Cdt& cdt, FaceHandle f) {
+  return f->neighbor(Cdt::cw(f->index(cdt.infinite_vertex())));
+}
+
+/// The hull corner at b of the infinite face f = (oo, a, b): a -> b -> c.
 struct HullCorner {
   VertexHandle a, b, c;
 };
 
 HullCorner hull_corner(const Cdt& cdt, FaceHandle f) {
   const int i = f->index(cdt.infinite_vertex());
-  const FaceHandle g = f->neighbor(Cdt::ccw(i));
-  const int j = g->index(cdt.infinite_vertex());
-  return {f->vertex(Cdt::ccw(i)), f->vertex(Cdt::cw(i)), g->vertex(Cdt::cw(j))};
+  const FaceHandle g = next_hull_face(cdt, f);
+  return {f->vertex(Cdt::ccw(i)), f->vertex(Cdt::cw(i)), g->vertex(Cdt::cw(g->index(cdt.infinite_vertex())))};
 }
 
 /// Whether (a, b) is one constrained edge of the triangulation.
@@ -436,20 +443,17 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
   // -> a -> c, a -> c -> c_next) and must be convex; the four hull faces from (oo, a_prev, a) to
   // (oo, c, c_next) must be free and no vertex among them leave, and a and c must not be joined yet.
   auto plan_hull_flip = [&](FaceHandle f) {
-    const int i = f->index(cdt.infinite_vertex());
-    const FaceHandle g = f->neighbor(Cdt::ccw(i)), before = f->neighbor(Cdt::cw(i));
-    const int j = g->index(cdt.infinite_vertex());
-    const FaceHandle after = g->neighbor(Cdt::ccw(j));
-    const VertexHandle a = f->vertex(Cdt::ccw(i)), b = f->vertex(Cdt::cw(i)), c = g->vertex(Cdt::cw(j));
-    const VertexHandle a_prev = before->vertex(Cdt::ccw(before->index(cdt.infinite_vertex())));
-    const VertexHandle c_next = after->vertex(Cdt::cw(after->index(cdt.infinite_vertex())));
+    const FaceHandle g = next_hull_face(cdt, f), before = previous_hull_face(cdt, f),
+                     after = next_hull_face(cdt, g);
+    const auto [a, b, c] = hull_corner(cdt, f);
+    const VertexHandle a_prev = hull_corner(cdt, before).a, c_next = hull_corner(cdt, g).c;
     if (a_prev == c || !is_free(f) || !is_free(g) || !is_free(before) || !is_free(after)) return false;
     for (const VertexHandle v : {a_prev, a, b, c, c_next})
       if (is_gone(v)) return false;
     if (cgal::orientation(next_point(a), next_point(b), next_point(c)) != CGAL::LEFT_TURN ||
         !convex_corner(a_prev, a, c) || !convex_corner(a, c, c_next) || cdt.is_edge(a, c))
       return false;
-    reserve({f, Cdt::ccw(i), before, after});
+    reserve({f, f->index(a), before, after});  // the edge (oo, b), opposite a
     return true;
   };
   // Cancels flip n (a removal is about to change one of its faces); the certificate it repaired is checked
