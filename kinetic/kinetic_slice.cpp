@@ -309,14 +309,22 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   }
   scratch.vertex_of_new.assign(scratch.next.vertices.size(), VertexHandle());
   scratch.vanishing.clear();
+  scratch.chain_loose.assign(scratch.next.vertices.size(), 0);
+  auto new_id = [&](Index x) { return std::max(scratch.new_of_old[x], scratch.relabel[x]); };
   for (Index x = 0; x < old.vertices.size(); ++x) {
     const VertexHandle v = tri.vertex_of(x);
-    const std::int32_t y = std::max(scratch.new_of_old[x], scratch.relabel[x]);
+    const std::int32_t y = new_id(x);
     v->info().slice_vertex = y;
-    if (y >= 0)
+    if (y >= 0) {
       scratch.vertex_of_new[y] = v;
-    else
-      scratch.vanishing.push_back(v);
+      continue;
+    }
+    scratch.vanishing.push_back(v);
+    // Its chain neighbours lose their constrained edges to it.
+    if (const std::int32_t e = old.in_edge[x]; e >= 0 && new_id(old.edges[e].from) >= 0)
+      scratch.chain_loose[new_id(old.edges[e].from)] = 1;
+    if (const std::int32_t e = old.out_edge[x]; e >= 0 && new_id(old.edges[e].to) >= 0)
+      scratch.chain_loose[new_id(old.edges[e].to)] = 1;
   }
 
   // 2. Certify at the next frame, remove the vanishing vertices and take out those of failed certificates.
@@ -360,21 +368,23 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     scratch.vertex_of_new[y] = v;
     hint = v->face();
   }
-  // Chain edges that are not constrained edges yet: those of new and put-back vertices, and the closing
-  // edges of runs that shrank.
+  // Chain edges that may not be constrained edges yet: those of new and put-back vertices, and those
+  // beside removed vertices (the closing edges of runs that shrank, the edges of critical crossings).
+  for (Index y : scratch.born) scratch.chain_loose[y] = 1;
   const std::size_t vertices = cdt.number_of_vertices();
-  bool constrained = false;
-  for (const SliceEdge& e : scratch.next.edges) {
-    const VertexHandle a = scratch.vertex_of_new[e.from], b = scratch.vertex_of_new[e.to];
-    if (cgal::insert_constraint(cdt, a, b)) constrained = true;
-  }
+  bool inserted = false;
+  for (const SliceEdge& e : scratch.next.edges)
+    if (scratch.chain_loose[e.from] || scratch.chain_loose[e.to])
+      inserted |= cgal::insert_constraint(cdt, scratch.vertex_of_new[e.from], scratch.vertex_of_new[e.to]) ==
+                  cgal::ConstraintInsertion::inserted;
   // Chains that cross or touch: a chain edge that crosses another is split at a new vertex; one through a
   // slice point is split there; and a new slice point lying on a kept chain edge to within rounding
   // (located just off it, in a face) makes its own chain edge "cross" the kept one at a point CGAL snaps
   // to the new vertex, splitting the kept edge with no vertex added (fuzz_engines found it:
-  // tests/fuzz/regressions/fuzz_engines/kept_chain_edge_lost.bin). So every chain edge, new or kept, must
-  // still be one constrained edge; else the slice is rebuilt, as crossing chains are.
-  if (constrained &&
+  // tests/fuzz/regressions/fuzz_engines/kept_chain_edge_lost.bin). So where CGAL inserted a constraint
+  // (marking an edge changes no other), every chain edge, new or kept, must still be one constrained edge;
+  // else the slice is rebuilt, as crossing chains are.
+  if (inserted &&
       (cdt.number_of_vertices() != vertices ||
        !chains_are_edges(cdt, scratch.next.edges, [&](Index y) { return scratch.vertex_of_new[y]; })))
     return rebuild(RebuildReason::crossing);

@@ -103,6 +103,10 @@ struct KineticScratch {
   std::vector<cgal::VertexHandle> vanishing;  ///< vertices whose slice vertex vanishes, still to remove
   std::vector<std::int32_t> recheck;          ///< neighbours of removed vertices: faces to certify
   std::vector<char> taken_out;                ///< per slice vertex of the next frame
+  /// Per slice vertex of the next frame: whether its chain edges may not be constrained edges yet (it is new
+  /// or put back, or a chain neighbour of a removed vertex). Every other chain edge joins two kept vertices
+  /// that were its ends at frame k too, and stayed one constrained edge.
+  std::vector<char> chain_loose;
   std::vector<std::int32_t>
       relabel;  ///< per vanishing slice vertex: the new one it hands its vertex to, or -1
   std::vector<Index> run_old, run_new;  ///< a fan swap's vanishing and new slice vertices, in chain order

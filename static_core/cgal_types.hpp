@@ -61,23 +61,29 @@ using FaceHandle = Cdt::Face_handle;
 inline Point2 to_point(const glm::dvec2& p) { return {p.x, p.y}; }
 inline glm::dvec2 to_glm(const Point2& p) { return {p.x(), p.y()}; }
 
-/// Makes a -> b a constrained edge, as Cdt::insert_constraint(a, b) does; returns false when a 2D
-/// triangulation already had it as one (nothing changed). Where a -> b is an edge of a 2D triangulation
-/// (nearly every chain edge: consecutive slice points are Delaunay neighbours), it is marked here directly,
-/// which is all CGAL does there too; CGAL's call first builds a std::stack (a std::deque: two heap
-/// allocations) per constraint, which was most of the triangulation's allocations (2.2 per slice vertex).
-/// Otherwise CGAL inserts it (split at vertices on it and where it crosses other constraints).
-inline bool insert_constraint(Cdt& cdt, VertexHandle a, VertexHandle b) {
+/// What insert_constraint did.
+enum class ConstraintInsertion {
+  existing,  ///< a -> b was a constrained edge already: nothing changed
+  marked,    ///< a -> b was an unconstrained edge, now marked: no other edge or vertex changed
+  inserted   ///< CGAL inserted it: it may have split other constraints, at new vertices or existing ones
+};
+
+/// Makes a -> b a constrained edge, as Cdt::insert_constraint(a, b) does. Where a -> b is an edge of a 2D
+/// triangulation (nearly every chain edge: consecutive slice points are Delaunay neighbours), it is marked
+/// here directly, which is all CGAL does there too; CGAL's call first builds a std::stack (a std::deque: two
+/// heap allocations) per constraint, which was most of the triangulation's allocations (2.2 per slice
+/// vertex). Otherwise CGAL inserts it (split at vertices on it and where it crosses other constraints).
+inline ConstraintInsertion insert_constraint(Cdt& cdt, VertexHandle a, VertexHandle b) {
   FaceHandle f;
   int i = 0;
   if (cdt.dimension() == 2 && cdt.is_edge(a, b, f, i)) {
-    if (f->is_constrained(i)) return false;
+    if (f->is_constrained(i)) return ConstraintInsertion::existing;
     f->set_constraint(i, true);
     f->neighbor(i)->set_constraint(cdt.mirror_index(f, i), true);
-    return true;
+    return ConstraintInsertion::marked;
   }
   cdt.insert_constraint(a, b);
-  return true;
+  return ConstraintInsertion::inserted;
 }
 
 }  // namespace pleat::cgal
