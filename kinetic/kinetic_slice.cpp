@@ -425,9 +425,14 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
            (o == CGAL::COLLINEAR && CGAL::collinear_are_strictly_ordered_along_line(a, b, c));
   };
   // A failed triangle f repaired by flipping one of its edges at the next frame: the edge is not a chain
-  // edge, the triangle across it is finite and free, its fourth vertex is not yet joined to f's opposite
-  // one, none of the four vertices leaves, and the flip's two triangles are positive at the next frame.
-  // (The flip then replaces f and its neighbour, which needs no other repair.) Returns whether one qualifies.
+  // edge, the triangle across it is finite and free, none of the four vertices leaves, and the flip's two
+  // triangles are positive at the next frame. (The flip then replaces f and its neighbour, which needs no
+  // other repair.) Returns whether one qualifies. The new edge may join two vertices joined already (around
+  // a vertex of degree 3 that leaves its triangle): flips edit the combinatorial structure, where that is a
+  // second edge for a while, and the certificates leave none twice in the end (positive triangles covering
+  // the hull once, the argument at the top of the file): the triangle beside the old edge, with the new
+  // triangle's vertices reversed, fails too and is flipped away across that edge, or takes out a vertex of
+  // the flip, which cancels it (tests/kinetic_visibility_test.cpp, FlipsMayJoinVerticesJoinedAlready).
   auto plan_triangle_flip = [&](FaceHandle f) {
     for (int i = 0; i < 3; ++i)
       if (is_gone(f->vertex(i))) return false;
@@ -439,8 +444,7 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
       if (is_gone(w)) continue;
       const cgal::Point2 apex = next_point(v), p = next_point(w);
       if (cgal::orientation(apex, next_point(f->vertex(Cdt::ccw(i))), p) != CGAL::LEFT_TURN ||
-          cgal::orientation(apex, p, next_point(f->vertex(Cdt::cw(i)))) != CGAL::LEFT_TURN ||
-          cdt.is_edge(v, w))
+          cgal::orientation(apex, p, next_point(f->vertex(Cdt::cw(i)))) != CGAL::LEFT_TURN)
         continue;
       reserve({f, i, FaceHandle(), FaceHandle()});
       return true;

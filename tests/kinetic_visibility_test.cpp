@@ -312,6 +312,42 @@ TEST(KineticVisibility, HullWoundTwiceIsCaught) {
   EXPECT_FALSE(kinetic::hull_winds_once(cdt));
 }
 
+/// A failed triangle is repaired by a flip that joins two vertices joined already. One chain
+/// P -> W -> q -> A -> Z, with q inside the triangle (A, P, W): q has degree 3 (faces (A, P, q), (P, W, q),
+/// (W, A, q)), and (A, W, Z), (A, Z, P) lie beyond. At the next frame q lies below A, so (A, P, q) and
+/// (W, A, q) fail. Flipping P q (with (P, W, q)) makes (A, P, W) and (A, W, q), positive, but joins A and W a
+/// second time; flipping W A of the other (with (A, W, Z)) makes (q, W, Z) and (q, Z, A), positive, and takes
+/// the old edge away. Made one after the other, in either order, the two flips leave a valid triangulation:
+/// nothing is put back.
+TEST(KineticVisibility, FlipsMayJoinVerticesJoinedAlready) {
+  // A fan of four triangles around an apex above the plane z = 0, its other vertices below: the slice
+  // points are the midpoints of the apex's edges. In the plane (u, w) = (x, y): P (3, 5), W (-4, 0),
+  // q (-1, 1), then (0, -1.5), A (0, 0), Z (1, -3).
+  const glm::dvec3 apex(0, 2, 1);
+  auto below = [&](glm::dvec2 cut) { return glm::dvec3(2 * cut.x - apex.x, 2 * cut.y - apex.y, -1); };
+  MeshTopology topology;
+  topology.num_vertices = 6;
+  topology.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
+  std::vector<Frame> frames(2);
+  for (int f = 0; f < 2; ++f) {
+    frames[f].time = f;
+    frames[f].positions = {apex,           below({3, 5}),
+                           below({-4, 0}), below(f == 0 ? glm::dvec2(-1, 1) : glm::dvec2(0, -1.5)),
+                           below({0, 0}),  below({1, -3})};
+  }
+  SlicingPlan plan;
+  plan.orientations = {{0, 0, 1}};
+  plan.planes = {make_plane({0, 0, 1}, 0.0, 0)};
+  const KineticVisibility probe(topology, plan, frames[0]);
+  ASSERT_EQ(probe.slice(0).cones().slice.vertices.size(), 5u);
+  KineticFrameStats totals;
+  EXPECT_EQ(run_and_compare(topology, frames, plan, true, &totals, {false, {1.0, 8, false}, true}), "");
+  EXPECT_GE(totals.certificates_failed, 2u);
+  EXPECT_EQ(totals.flipped, 2u);
+  EXPECT_EQ(totals.reinserted, 0u);
+  EXPECT_EQ(totals.slices_repaired, 1u);
+}
+
 /// A sheet in z = 0 turning in its own plane: every slice is collinear (dimension 1).
 TEST(KineticVisibility, FlatSheetEveryFrame) {
   test::TestMesh sheet = test::flat_sheet(9, 7, 0.1);
