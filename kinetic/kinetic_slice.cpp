@@ -264,8 +264,6 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   // Match slice vertices by mesh edge: survivors, and those that vanish or appear.
   const Slice& old = m_out.slice;
   SliceTriangulation& tri = scratch.triangulation;
-  restore_triangulation(m_kept, old, tri.cdt_for_editing(), scratch.restore);
-  tri.map_vertices(old);
   if (scratch.old_of_edge.size() != connectivity.num_edges())
     scratch.old_of_edge.assign(connectivity.num_edges(), -1);
   for (Index x = 0; x < old.vertices.size(); ++x)
@@ -297,6 +295,9 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   const std::size_t budget =
       2 + static_cast<std::size_t>(policy.max_edit_fraction * double(old.vertices.size()));
   if (counts.removed + counts.inserted > budget) return rebuild(RebuildReason::policy);
+  // The kept triangulation, restored only now: a slice rebuilt for its edits above never needs it.
+  restore_triangulation(m_kept, old, tri.cdt_for_editing(), scratch.restore);
+  tri.map_vertices(old);
 
   // 1. Survivors and relabeled vertices take their new ids; the old closing edges of growing runs stop being
   // constraints; the vanishing slice vertices that no fan swap relabels are marked (id -1) for removal.
