@@ -7,7 +7,8 @@
 namespace pleat {
 
 double wrap_angle(double a) {
-  a = std::fmod(a, kTwoPi);
+  // fmod returns a itself within a turn (exactly): the library call only for the rest (and NaN).
+  if (!(a > -kTwoPi && a < kTwoPi)) a = std::fmod(a, kTwoPi);
   if (a < 0) a += kTwoPi;
   if (a >= kTwoPi) a = 0.0;
   return a;
@@ -107,8 +108,12 @@ void intersect_wedges(std::span<const Wedge> a, std::span<const Wedge> b, WedgeS
 
 namespace {
 
-/// The signed turn from angle x to angle y the shorter way round, in [-pi, pi].
-double signed_turn(double x, double y) { return std::remainder(y - x, kTwoPi); }
+/// The signed turn from angle x to angle y the shorter way round, in [-pi, pi]. (remainder returns the
+/// difference itself, exactly, within half a turn, a tie included: the library call only for the rest.)
+double signed_turn(double x, double y) {
+  const double d = y - x;
+  return std::abs(d) <= kTwoPi / 2 ? d : std::remainder(d, kTwoPi);
+}
 
 bool is_full_turn(std::span<const Wedge> w) {
   return w.size() == 1 && w[0].width >= kTwoPi - kAngleTolerance;

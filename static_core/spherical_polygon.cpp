@@ -67,7 +67,8 @@ void horizon_frame(const glm::dvec3& n, glm::dvec3& e1, glm::dvec3& e2) {
 
 /// Counter-clockwise angle from azimuth a to azimuth b, in [0, 2 pi).
 double ccw_angle(double from, double to) {
-  double d = std::fmod(to - from, kTwoPi);
+  double d = to - from;
+  if (!(d > -kTwoPi && d < kTwoPi)) d = std::fmod(d, kTwoPi);  // else fmod would return d itself
   if (d < 0.0) d += kTwoPi;
   return d;
 }
