@@ -1,7 +1,8 @@
 // Angular sets (static_core/angular_set.hpp): the O(k) half-turn clip of the 3D assembly against the general
 // intersection (intersect_wedges) on random united sets, including wedges that wrap past 2pi, full turns,
 // ends exactly on the half-turn's ends, and half-turns that wrap; the blend of two sets (blend_wedges, the
-// interpolated-on-fan storage) against the set built directly from known end motions.
+// interpolated-on-fan storage) against the set built directly from known end motions; wrap_angle against its
+// definition by fmod.
 #include "static_core/angular_set.hpp"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace pleat {
@@ -24,6 +26,40 @@ double difference(const std::vector<Wedge>& a, const std::vector<Wedge>& b) {
 double gen_angle() {
   if (*rc::gen::inRange(0, 3) == 0) return *rc::gen::inRange(0, 16) * (kTwoPi / 16);
   return *rc::gen::inRange(0, 1 << 20) * (kTwoPi / (1 << 20));
+}
+
+/// wrap_angle skips fmod within a turn, where fmod returns its argument: bit for bit the definition, on
+/// random angles of a few turns and on the boundaries.
+TEST(AngularSet, WrapAngleIsItsDefinitionByFmod) {
+  auto definition = [](double a) {
+    a = std::fmod(a, kTwoPi);
+    if (a < 0) a += kTwoPi;
+    return a >= kTwoPi ? 0.0 : a;
+  };
+  std::vector<double> angles = {0.0,
+                                -0.0,
+                                kTwoPi,
+                                -kTwoPi,
+                                kTwoPi / 2,
+                                -kTwoPi / 2,
+                                1e-300,
+                                -1e-300,
+                                std::nextafter(kTwoPi, 0.0),
+                                -std::nextafter(kTwoPi, 0.0),
+                                std::nextafter(kTwoPi, 10.0),
+                                -std::nextafter(kTwoPi, 10.0),
+                                3 * kTwoPi,
+                                1e9};
+  std::uint64_t state = 12345;
+  for (int i = 0; i < 100000; ++i) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    angles.push_back((double(state >> 11) / double(1ull << 53) - 0.5) * 8 * kTwoPi);
+  }
+  for (const double a : angles) {
+    const double got = wrap_angle(a), want = definition(a);
+    EXPECT_TRUE(got == want && std::signbit(got) == std::signbit(want)) << a << ": " << got << " vs " << want;
+  }
+  EXPECT_TRUE(std::isnan(wrap_angle(std::nan(""))));
 }
 
 TEST(AngularSet, HalfTurnClipOfAFullTurnIsTheHalfTurn) {
