@@ -322,10 +322,11 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     }
     scratch.vanishing.push_back(v);
     // Its chain neighbours lose their constrained edges to it.
-    if (const std::int32_t e = old.in_edge[x]; e >= 0 && new_id(old.edges[e].from) >= 0)
-      scratch.chain_loose[new_id(old.edges[e].from)] = 1;
-    if (const std::int32_t e = old.out_edge[x]; e >= 0 && new_id(old.edges[e].to) >= 0)
-      scratch.chain_loose[new_id(old.edges[e].to)] = 1;
+    auto loosen = [&](Index n) {
+      if (const std::int32_t z = new_id(n); z >= 0) scratch.chain_loose[z] = 1;
+    };
+    if (const std::int32_t e = old.in_edge[x]; e >= 0) loosen(old.edges[e].from);
+    if (const std::int32_t e = old.out_edge[x]; e >= 0) loosen(old.edges[e].to);
   }
 
   // 2. Certify at the next frame, remove the vanishing vertices and take out those of failed certificates.
@@ -544,8 +545,10 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
     return cdt.dimension() == 2;
   };
   // The restored faces are new (info().index -1: in no flip), as are those the removals make.
+#if !defined(NDEBUG) || defined(PLEAT_CHECK_INVARIANTS)  // PLEAT_ASSERT's condition: no empty pass in Release
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
     PLEAT_ASSERT(f->info().index == -1, "a restored face is reserved by a flip");
+#endif
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f);
   // More vertices to take out than the budget allows already: rebuild before removing any.
   if (scratch.take_out.size() > budget) return RebuildReason::policy;
