@@ -236,8 +236,16 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   bool sliced = false;  // the next frame's slice is in scratch.next (else it is sliced into m_out.slice)
   auto rebuild = [&](RebuildReason reason) {
     const bool by_policy = reason == RebuildReason::policy || reason == RebuildReason::cost;
-    if (by_policy && m_policy_streak % retry == 0) m_streak_reason = reason;
-    m_policy_streak = by_policy ? m_policy_streak + 1 : 0;
+    m_carried = false;
+    if (!by_policy) {
+      m_rebuilds_left = 0;
+    } else if (m_rebuilds_left > 0) {
+      --m_rebuilds_left;
+    } else {  // starts a run of outright rebuilds: this one and the rest, each run after a failed attempt longer
+      m_streak_reason = reason;
+      m_rebuilds_left = (retry << m_backoff) - 1;
+      m_backoff = std::min(m_backoff + 1, std::clamp(policy.max_retry_doublings, 0, 16));
+    }
     counts.removed = counts.inserted = counts.relabeled = 0;  // not applied as local edits
     counts.slices_rebuilt = 1;
     ++counts.rebuilt_because[static_cast<std::size_t>(reason)];
@@ -246,17 +254,18 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     else  // into the slice's own buffer, as the static engine slices each plane into its own
       slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_out.slice);
     // A slice the next interval rebuilds outright keeps nothing: it is built as the static engine builds it.
-    finish_build(topology, next, scratch, !(by_policy && m_policy_streak % retry != 0));
+    finish_build(topology, next, scratch, !(by_policy && m_rebuilds_left != 0));
     return counts;
   };
   // Rebuilt by the policy in the last interval(s): rebuilt outright until it is time to try again, for the
   // reason that started the run.
-  if (m_policy_streak % retry != 0) return rebuild(m_streak_reason);
+  if (m_rebuilds_left > 0) return rebuild(m_streak_reason);
   if (!m_editable) return rebuild(RebuildReason::degenerate);
   // Carrying this slice has cost more than rebuilding it (both measured on it): rebuilt, and tried again
   // after the retry interval (when the carry is measured afresh: unknown right after a rebuild).
   if (policy.measured_cost && m_carry_cost >= 0 && m_rebuild_cost >= 0 && m_carry_cost > m_rebuild_cost)
     return rebuild(RebuildReason::cost);
+  if (m_carried) m_backoff = 0;  // the last interval carried it, and (where measured) that paid
   m_attempted = true;
   slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, scratch.next);
   sliced = true;
@@ -390,7 +399,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
       (cdt.number_of_vertices() != vertices ||
        !chains_are_edges(cdt, scratch.next.edges, [&](Index y) { return scratch.vertex_of_new[y]; })))
     return rebuild(RebuildReason::crossing);
-  m_policy_streak = 0;
+  m_carried = true;
   // (A run that grew leaves a new vertex inserted: its unmarked closing edge is counted there.)
   const bool structure_changed = counts.removed + counts.inserted + counts.reinserted + counts.flipped > 0;
   ++(structure_changed ? counts.slices_repaired : counts.slices_unchanged);

@@ -48,7 +48,8 @@
 // (collinear, points merged, chains that cross or touch), when its hull winds more than once, when an
 // inserted point meets another or a chain edge, when edits and put-back vertices exceed the policy's share,
 // or when carrying it has cost more than rebuilding it (both measured on the slice); after either of the last
-// two, outright for the policy's retry interval, as the static engine builds it (nothing checked or kept).
+// two, outright for the policy's retry interval (twice as long after each retry that fails again, up to the
+// policy's doublings), as the static engine builds it (nothing checked or kept).
 // Checks: check_invariants (Debug builds, tests) after every interval. Internal header (CGAL types): kinetic
 // only.
 #pragma once
@@ -170,8 +171,13 @@ class KineticSlice {
   /// at a vertex inside its edge): the next interval can repair it.
   bool m_editable = false;
   double m_cone_seconds = 0.0;  ///< of the last grow_cones
-  int m_policy_streak = 0;      ///< intervals in a row that ended in a policy rebuild
-  RebuildReason m_streak_reason = RebuildReason::policy;  ///< policy or cost: what started the run
+  /// A run of outright rebuilds (KineticPolicy::retry_interval): how many are still to come, what started
+  /// it (policy or cost), and how many times the next run's length will have doubled
+  /// (KineticPolicy::max_retry_doublings).
+  int m_rebuilds_left = 0;
+  RebuildReason m_streak_reason = RebuildReason::policy;
+  int m_backoff = 0;
+  bool m_carried = false;  ///< the last interval carried the slice (no rebuild)
   /// Seconds per slice vertex of the slice's intervals (slicing to cones), averaged: carried (or attempted)
   /// since the last outright rebuild, and rebuilt outright (or built); -1 while unknown. The measured policy
   /// compares them.

@@ -42,13 +42,19 @@ struct KineticPolicy {
   /// A slice rebuilt by the rule above is rebuilt outright, without an attempt at repair, until this many
   /// intervals have passed since the first such rebuild, then tried again: motion too fast to repair in one
   /// interval usually is in the next ones too, and a failed attempt costs its certificates and put-backs on
-  /// top of the rebuild (the generated flag, one thread: kinetic ÷ static 1.27 with 1, 1.11 with 8). 1: try
-  /// every interval.
+  /// top of the rebuild (the generated flag, one thread: kinetic ÷ static 1.27 with 1, 1.11 with 8). 1 (with
+  /// max_retry_doublings 0): try every interval.
   int retry_interval = 8;
   /// Rebuild a slice, then for the retry interval, when carrying it has cost more per slice vertex than
   /// rebuilding it: each slice measures both (wall time of its intervals, averaged) and takes the cheaper.
   /// The output is the same either way; which slices are rebuilt, and the counters, depend on the timings.
   bool measured_cost = true;
+  /// A slice whose attempt after a run of outright rebuilds fails again (rebuilt for its edits or its cost)
+  /// starts a run twice as long as the last, up to this many doublings (8, 16, 32 intervals by default); an
+  /// interval that carries it, and finds carrying no dearer than rebuilding, ends the backoff. A slice that
+  /// never pays to carry (the layered plies, motion at half the frame rate) is then tried every 32 intervals
+  /// instead of every 8. 0: every run is retry_interval long.
+  int max_retry_doublings = 2;
 };
 }  // namespace kinetic
 

@@ -262,7 +262,7 @@ TEST(KineticVisibility, PolicyRebuildsAreNotRetriedEveryInterval) {
   auto run = [&](int retry_interval) {
     KineticFrameStats totals;
     // A tight budget: many policy rebuilds (by the edit count alone, not the measured cost: deterministic).
-    const KineticParams params{false, {0.05, retry_interval, false}, true};
+    const KineticParams params{false, {0.05, retry_interval, false, 0}, true};
     EXPECT_EQ(run_and_compare(cloth.topology(), frames, plan, true, &totals, params), "");
     return totals;
   };
@@ -271,6 +271,28 @@ TEST(KineticVisibility, PolicyRebuildsAreNotRetriedEveryInterval) {
   ASSERT_GT(every.rebuilt_because[policy], 0u);
   ASSERT_GT(eighth.rebuilt_because[policy], 0u);
   EXPECT_LT(eighth.certificates, every.certificates);
+}
+
+/// A slice whose attempt after a run of policy rebuilds fails again starts a run twice as long (up to the
+/// policy's doublings), so over many frames of motion too fast to repair it is attempted less often: fewer
+/// certificates checked, as many slices rebuilt, and the output still equals a recompute.
+TEST(KineticVisibility, FailedRetriesBackOff) {
+  const ClothGenerator cloth(ClothKind::Flag, {12, 48, 24.0, 5});
+  std::vector<Frame> frames;
+  for (std::size_t f = 0; f < 36; ++f) frames.push_back(cloth.frame(f));
+  const SlicingPlan plan = plan_for(cloth.topology(), frames, 5, {{3, 40}});
+  auto run = [&](int doublings) {
+    KineticFrameStats totals;
+    // A tight budget and a short retry interval (by the edit count alone: deterministic).
+    const KineticParams params{false, {0.05, 2, false, doublings}, true};
+    EXPECT_EQ(run_and_compare(cloth.topology(), frames, plan, true, &totals, params), "");
+    return totals;
+  };
+  const KineticFrameStats fixed = run(0), backoff = run(3);
+  const auto policy = static_cast<std::size_t>(kinetic::RebuildReason::policy);
+  ASSERT_GT(fixed.rebuilt_because[policy], 0u);
+  EXPECT_GE(backoff.rebuilt_because[policy], fixed.rebuilt_because[policy]);
+  EXPECT_LT(backoff.certificates, fixed.certificates);
 }
 
 /// The measured policy (the default) rebuilds slices whose carrying has cost more than their rebuilding, then
