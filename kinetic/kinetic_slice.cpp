@@ -241,7 +241,8 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
       m_rebuilds_left = 0;
     } else if (m_rebuilds_left > 0) {
       --m_rebuilds_left;
-    } else {  // starts a run of outright rebuilds: this one and the rest, each run after a failed attempt longer
+    } else {
+      // Starts a run of outright rebuilds (this one and the rest), each run after a failed attempt longer.
       m_streak_reason = reason;
       m_rebuilds_left = (retry << m_backoff) - 1;
       m_backoff = std::min(m_backoff + 1, std::clamp(policy.max_retry_doublings, 0, 16));
