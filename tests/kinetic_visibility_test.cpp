@@ -252,18 +252,27 @@ TEST(KineticVisibility, CoherentMotionsExerciseEveryRepair) {
   EXPECT_GT(totals.slices_repaired, totals.slices_rebuilt);
 }
 
+/// The policy tests' motion: the generated flag's first `count` frames, five planes per orientation and one
+/// through a vertex.
+struct FlagRun {
+  ClothGenerator cloth{ClothKind::Flag, {12, 48, 24.0, 5}};
+  std::vector<Frame> frames;
+  SlicingPlan plan;
+  explicit FlagRun(std::size_t count) {
+    for (std::size_t f = 0; f < count; ++f) frames.push_back(cloth.frame(f));
+    plan = plan_for(cloth.topology(), frames, 5, {{3, 40}});
+  }
+};
+
 /// A slice the policy rebuilds is rebuilt outright for the next retry_interval - 1 intervals: no certificate
 /// is checked and nothing is put back for it then, and the output still equals a recompute.
 TEST(KineticVisibility, PolicyRebuildsAreNotRetriedEveryInterval) {
-  const ClothGenerator cloth(ClothKind::Flag, {12, 48, 24.0, 5});
-  std::vector<Frame> frames;
-  for (std::size_t f = 0; f < 12; ++f) frames.push_back(cloth.frame(f));
-  const SlicingPlan plan = plan_for(cloth.topology(), frames, 5, {{3, 40}});
+  const FlagRun flag(12);
   auto run = [&](int retry_interval) {
     KineticFrameStats totals;
     // A tight budget: many policy rebuilds (by the edit count alone, not the measured cost: deterministic).
     const KineticParams params{false, {0.05, retry_interval, false, 0}, true};
-    EXPECT_EQ(run_and_compare(cloth.topology(), frames, plan, true, &totals, params), "");
+    EXPECT_EQ(run_and_compare(flag.cloth.topology(), flag.frames, flag.plan, true, &totals, params), "");
     return totals;
   };
   const KineticFrameStats every = run(1), eighth = run(8);
@@ -277,15 +286,12 @@ TEST(KineticVisibility, PolicyRebuildsAreNotRetriedEveryInterval) {
 /// policy's doublings), so over many frames of motion too fast to repair it is attempted less often: fewer
 /// certificates checked, as many slices rebuilt, and the output still equals a recompute.
 TEST(KineticVisibility, FailedRetriesBackOff) {
-  const ClothGenerator cloth(ClothKind::Flag, {12, 48, 24.0, 5});
-  std::vector<Frame> frames;
-  for (std::size_t f = 0; f < 36; ++f) frames.push_back(cloth.frame(f));
-  const SlicingPlan plan = plan_for(cloth.topology(), frames, 5, {{3, 40}});
+  const FlagRun flag(36);
   auto run = [&](int doublings) {
     KineticFrameStats totals;
     // A tight budget and a short retry interval (by the edit count alone: deterministic).
     const KineticParams params{false, {0.05, 2, false, doublings}, true};
-    EXPECT_EQ(run_and_compare(cloth.topology(), frames, plan, true, &totals, params), "");
+    EXPECT_EQ(run_and_compare(flag.cloth.topology(), flag.frames, flag.plan, true, &totals, params), "");
     return totals;
   };
   const KineticFrameStats fixed = run(0), backoff = run(3);
@@ -300,12 +306,10 @@ TEST(KineticVisibility, FailedRetriesBackOff) {
 /// output still equals a recompute at every frame. On these small slices carrying rarely pays, so some
 /// slices are rebuilt for their cost.
 TEST(KineticVisibility, MeasuredCostRebuildsKeepTheOutput) {
-  const ClothGenerator cloth(ClothKind::Flag, {12, 48, 24.0, 5});
-  std::vector<Frame> frames;
-  for (std::size_t f = 0; f < 24; ++f) frames.push_back(cloth.frame(f));
-  const SlicingPlan plan = plan_for(cloth.topology(), frames, 5, {{3, 40}});
+  const FlagRun flag(24);
   KineticFrameStats totals;
-  EXPECT_EQ(run_and_compare(cloth.topology(), frames, plan, true, &totals, {false, {}, true}), "");
+  EXPECT_EQ(run_and_compare(flag.cloth.topology(), flag.frames, flag.plan, true, &totals, {false, {}, true}),
+            "");
   EXPECT_GT(totals.rebuilt_because[static_cast<std::size_t>(kinetic::RebuildReason::cost)], 0u);
   EXPECT_GT(totals.slices_repaired + totals.slices_unchanged, 0u);
 }
