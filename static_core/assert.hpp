@@ -12,7 +12,14 @@ class InvariantError : public std::logic_error {
 };
 }  // namespace pleat
 
+/// 1 where PLEAT_ASSERT checks (for a loop that exists only to assert), else 0.
 #if !defined(NDEBUG) || defined(PLEAT_CHECK_INVARIANTS)
+#define PLEAT_ASSERTS_ON 1
+#else
+#define PLEAT_ASSERTS_ON 0
+#endif
+
+#if PLEAT_ASSERTS_ON
 #define PLEAT_ASSERT(cond, msg)                                                                             \
   do {                                                                                                      \
     if (!(cond))                                                                                            \
