@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Speed of pleat's static core: builds bench/static_core_bench in Release, runs it once, and writes
-bench/results/static_core.{md,csv,json} (DESIGN.md §6; issue 3, "Speed").
+bench/results/static_core.{md,csv,json} (docs/benchmarks.md; issue 3, "Speed").
 
 Every figure in the markdown comes from that one run of one process: compute_visibility per frame at 3k,
 30k and 300k vertices (curtain and roll, frame 12 of 48), one thread and two; µs per slice vertex against
