@@ -1,6 +1,6 @@
-// Micro-benchmarks of the kinetic layer's hot parts on real data (kinetic/kinetic_slice.hpp, DESIGN.md §3):
-// what one frame certificate, one rebuilt slice vertex, one repaired edit and one funnel-tree corner cost, so
-// that the kinetic engine's frame time can be read off its parts.
+// Micro-benchmarks of the kinetic layer's hot parts on real data (kinetic/kinetic_slice.hpp, docs/method.md
+// §11): what one frame certificate, one rebuilt slice vertex, one repaired edit and one funnel-tree corner
+// cost, so that the kinetic engine's frame time can be read off its parts.
 //
 // Input: two consecutive frames k, k+1 of a sequence and the CLI's default plan on frame k
 // (make_diffuse_plan). "drape" is the bundled Blender simulation (data/drape/drape.obj + drape.pc2, 3,111

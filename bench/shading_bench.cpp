@@ -1,5 +1,5 @@
-// Speed of the shading pass (DESIGN.md §4; issue 4, "Speed"): Google Benchmark timings of shade_frame per
-// light type — uniform sky, cloudy sky, directional, point, area, environment map — on one frame of the
+// Speed of the shading pass (docs/method.md §10; issue 4, "Speed"): Google Benchmark timings of shade_frame
+// per light type — uniform sky, cloudy sky, directional, point, area, environment map — on one frame of the
 // generated curtain at 3k and 300k vertices, one thread and two, against the time to compute that frame's
 // cones (compute_visibility) in the same process. The cones are computed once per resolution, outside
 // every timed loop: a new light costs only the shading pass (the paper's point; Stewart 1999 reports

@@ -1,8 +1,9 @@
-// Speed of the static core (DESIGN.md §2, §6; issue 3, "Speed"): Google Benchmark timings of
-// compute_visibility on generated cloth at 3k, 30k and 300k vertices, one thread and two, with µs per slice
-// vertex; micro-benchmarks of its stages on one frame's whole slice set (slicing, constrained triangulation,
-// 2D cones, 3D assembly); operator-new counts per slice vertex for each stage; and Embree per-vertex ray
-// casting (256 rays per vertex and side, BVH build included) on the same frame and threads as a reference.
+// Speed of the static core (docs/method.md §2–§8, docs/benchmarks.md; issue 3, "Speed"): Google Benchmark
+// timings of compute_visibility on generated cloth at 3k, 30k and 300k vertices, one thread and two, with µs
+// per slice vertex; micro-benchmarks of its stages on one frame's whole slice set (slicing, constrained
+// triangulation, 2D cones, 3D assembly); operator-new counts per slice vertex for each stage; and Embree
+// per-vertex ray casting (256 rays per vertex and side, BVH build included) on the same frame and threads as
+// a reference.
 //
 // Every benchmark reports wall-clock time (UseRealTime) and process CPU time of one frame; counters carry the
 // slice counts so that bench/run_static_core_bench.sh can derive µs per slice vertex, speed-ups and the stage

@@ -1,5 +1,5 @@
 // A slice's constrained triangulation as a kinetic slice keeps it between frames: its combinatorics only, in
-// flat arrays of indices (DESIGN.md §3; the kinetic issue's "compact per-slice storage: indices, not
+// flat arrays of indices (docs/method.md §11.5; the kinetic issue's "compact per-slice storage: indices, not
 // pointers; no per-node heap objects").
 //
 // Each frame a kinetic slice restores its kept triangulation into the thread's CGAL triangulation, carries

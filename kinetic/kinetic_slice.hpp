@@ -1,6 +1,6 @@
-// One slicing plane kept alive across frames (DESIGN.md §3): its slice and constrained triangulation carried
-// from frame to frame, repaired where the motion changes them; regions, windows and corners derived from the
-// triangulation each frame.
+// One slicing plane kept alive across frames (docs/method.md §11): its slice and constrained triangulation
+// carried from frame to frame, repaired where the motion changes them; regions, windows and corners derived
+// from the triangulation each frame.
 //
 // Certified at the frame, not over a path. Only the frames are output, and between two frames the motion is
 // a model, so nothing inside an interval needs to be simulated: the kept triangulation is carried to the next

@@ -1,5 +1,5 @@
 // KineticVisibility: the cones of a cloth sequence, frame after frame, with every slicing plane's structure
-// kept alive between frames (DESIGN.md §3; Stewart 1999 §6 names this as future work).
+// kept alive between frames (docs/method.md §11; Stewart 1999 §6 names this as future work).
 //
 // Built from the topology, a slicing plan (fixed for the sequence) and the first frame (a static build).
 // advance(next) carries every slice to the next frame (kinetic_slice.hpp): the mesh vertices that cross a

@@ -1,5 +1,6 @@
 // ConeLighting: the direct irradiance reaching one (vertex, side) through its visibility cone, under every
-// light of a Lighting (DESIGN.md §4; Stewart 1999 §4: once the cones exist, any lighting is a cheap pass).
+// light of a Lighting (docs/method.md §10; Stewart 1999 §4: once the cones exist, any lighting is a cheap
+// pass).
 //
 // Per call: the cone's pieces are clipped to the hemisphere of the side axis m = side * n(v) (great-circle
 // Sutherland–Hodgman with horizon stitching, static_core/spherical_polygon.hpp), then each light adds
@@ -11,7 +12,7 @@
 //                            spherical polygon; each (possibly non-convex) piece is clipped by the great
 //                            circles of its edges in turn (Sutherland–Hodgman is exact for a convex clipper)
 //   environment map          E = scale * sum_k integral_{piece_k} L(w) (m.w) dw (environment_map.hpp)
-// and the sky visibility A = sum_k proj(piece_k, m) / pi (DESIGN.md §1).
+// and the sky visibility A = sum_k proj(piece_k, m) / pi (docs/method.md §1).
 // Inside-cone test: a winding number, valid for any simple piece, star-shaped or not. Since the clipped
 // pieces lie in the hemisphere of m and m.l > 0, -l is in no piece, so the winding about l of the piece's
 // orthographic projection onto the plane orthogonal to l (Sunday's crossing rule, no trigonometry) is

@@ -1,5 +1,5 @@
 // EnvironmentMap: an equirectangular radiance map (linear RGB), and the exact integral of L(w) (n.w) over a
-// spherical polygon (a visibility-cone piece) for the shading of DESIGN.md §4.
+// spherical polygon (a visibility-cone piece) for the shading of docs/method.md §10.
 //
 // Radiance model. The map is piecewise constant: texel (column c, row r) holds the mean radiance over its
 // patch of directions (box reconstruction), so integrals over regions are well defined at any resolution.

@@ -1,6 +1,7 @@
-// Lights for shading from visibility cones (DESIGN.md §4), and how users write them: command-line specs and
-// a small JSON lighting file. Several lights of any kinds combine in one Lighting; all quantities are linear
-// RGB. Parsing validates once, where input enters, and throws InputError naming the spec or the JSON path.
+// Lights for shading from visibility cones (docs/method.md §10), and how users write them: command-line specs
+// and a small JSON lighting file. Several lights of any kinds combine in one Lighting; all quantities are
+// linear RGB. Parsing validates once, where input enters, and throws InputError naming the spec or the JSON
+// path.
 //
 // Spec strings (--light), TYPE:ARGS with comma-separated positional numbers, then key=value items (a key's
 // value may continue over following numbers, e.g. up=0,0,1); `rgb=r,g,b` tints any light:

@@ -1,4 +1,4 @@
-// Ray-cast sky visibility: the Monte-Carlo ground truth of A_front / A_back (DESIGN.md §1) and of the
+// Ray-cast sky visibility: the Monte-Carlo ground truth of A_front / A_back (docs/method.md §1) and of the
 // bent normals, by casting cosine-distributed rays from every vertex with Embree.
 //
 // Estimator. For vertex v and side s, with axis m = side_sign(s) * n(v), K directions ω_i are drawn from

@@ -1,7 +1,7 @@
 // shade_frame: per-vertex, per-side radiance of the cloth from its visibility cones, with the Stewart–Langer
 // local inter-reflection model, and the tone mapping to the sRGB colours that viewers show.
 //
-// Radiometry (Lambertian cloth of albedo rho; DESIGN.md §4; Stewart & Langer, PAMI 1997). The occluded
+// Radiometry (Lambertian cloth of albedo rho; docs/method.md §10; Stewart & Langer, PAMI 1997). The occluded
 // directions of a point are assumed to radiate the point's own radiance B, so the total irradiance is
 // E + pi B (1 - A), E the direct irradiance from all lights through the cone and A the sky visibility,
 // and B = (rho / pi) (E + pi B (1 - A)), i.e.

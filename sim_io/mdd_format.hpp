@@ -1,4 +1,4 @@
-// MDD point caches (LightWave / Blender "MDD"), big-endian, DESIGN.md §5:
+// MDD point caches (LightWave / Blender "MDD"), big-endian, docs/method.md §12:
 //   int32 frameCount, int32 vertCount, frameCount x float32 times (seconds),
 //   then frameCount x vertCount x float32[3].
 //

@@ -1,4 +1,4 @@
-// PC2 point caches (3ds Max / Blender "POINTCACHE2"), little-endian, DESIGN.md §5:
+// PC2 point caches (3ds Max / Blender "POINTCACHE2"), little-endian, docs/method.md §12:
 //   char[12] "POINTCACHE2\0", int32 version = 1, int32 numPoints, float32 startFrame, float32 sampleRate,
 //   int32 numSamples, then numSamples x numPoints x float32[3].
 //

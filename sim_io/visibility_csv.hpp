@@ -1,5 +1,6 @@
-// The visibility CSV (DESIGN.md §5, the contract outside checks read): header `frame,vertex,front,back`, one
-// row per frame and INPUT vertex (0-based, input order), front/back = A_front / A_back of §1.
+// The visibility CSV (docs/method.md §12, the contract outside checks read): the header
+// `frame,vertex,front,back`, then one row per frame and INPUT vertex (0-based, input order), front/back =
+// A_front / A_back (docs/method.md §1).
 //
 // Values are written in the shortest decimal form that reads back to the same double (std::to_chars), so a
 // CSV round-trips exactly. Results computed on welded vertices are mapped back to input vertices through

@@ -1,4 +1,4 @@
-// From 2D cones stored on a mesh vertex to its 3D visibility cones (Stewart 1999 §2.4; DESIGN.md §2.8).
+// From 2D cones stored on a mesh vertex to its 3D visibility cones (Stewart 1999 §2.4; docs/method.md §8).
 //
 // Each stored 2D cone is a set of wedges in a slicing plane, taken with its apex at the mesh vertex. The
 // wedges are first clipped to the side's half-space (directions d with d . side*n(v) >= 0). Two wedges are

@@ -1,5 +1,5 @@
 // From per-plane 2D cones to a frame's 3D cones: the part of Stewart's algorithm after the slices
-// (Stewart 1999 §2.4; DESIGN.md §2.7–2.8), shared by the static engine and the kinetic one.
+// (Stewart 1999 §2.4; docs/method.md §7–§8), shared by the static engine and the kinetic one.
 //
 // Each plane's slice vertices hand their 2D cones to mesh vertices by the plan's ConeStorage rule (the
 // paper's: to the nearer endpoint of their edge, nearest per plane; on the fan: to both endpoints, nearest

@@ -1,4 +1,4 @@
-// Slicing a mesh with a plane (Stewart 1999 §2; DESIGN.md §2.2).
+// Slicing a mesh with a plane (Stewart 1999 §2; docs/method.md §3).
 //
 // The slice of a mesh by a plane has one slice vertex per mesh edge that crosses the plane and one slice
 // edge per face that crosses it; they form open or closed chains. Which side of the plane a mesh vertex is

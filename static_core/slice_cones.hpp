@@ -1,4 +1,4 @@
-// 2D visibility cones of every slice vertex, on both sides (Stewart 1999 §2.3; DESIGN.md §2.5–2.6).
+// 2D visibility cones of every slice vertex, on both sides (Stewart 1999 §2.3; docs/method.md §5–§6).
 //
 // At a slice vertex X the front side is the angular range immediately counter-clockwise of its outgoing
 // chain edge (slice edges have the front on their left) up to the next chain edge at X; the back side is the

@@ -1,4 +1,4 @@
-// The planar structure of one slice (Stewart 1999 §2.2; DESIGN.md §2.3): the convex hull of the slice
+// The planar structure of one slice (Stewart 1999 §2.2; docs/method.md §4): the convex hull of the slice
 // points and a constrained Delaunay triangulation of it with the chains as constraints (CGAL, exact
 // predicates), visibility regions by flood fill up to chain edges, windows, and corners.
 //

@@ -1,5 +1,5 @@
 // Spherical polygons: hemisphere clipping, Lambert's formula, Arvo's vector irradiance, the cosine-weighted
-// first moment and the solid angle (DESIGN.md §4).
+// first moment and the solid angle (docs/method.md §9).
 //
 // Closed forms used here (P a spherical polygon with unit vertices v_i, counter-clockwise about its
 // interior, edges minor arcs; K = {t w : 0 <= t <= 1, w in P} the solid cone over it; the side of K over

@@ -1,4 +1,4 @@
-// Spherical polygons and Lambert's formula (DESIGN.md §4).
+// Spherical polygons and Lambert's formula (docs/method.md §9).
 //
 // A spherical polygon is a list of unit vectors joined by minor great-circle arcs, counter-clockwise about
 // its interior (seen from outside the sphere). Lambert's formula gives its projected solid angle about a

@@ -53,7 +53,7 @@ class StaticVisibility {
   std::unique_ptr<Impl> m_impl;
 };
 
-/// Area-weighted unit vertex normals (DESIGN.md §1); isolated vertices get (0,0,1). Validates its input.
+/// Area-weighted unit vertex normals (docs/method.md §1); isolated vertices get (0,0,1). Validates its input.
 std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame& frame);
 
 }  // namespace pleat

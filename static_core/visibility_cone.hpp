@@ -18,7 +18,7 @@ struct VisibilityCone {
 
 /// What shading needs of a cone, per vertex and side.
 struct ConeMeasures {
-  double sky_visibility = 0.0;  ///< A in [0,1]: cosine-weighted visible fraction (DESIGN.md §1)
+  double sky_visibility = 0.0;  ///< A in [0,1]: cosine-weighted visible fraction (docs/method.md §1)
   glm::dvec3 bent_normal{0.0};  ///< cosine-weighted mean visible direction (unit; side normal if empty)
   double solid_angle = 0.0;     ///< steradians of the cone
 };

@@ -23,7 +23,7 @@ namespace {
 
 std::string name_of(ClothKind kind) { return std::string(cloth_kind_name(kind)); }
 
-// Area-weighted vertex normals (DESIGN.md §1).
+// Area-weighted vertex normals (docs/method.md §1).
 std::vector<glm::dvec3> vertex_normals(const MeshTopology& topology, const Frame& frame) {
   std::vector<glm::dvec3> normals(topology.num_vertices, glm::dvec3(0.0));
   for (const auto& t : topology.triangles) {

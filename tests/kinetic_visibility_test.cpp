@@ -1,4 +1,4 @@
-// The kinetic engine against a full static recompute at every frame (DESIGN.md §3, "Oracle"): per slice the
+// The kinetic engine against a full static recompute at every frame (docs/method.md §11): per slice the
 // same hull, windows, shortest-path-tree parents and, in regions with holes, sights through sleeves (compared
 // as multisets keyed by mesh edges, so numbering does not matter) and the same 2D cones; per vertex the same
 // 3D cones and measures to 1e-9. On random coherent motions (every generated kind, random parameters, smooth

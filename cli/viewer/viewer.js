@@ -1,7 +1,7 @@
 // pleat viewer: plays the flipbook glb that `pleat shade` writes and relights it live from the cones it
 // carries per vertex and side (_SKY_VISIBILITY: A; _BENT_CONE: unit bent normal, cosine of the half-angle of
 // the circular cone with the cone's solid angle). Radiance per vertex and side, as pleat shade computes it
-// (Stewart-Langer inter-reflection, DESIGN.md section 4):
+// (Stewart-Langer inter-reflection, docs/method.md section 10):
 //   E / pi = L_sky A + E_sun max(0, n . s) / pi   (the sun counts when s lies inside the bent cone)
 //   B = rho (E / pi) / (1 - rho (1 - A)),  then exposure, Reinhard on luminance (white 4) and sRGB.
 // The sky term equals pleat shade's `--light sky:L` exactly; the sun term is an approximation (pleat tests the
