@@ -15,7 +15,7 @@
 // pleat ÷ Embree(K*) for both engines, by mean and by 95th-percentile error. Static and kinetic must agree
 // to 1e-9 on every frame where accuracy is measured.
 // Outputs (bench/coherence/report.hpp): DIR/frame_coherence.csv, DIR/frame_coherence.md and
-// DIR/frame_coherence_headline.md (bench/run_frame_coherence.sh puts the latter into the README).
+// DIR/frame_coherence_headline.md (bench/run_frame_coherence.sh puts the latter into docs/benchmarks.md).
 //
 // Flags (all optional):
 //   --quick                  curtain 3025, u = 1 and 2, 3 frames, rays 8,16,64, reference 512 (the test

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "sim_io/plan_file.hpp"
+
 namespace pleat::cli {
 
 void parse_frame_range(const std::string& text, std::size_t count, std::size_t& first, std::size_t& last) {
@@ -80,63 +82,96 @@ void add_light_option(CLI::App& command, std::vector<std::string>& specs, const 
 }
 
 void PlanOptions::add_to(CLI::App& command) {
-  command
-      .add_option(
-          "--orientations", orientations,
-          "plane orientations (6: the paper's axis-aligned ones; other counts are spread over the sphere)")
-      ->check(CLI::Range(1, 1000));
+  std::vector<CLI::Option*> placement;  // what --plan replaces
+  placement.push_back(command.add_option(
+      "--orientations", orientations,
+      "plane orientations (6: the paper's axis-aligned ones; other counts are spread over the sphere)"));
+  placement.back()->check(CLI::Range(1, 1000));
   CLI::Option* absolute =
       command
           .add_option(
               "--spacing", spacing,
               "distance between parallel planes (default: 1/2 of the average edge length; with --paper one)")
           ->check(CLI::NonNegativeNumber);
-  command
-      .add_option(
-          "--spacing-edges", spacing_edges,
-          "distance between parallel planes in average edge lengths of the planned frame (default 0.5: "
-          "every measured sequence within mean error 0.02 of ray-traced truth; 0.75 costs about 0.7x as "
-          "much per frame)")
-      ->check(CLI::PositiveNumber)
-      ->excludes(absolute);
-  command
-      .add_option("--planes", planes_per_orientation,
-                  "planes per orientation (overrides --spacing and --spacing-edges)")
-      ->check(CLI::NonNegativeNumber);
-  command.add_flag("--adaptive", adaptive,
-                   "place planes by the paper's recursive median split (§2.3.3) instead of evenly");
-  command
-      .add_option("--max-missing", max_missing,
-                  "with --adaptive: stop when at most this fraction of vertices lacks a cone")
-      ->check(CLI::Range(0.0, 1.0));
-  command
-      .add_option(
-          "--cone-storage", storage,
-          "how 2D cones reach mesh vertices: interpolated-on-fan (per orientation, the cuts of a vertex's "
-          "own edges nearest below and above it, blended at its height), nearest-on-fan (the nearest cut "
-          "of its own edges per orientation) or nearer-endpoint (the paper's: every plane's cut on edges "
-          "the vertex is nearer to)")
-      ->check(CLI::IsMember({"interpolated-on-fan", "nearest-on-fan", "nearer-endpoint"}))
-      ->capture_default_str();
-  command.add_flag(
+  placement.push_back(absolute);
+  placement.push_back(
+      command
+          .add_option(
+              "--spacing-edges", spacing_edges,
+              "distance between parallel planes in average edge lengths of the first frame (default 0.5: "
+              "every measured sequence within mean error 0.02 of ray-traced truth; 0.75 costs about 0.7x as "
+              "much per frame)")
+          ->check(CLI::PositiveNumber)
+          ->excludes(absolute));
+  placement.push_back(
+      command
+          .add_option(
+              "--planes", planes_per_orientation,
+              "planes per orientation, spread over the extent of every frame (overrides --spacing and "
+              "--spacing-edges)")
+          ->check(CLI::NonNegativeNumber));
+  placement.push_back(command.add_flag(
+      "--adaptive", adaptive,
+      "place planes by the paper's recursive median split (§2.3.3) on the first frame instead of evenly"));
+  placement.push_back(
+      command
+          .add_option("--max-missing", max_missing,
+                      "with --adaptive: stop when at most this fraction of vertices lacks a cone")
+          ->check(CLI::Range(0.0, 1.0)));
+  placement.push_back(
+      command
+          .add_option(
+              "--cone-storage", storage,
+              "how 2D cones reach mesh vertices: interpolated-on-fan (per orientation, the cuts of a "
+              "vertex's "
+              "own edges nearest below and above it, blended at its height), nearest-on-fan (the nearest cut "
+              "of its own edges per orientation) or nearer-endpoint (the paper's: every plane's cut on edges "
+              "the vertex is nearer to)")
+          ->check(CLI::IsMember({"interpolated-on-fan", "nearest-on-fan", "nearer-endpoint"}))
+          ->capture_default_str());
+  placement.push_back(command.add_flag(
       "--paper", paper,
       "the paper's method: its 6 axis-aligned orientations and nearer-endpoint storage (overrides "
-      "--orientations and --cone-storage)");
+      "--orientations and --cone-storage)"));
+  CLI::Option* pinned = command.add_option(
+      "--plan", plan_file,
+      "cut with the plan in FILE (written by --save-plan) instead of making one: the same planes for every "
+      "farm task, machine and edit of the cache");
+  for (CLI::Option* o : placement) pinned->excludes(o);
+  command.add_option("--save-plan", save_plan,
+                     "also write the slicing plan to FILE (JSON: orientations, spacing or planes, storage)");
 }
 
-SlicingPlan PlanOptions::make(const MeshTopology& topology, const Frame& frame) const {
-  if (paper && !adaptive && spacing == 0 && spacing_edges == 0 && planes_per_orientation == 0)
-    return make_paper_plan(topology, frame);
-  const int count = paper ? 6 : orientations;
-  DiffusePlanParams diffuse{count, spacing, planes_per_orientation};
-  if (spacing_edges > 0) diffuse.spacing_in_edges = spacing_edges;
-  SlicingPlan plan = adaptive ? make_adaptive_plan(topology, frame, {count, max_missing})
-                              : make_diffuse_plan(topology, frame, diffuse);
-  plan.storage = paper ? ConeStorage::NearerEndpoint : cone_storage_from_name(storage);
+SlicingPlan PlanOptions::make(const MeshSequence& sequence) const {
+  const MeshTopology& topology = sequence.topology();
+  SlicingPlan plan;
+  if (!plan_file.empty()) {
+    plan = read_plan_file(plan_file);
+    if (plan.spacing > 0) cover_with_planes(plan, sequence.bounds());
+  } else {
+    // Measured on the sequence's first frame and covering all of its frames: never on the requested ones.
+    const Frame frame = sequence.frame(0);
+    const Bounds& cover = sequence.bounds();
+    const int count = paper ? 6 : orientations;
+    if (paper && !adaptive && spacing == 0 && spacing_edges == 0 && planes_per_orientation == 0) {
+      plan = make_paper_plan(topology, frame, &cover);
+    } else {
+      DiffusePlanParams diffuse{count, spacing, planes_per_orientation};
+      if (spacing_edges > 0) diffuse.spacing_in_edges = spacing_edges;
+      plan = adaptive ? make_adaptive_plan(topology, frame, {count, max_missing})
+                      : make_diffuse_plan(topology, frame, diffuse, &cover);
+      plan.storage = paper ? ConeStorage::NearerEndpoint : cone_storage_from_name(storage);
+    }
+  }
+  if (!save_plan.empty()) {
+    create_parent_directory(save_plan);
+    write_plan_file(save_plan, plan);
+  }
   return plan;
 }
 
 std::string PlanOptions::describe() const {
+  if (!plan_file.empty()) return "plan " + plan_file;
   const int count = paper ? 6 : orientations;
   const std::string stored = std::string(", ") + (paper ? "nearer-endpoint" : storage) + " storage";
   if (adaptive)

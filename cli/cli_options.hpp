@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "sim_io/mesh_sequence.hpp"
 #include "static_core/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
 
@@ -44,8 +45,10 @@ struct ChunkOptions {
 /// Creates the directory an output file goes into, if missing (outputs are written atomically inside it).
 void create_parent_directory(const std::filesystem::path& output);
 
-/// How the slicing planes are placed (DESIGN.md §2.1); the plan is made once from the first frame used
-/// and kept for the whole sequence.
+/// How the slicing planes are placed (docs/method.md §2). The plan is made once for the whole sequence, never
+/// from the requested frames: orientations and spacing from the sequence's first frame, the world-anchored
+/// lattice of planes over the box of all its frames (MeshSequence::bounds), so a frame's result is the same
+/// from any range, chunk or rank count. --plan FILE pins a plan saved by --save-plan FILE.
 struct PlanOptions {
   int orientations = DiffusePlanParams{}.orientations;
   double spacing = 0.0;
@@ -55,9 +58,13 @@ struct PlanOptions {
   double max_missing = 0.05;
   std::string storage = "interpolated-on-fan";
   bool paper = false;
+  std::string plan_file;  ///< --plan: read the plan from this file instead
+  std::string save_plan;  ///< --save-plan: also write the plan made to this file
 
   void add_to(CLI::App& command);
-  SlicingPlan make(const MeshTopology& topology, const Frame& frame) const;
+  /// The plan for `sequence` (from --plan, or made from its first frame and bounds); writes --save-plan.
+  /// Throws InputError for a bad plan file.
+  SlicingPlan make(const MeshSequence& sequence) const;
   std::string describe() const;
 };
 

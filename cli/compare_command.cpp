@@ -147,7 +147,7 @@ void run_compare(const CompareOptions& options) {
   // pleat: cones, then the shading pass.
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
-  const SlicingPlan plan = options.plan.make(topology, frame);
+  const SlicingPlan plan = options.plan.make(sequence);
   const FrameVisibility visibility = compute_visibility(topology, frame, plan);
   const auto t1 = Clock::now();
   ShadeParams shade_params;

@@ -221,6 +221,7 @@ SharedSequence load_shared(const std::filesystem::path& input, const std::filesy
   };
   if (g_size > 1) {
     options.scan.range = [](std::size_t num_frames) { return share_of(0, num_frames, g_rank, g_size); };
+    options.scan.merge_bounds = [](Bounds& bounds) { all_reduce_bounds(&bounds.lo.x, &bounds.hi.x); };
     options.scan.merge = [](std::vector<Index>& classes, std::exception_ptr error) {
       agree(error);  // the lowest bad frame, as one process would report it
       static_assert(sizeof(Index) == sizeof(std::uint32_t));
@@ -277,6 +278,7 @@ void broadcast_plan(SlicingPlan& plan) {
   auto counts =
       std::array<std::uint64_t, 3>{plan.orientations.size(), plan.planes.size(), std::uint64_t(plan.storage)};
   check(MPI_Bcast(counts.data(), 3, MPI_UINT64_T, 0, MPI_COMM_WORLD), "Bcast");
+  check(MPI_Bcast(&plan.spacing, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD), "Bcast");
   plan.orientations.resize(counts[0]);
   plan.planes.resize(counts[1]);
   plan.storage = ConeStorage(counts[2]);
@@ -288,7 +290,7 @@ void broadcast_plan(SlicingPlan& plan) {
 
 std::uint64_t plan_fingerprint(const SlicingPlan& plan) {
   Fingerprint f;
-  f.add_value(int(plan.storage));
+  f.add_value(int(plan.storage)).add_value(plan.spacing);
   f.add(plan.orientations.data(), plan.orientations.size() * sizeof(glm::dvec3));
   for (const SlicingPlane& p : plan.planes)
     f.add_value(p.normal).add_value(p.offset).add_value(p.u).add_value(p.w).add_value(p.orientation);

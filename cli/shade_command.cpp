@@ -3,7 +3,7 @@
 // sides, and optionally rendered to PNG images.
 //
 // Per frame: compute_visibility with a slicing plan (cli_options.hpp; the paper's diffuse plan by default)
-// made once from the first selected frame (the planes stay fixed while the cloth moves), or the frame's cones
+// made once for the whole sequence (the planes stay fixed while the cloth moves), or the frame's cones
 // read from a cone cache (--cones, shading/cone_cache.hpp), then shade_frame
 // for each lighting setup (shading/shade.hpp), to_srgb, and the setup's glb writer (sim_io/gltf_writer.hpp)
 // and renderer (shading/render.hpp). The cones are computed once per frame whatever the number of setups:
@@ -130,7 +130,7 @@ void run_shade(const ShadeOptions& options) {
 
   // The cones: from a cone cache (checked against the mesh and every selected frame before anything is
   // written; each rank opens it and reads its own frames), or computed per frame with a plan made by rank 0
-  // from the first selected frame.
+  // for the whole sequence (cli_options.hpp: never from the selected frames).
   std::optional<ConeCacheReader> cache;
   std::vector<std::size_t> cached;
   SlicingPlan plan;
@@ -140,7 +140,7 @@ void run_shade(const ShadeOptions& options) {
       cache->check_mesh(topology, sequence.welded_of_input());
       for (std::size_t i : frame_ids) cached.push_back(cache->index_of_frame(i));
     } else if (World::root()) {
-      plan = options.plan.make(topology, sequence.frame(frame_ids.front()));
+      plan = options.plan.make(sequence);
     }
   });
   if (!cache) broadcast_plan(plan);
@@ -157,12 +157,12 @@ void run_shade(const ShadeOptions& options) {
                                    options.chunking.checkpoint, options_key.value());
 
   // One pass over the selected frames, each rank over its share: the exact float bounds of every frame for
-  // the glb's header, and the bounds of the whole selection for the auto-framed camera (it stays put while
-  // the cloth moves). Rank 0 thus writes the glb without reading any frame itself.
+  // the glb's header. Rank 0 thus writes the glb without reading any frame itself. The auto-framed camera
+  // frames the whole sequence (it stays put while the cloth moves, and a frame's image is the same from
+  // any range or split).
   const std::size_t count = last - first;
   std::vector<float> lows(3 * count, std::numeric_limits<float>::max());
   std::vector<float> highs(3 * count, std::numeric_limits<float>::lowest());
-  SceneBounds selection;
   together([&] {
     const auto [a, b] = share_of(first, last, World::rank(), World::size());
     for (std::size_t i = a; i < b; ++i) {
@@ -170,11 +170,9 @@ void run_shade(const ShadeOptions& options) {
       const PositionBounds bounds = position_bounds(frame);
       for (int k = 0; k < 3; ++k)
         lows[3 * (i - first) + k] = bounds.lo[k], highs[3 * (i - first) + k] = bounds.hi[k];
-      selection.extend(frame);
     }
   });
   all_reduce_bounds(lows, highs);
-  all_reduce_bounds(&selection.lo.x, &selection.hi.x);
   std::vector<PositionBounds> frame_bounds(count);
   for (std::size_t j = 0; j < count; ++j)
     for (int k = 0; k < 3; ++k)
@@ -211,7 +209,7 @@ void run_shade(const ShadeOptions& options) {
         AutoFrameParams framing;
         framing.up = parse_vec3(options.up, "--up");
         framing.aspect = double(options.width) / options.height;
-        camera = auto_frame(selection, framing);
+        camera = auto_frame(sequence.bounds(), framing);
       }
     });
   }
@@ -232,7 +230,8 @@ void run_shade(const ShadeOptions& options) {
       const FrameVisibility& visibility = cache ? from_cache : engine->compute(frame);
       const auto t1 = std::chrono::steady_clock::now();
       for (Side side : kBothSides) side_visibility(visibility, side, sides[int(side)]);
-      const bool render_this = render && (j % static_cast<std::size_t>(options.render_every) == 0);
+      // Frame numbers, not positions in the range: the same frames are rendered however the shot is split.
+      const bool render_this = render && (f % static_cast<std::size_t>(options.render_every) == 0);
       if (render_this) {
         if (!scene)
           scene = std::make_unique<EmbreeScene>(topology, frame);
@@ -351,7 +350,8 @@ void register_shade_command(CLI::App& app) {
                   "ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov] (default: auto-framed 3/4 view)");
   cmd->add_option("--up", options->up, "world up for the auto-framed camera (Blender data: 0,0,1)")
       ->capture_default_str();
-  cmd->add_option("--render-every", options->render_every, "render every N-th shaded frame")
+  cmd->add_option("--render-every", options->render_every,
+                  "render the frames whose number is a multiple of N")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_option("--turntable", options->turntable,

@@ -106,10 +106,11 @@ void run(const VisibilityOptions& options) {
   std::size_t first = 0, last = 0;
   together([&] { parse_frame_range(options.frames, sequence.num_frames(), first, last); });
   const MeshTopology& topology = sequence.topology();
-  // The plan is made from the first requested frame, as by one process, on rank 0, and sent to the others.
+  // The plan is made for the whole sequence (never from the requested frames), on rank 0, and sent to the
+  // others.
   SlicingPlan plan;
   together([&] {
-    if (World::root()) plan = options.plan.make(topology, sequence.frame(first));
+    if (World::root()) plan = options.plan.make(sequence);
   });
   broadcast_plan(plan);
   const double planned_at = World::seconds();

@@ -160,14 +160,7 @@ Camera parse_camera(std::string_view text) {
   return camera;
 }
 
-void SceneBounds::extend(const Frame& frame) {
-  for (const glm::dvec3& p : frame.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-}
-
-Camera auto_frame(const SceneBounds& bounds, const AutoFrameParams& params) {
+Camera auto_frame(const Bounds& bounds, const AutoFrameParams& params) {
   if (bounds.empty()) throw std::invalid_argument("auto_frame: empty bounds");
   const glm::dvec3 up = glm::normalize(params.up);
   const glm::dvec3 centre = 0.5 * (bounds.lo + bounds.hi);
@@ -210,8 +203,8 @@ Camera auto_frame(const SceneBounds& bounds, const AutoFrameParams& params) {
 }
 
 Camera auto_frame(const Frame& frame, const AutoFrameParams& params) {
-  SceneBounds bounds;
-  bounds.extend(frame);
+  Bounds bounds;
+  for (const glm::dvec3& p : frame.positions) bounds.add(p);
   return auto_frame(bounds, params);
 }
 

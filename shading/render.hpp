@@ -37,14 +37,6 @@ struct Camera {
 /// the offending field on malformed text, a zero view direction, or up parallel to the view.
 Camera parse_camera(std::string_view text);
 
-/// Axis-aligned bounds of one frame or of a whole sequence (extend with every frame).
-struct SceneBounds {
-  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
-  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
-  void extend(const Frame& frame);
-  bool empty() const { return !(lo.x <= hi.x); }
-};
-
 struct AutoFrameParams {
   glm::dvec3 up{0.0, 1.0, 0.0};  ///< world up (Blender's native data is Z-up: pass {0,0,1})
   /// Direction from the target towards the camera before the 3/4 turn; zero = automatic: the axis ⊥ up
@@ -59,7 +51,9 @@ struct AutoFrameParams {
 
 /// A 3/4 view that fits the bounding sphere of `bounds` (a frame, or a whole sequence so the camera stays
 /// put while the cloth moves) in the image. Throws std::invalid_argument on empty bounds.
-Camera auto_frame(const SceneBounds& bounds, const AutoFrameParams& params = {});
+/// A camera that frames `bounds` (one frame's, or a whole sequence's: MeshSequence::bounds). Throws
+/// std::invalid_argument when the box is empty.
+Camera auto_frame(const Bounds& bounds, const AutoFrameParams& params = {});
 Camera auto_frame(const Frame& frame, const AutoFrameParams& params = {});
 
 /// An 8-bit sRGB image, rows from the top, 3 bytes per pixel.

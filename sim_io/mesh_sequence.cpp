@@ -14,6 +14,7 @@
 #include "sim_io/obj_sequence.hpp"
 #include "sim_io/pc2_format.hpp"
 #include "static_core/input_error.hpp"
+#include "static_core/slicing_plan.hpp"
 
 namespace pleat {
 
@@ -84,6 +85,7 @@ struct MeshSequence::Impl {
   std::vector<Index> input_of_welded;  // one representative input vertex per welded vertex
   std::size_t removed_faces = 0;
   std::vector<double> times;
+  Bounds bounds;
   std::unique_ptr<FrameSource> source;
 };
 
@@ -114,6 +116,9 @@ MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangl
   // Welding by partition refinement: two input vertices stay in one class while they coincide in every
   // frame read so far. Every frame is read once (validating it) even after no class can split any more.
   // With a LoadScan, this process reads only its share of the frames and scan.merge combines the classes.
+  std::vector<char> used(num_input_vertices, 0);  // by a triangle: only those stretch bounds()
+  for (const Triangle& t : input_triangles)
+    for (Index v : t) used[v] = 1;
   std::vector<Index> cls(num_input_vertices, 0);
   Index num_classes = 1;
   std::unordered_map<WeldKey, Index, WeldKeyHash> next;
@@ -129,6 +134,8 @@ MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangl
           if (!std::isfinite(positions[v][k]))
             throw InputError(n, frame_place(i) + ", vertex " + std::to_string(v), "non-finite coordinate");
       if (scan.on_frame) scan.on_frame(i, positions);
+      for (Index v = 0; v < num_input_vertices; ++v)
+        if (used[v]) impl->bounds.add(positions[v]);
       if (num_classes == num_input_vertices) continue;
       next.clear();
       next.reserve(num_input_vertices);
@@ -147,6 +154,7 @@ MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangl
     scan.merge(cls, scan_error);
     num_classes = cls.empty() ? 0 : *std::max_element(cls.begin(), cls.end()) + 1;
   }
+  if (scan.merge_bounds) scan.merge_bounds(impl->bounds);
   // Welded vertices numbered by first appearance in input order.
   std::vector<Index> welded_of_class(num_classes, Index(-1));
   impl->welded_of_input.resize(num_input_vertices);
@@ -202,6 +210,7 @@ MeshSequence::MeshSequence(std::string name, MeshTopology topology, std::vector<
     if (i > 0 && !(frames[i].time > frames[i - 1].time))
       throw std::invalid_argument("MeshSequence: frame times must increase strictly");
     impl->times.push_back(frames[i].time);
+    impl->bounds.add(cloth_bounds(topology, frames[i]));
     positions.push_back(std::move(frames[i].positions));
   }
   impl->num_input_vertices = topology.num_vertices;
@@ -224,6 +233,7 @@ double MeshSequence::frame_rate() const {
   return double(t.size() - 1) / (t.back() - t.front());
 }
 
+const Bounds& MeshSequence::bounds() const { return m_impl->bounds; }
 double MeshSequence::frame_time(std::size_t i) const { return m_impl->times.at(i); }
 double MeshSequence::duration() const { return m_impl->times.back() - m_impl->times.front(); }
 

@@ -46,6 +46,9 @@ struct LoadScan {
   /// nothing). Must leave the classes over all frames, or throw the error of the lowest frame any process
   /// met. A collective operation: every process calls it, whatever happened.
   std::function<void(std::vector<Index>& classes, std::exception_ptr error)> merge;
+  /// Called once by every process after a merge that threw nothing, with the box of the frames it read
+  /// (MeshSequence::bounds); must leave the box of all frames. A collective operation, like merge.
+  std::function<void(Bounds& bounds)> merge_bounds;
 };
 
 class MeshSequence {
@@ -70,6 +73,9 @@ class MeshSequence {
   const std::vector<Index>& welded_of_input() const;  ///< input vertex -> welded vertex
   std::size_t welded_duplicates() const;              ///< input vertices merged into another
 
+  /// The box of every frame's positions of the vertices the triangles use: what a slicing plan must cover
+  /// so that every frame is cut by the same world-anchored planes (static_core/slicing_plan.hpp).
+  const Bounds& bounds() const;
   double frame_time(std::size_t i) const;  ///< seconds, strictly increasing
   double duration() const;                 ///< last frame time - first frame time
   /// Positions of frame i in the input's vertex order (before welding).

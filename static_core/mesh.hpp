@@ -9,7 +9,9 @@
 
 #include <array>
 #include <cstdint>
+#include <glm/common.hpp>
 #include <glm/vec3.hpp>
+#include <limits>
 #include <vector>
 
 namespace pleat {
@@ -27,6 +29,21 @@ struct MeshTopology {
 struct Frame {
   double time = 0.0;
   std::vector<glm::dvec3> positions;
+};
+
+/// An axis-aligned box; empty (lo > hi) until a point is added.
+struct Bounds {
+  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
+  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
+  void add(const glm::dvec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  void add(const Bounds& other) {
+    lo = glm::min(lo, other.lo);
+    hi = glm::max(hi, other.hi);
+  }
+  bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
 };
 
 /// Which side of the surface: Front is the side of +n(v) (area-weighted vertex normal), Back of -n(v).

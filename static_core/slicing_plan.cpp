@@ -119,23 +119,48 @@ std::pair<double, double> extent_along(const std::vector<glm::dvec3>& positions,
   return {lo, hi};
 }
 
-/// Parallel planes exactly `spacing` apart, centred on the extent [lo, hi] (the outermost ones within
-/// spacing/2 of its ends), or `count` planes spread evenly over it when count > 0.
-void add_parallel_planes(SlicingPlan& plan, int orientation, double lo, double hi, double spacing,
-                         int count) {
+/// The extent of a box along a unit direction: its corners' lowest and highest heights.
+std::pair<double, double> extent_along(const Bounds& box, const glm::dvec3& n) {
+  std::vector<glm::dvec3> corners;
+  for (int c = 0; c < 8; ++c)
+    corners.emplace_back(c & 1 ? box.hi.x : box.lo.x, c & 2 ? box.hi.y : box.lo.y,
+                         c & 4 ? box.hi.z : box.lo.z);
+  return extent_along(corners, n);
+}
+
+/// `count` planes spread evenly over the extent [lo, hi].
+void add_counted_planes(SlicingPlan& plan, int orientation, double lo, double hi, int count) {
   const glm::dvec3 n = plan.orientations[orientation];
-  const double centre = 0.5 * (lo + hi);
-  if (count > 0) {
-    const double step = (hi - lo) / count;
-    for (int k = 0; k < count; ++k) plan.planes.push_back(make_plane(n, lo + step * (k + 0.5), orientation));
-    return;
-  }
-  const int planes = static_cast<int>(std::floor((hi - lo) / spacing)) + 1;
-  for (int k = 0; k < planes; ++k)
-    plan.planes.push_back(make_plane(n, centre + (k - 0.5 * (planes - 1)) * spacing, orientation));
+  const double step = (hi - lo) / count;
+  for (int k = 0; k < count; ++k) plan.planes.push_back(make_plane(n, lo + step * (k + 0.5), orientation));
 }
 
 }  // namespace
+
+Bounds cloth_bounds(const MeshTopology& topology, const Frame& frame) {
+  Bounds box;
+  for (const glm::dvec3& p : cloth_positions(topology, frame)) box.add(p);
+  return box;
+}
+
+void cover_with_planes(SlicingPlan& plan, const Bounds& cover) {
+  if (!(plan.spacing > 0) || !std::isfinite(plan.spacing))
+    throw std::invalid_argument("cover_with_planes: the plan's spacing must be positive and finite");
+  if (cover.empty()) throw std::invalid_argument("cover_with_planes: nothing to cover");
+  plan.planes.clear();
+  for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
+    const auto [lo, hi] = extent_along(cover, plan.orientations[o]);
+    // Every k with lo <= (k + 1/2) * spacing <= hi: a plane at a vertex's height counts it above (the
+    // slicer's perturbation), so the closed range keeps every plane that can cut.
+    const double first = std::ceil(lo / plan.spacing - 0.5), last = std::floor(hi / plan.spacing - 0.5);
+    if (last - first > 1e7)
+      throw std::invalid_argument("slicing plan: more than ten million planes of one orientation (spacing " +
+                                  std::to_string(plan.spacing) + " over an extent of " +
+                                  std::to_string(hi - lo) + ")");
+    for (double k = first; k <= last; ++k)
+      plan.planes.push_back(make_plane(plan.orientations[o], (k + 0.5) * plan.spacing, o));
+  }
+}
 
 SlicingPlane make_plane(const glm::dvec3& normal, double offset, int orientation) {
   SlicingPlane plane;
@@ -155,23 +180,30 @@ double average_edge_length(const MeshTopology& topology, const Frame& frame) {
 }
 
 SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame,
-                              const DiffusePlanParams& params) {
+                              const DiffusePlanParams& params, const Bounds* cover) {
   validate_mesh(topology, frame, "make_diffuse_plan");
   SlicingPlan plan;
   plan.orientations = diffuse_orientations(params.orientations, params.relaxed);
-  double spacing =
-      params.spacing > 0 ? params.spacing : params.spacing_in_edges * mean_edge_length(topology, frame);
-  if (!(spacing > 0)) spacing = 1.0;
-  const std::vector<glm::dvec3> cloth = cloth_positions(topology, frame);
-  for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
-    const auto [lo, hi] = extent_along(cloth, plan.orientations[o]);
-    add_parallel_planes(plan, o, lo, hi, spacing, params.planes_per_orientation);
+  const Bounds box = cover ? *cover : cloth_bounds(topology, frame);
+  if (box.empty()) return plan;  // no triangle: nothing to cut
+  if (params.planes_per_orientation > 0) {
+    const std::vector<glm::dvec3> cloth = cloth_positions(topology, frame);
+    for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
+      const auto [lo, hi] =
+          cover ? extent_along(*cover, plan.orientations[o]) : extent_along(cloth, plan.orientations[o]);
+      add_counted_planes(plan, o, lo, hi, params.planes_per_orientation);
+    }
+    return plan;
   }
+  plan.spacing =
+      params.spacing > 0 ? params.spacing : params.spacing_in_edges * mean_edge_length(topology, frame);
+  if (!(plan.spacing > 0)) plan.spacing = 1.0;
+  cover_with_planes(plan, box);
   return plan;
 }
 
-SlicingPlan make_paper_plan(const MeshTopology& topology, const Frame& frame) {
-  SlicingPlan plan = make_diffuse_plan(topology, frame, {6, 0.0, 0, 1.0});
+SlicingPlan make_paper_plan(const MeshTopology& topology, const Frame& frame, const Bounds* cover) {
+  SlicingPlan plan = make_diffuse_plan(topology, frame, {6, 0.0, 0, 1.0}, cover);
   plan.storage = ConeStorage::NearerEndpoint;
   return plan;
 }

@@ -1,8 +1,12 @@
-// Slicing plans (Stewart 1999 §2.1, §2.3.3; DESIGN.md §2.1): which planes cut the cloth.
+// Slicing plans (Stewart 1999 §2.1, §2.3.3; docs/method.md §2): which planes cut the cloth.
 //
-// A plan is a plain value computed once (usually from frame 0) and reused for every frame: the kinetic
-// layer keeps the planes fixed in space while the cloth moves through them. Every function below that takes
-// (topology, frame) validates them (static_core/mesh_validation.hpp: InputError).
+// A plan is a plain value made once for a whole sequence and reused for every frame: the kinetic layer keeps
+// the planes fixed in space while the cloth moves through them. So that a frame's result never depends on
+// which frames were asked for, a diffuse plan is a *lattice anchored in world space*: per orientation the
+// planes at offsets (k + 1/2) * spacing for every integer k, with the orientations and the spacing taken
+// from one planned frame (the sequence's first) and the planes instantiated over a box that covers every
+// frame (cover_with_planes). A plane that cuts no frame adds an empty slice and changes no cone. Every
+// function below that takes (topology, frame) validates them (static_core/mesh_validation.hpp: InputError).
 #pragma once
 
 #include <glm/vec3.hpp>
@@ -24,7 +28,7 @@ struct SlicingPlane {
       0;  ///< index into SlicingPlan::orientations (cones are grouped and filled per orientation)
 };
 
-/// How a plane's 2D cones reach mesh vertices (DESIGN.md §2.7). A slice vertex lies on a mesh edge; its cone
+/// How a plane's 2D cones reach mesh vertices (docs/method.md §7). A slice vertex lies on a mesh edge; its cone
 /// is offered to the edge's endpoints, at their 3D distances from it.
 enum class ConeStorage {
   /// The paper's rule: to the nearer endpoint only; per plane, side and vertex the nearest offer is kept, and
@@ -49,7 +53,19 @@ struct SlicingPlan {
   std::vector<glm::dvec3> orientations;  ///< unit normals, one per family of planes
   std::vector<SlicingPlane> planes;
   ConeStorage storage = ConeStorage::InterpolatedOnFan;
+  /// > 0: the planes are the world-anchored lattice of this spacing (cover_with_planes), so a plan is
+  /// (orientations, spacing, storage) plus the box it covers; 0: the planes were placed one by one (adaptive,
+  /// counted, light plans) and are the plan.
+  double spacing = 0.0;
 };
+
+/// Replaces plan.planes by the lattice planes of every orientation that meet `cover`: offsets
+/// (k + 1/2) * plan.spacing, k integer, within the box's extent along the orientation, ordered by
+/// orientation, then offset. Precondition: plan.spacing > 0 and finite, cover not empty. O(planes).
+void cover_with_planes(SlicingPlan& plan, const Bounds& cover);
+
+/// The box of the vertices the triangles use (isolated vertices do not stretch a plan).
+Bounds cloth_bounds(const MeshTopology& topology, const Frame& frame);
 
 /// "nearer-endpoint", "nearest-on-fan", "interpolated-on-fan".
 const char* cone_storage_name(ConeStorage storage);
@@ -74,13 +90,15 @@ struct DiffusePlanParams {
   /// Spread orientations (not 6) relaxed from the Fibonacci spiral to evenly spaced lines (up to 32).
   bool relaxed = true;
 };
-/// Uniform diffuse light: parallel families of planes over the extent of the cloth (the vertices its
-/// triangles use: an isolated vertex does not stretch the plan).
+/// Uniform diffuse light: parallel families of planes, the spacing measured on `frame`. With a spacing, the
+/// world-anchored lattice (cover_with_planes) over `cover`, or over the cloth of `frame` (cloth_bounds) when
+/// `cover` is null; with planes_per_orientation, that many planes spread evenly over the extent of `cover`
+/// (or of the cloth) along each orientation (plan.spacing 0).
 SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame,
-                              const DiffusePlanParams& params);
+                              const DiffusePlanParams& params, const Bounds* cover = nullptr);
 /// The paper's plan: its 6 axis-aligned orientations, planes one average edge length apart, nearer-endpoint
 /// storage (the baseline pleat's defaults are measured against).
-SlicingPlan make_paper_plan(const MeshTopology& topology, const Frame& frame);
+SlicingPlan make_paper_plan(const MeshTopology& topology, const Frame& frame, const Bounds* cover = nullptr);
 
 struct AdaptivePlanParams {
   int orientations = 6;

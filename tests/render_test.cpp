@@ -114,7 +114,7 @@ TEST(Render, AutoFrameKeepsEveryVertexInView) {
   }
   // The sheet lies in z = const, so the automatic front is +z: the camera is on the +z side.
   EXPECT_GT(camera.eye.z, 2.0);
-  EXPECT_THROW(auto_frame(SceneBounds{}), std::invalid_argument);
+  EXPECT_THROW(auto_frame(Bounds{}), std::invalid_argument);
 }
 
 TEST(Render, WritesPngAtomicallyAndItReadsBack) {

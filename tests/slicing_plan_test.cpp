@@ -13,6 +13,7 @@
 #include "oracles/test_meshes.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "static_core/mesh_slicer.hpp"
+#include "static_core/visibility.hpp"
 
 namespace pleat {
 namespace {
@@ -94,6 +95,54 @@ TEST(SlicingPlan, DiffusePlanHasThePapersSixFamiliesOneEdgeApart) {
   const SlicingPlan counted = make_diffuse_plan(cloth.topology(), frame, {12, 0.0, 7});
   EXPECT_EQ(counted.orientations.size(), 12u);
   EXPECT_EQ(counted.planes.size(), 12u * 7u);
+}
+
+TEST(SlicingPlan, LatticePlanesAreAnchoredInWorldSpace) {
+  // Offsets are (k + 1/2) * spacing for integer k, whatever the cloth's extent: a plan covering more space
+  // (another frame range, a longer cache) has the same planes where they overlap, bit for bit.
+  const ClothGenerator cloth(ClothKind::Flag, {14, 2, 24.0, 0});
+  const Frame frame = cloth.frame(0);
+  const SlicingPlan tight = make_diffuse_plan(cloth.topology(), frame, {});
+  ASSERT_GT(tight.spacing, 0.0);
+  for (const SlicingPlane& p : tight.planes) {
+    const double k = p.offset / tight.spacing - 0.5;
+    EXPECT_NEAR(k, std::round(k), 1e-9) << p.offset;
+  }
+  Bounds wide = cloth_bounds(cloth.topology(), frame);
+  ASSERT_FALSE(wide.empty());
+  wide.add(wide.lo - glm::dvec3(3.0, 1.0, 2.0));
+  wide.add(wide.hi + glm::dvec3(1.0, 4.0, 0.5));
+  const SlicingPlan loose = make_diffuse_plan(cloth.topology(), frame, {}, &wide);
+  EXPECT_EQ(loose.spacing, tight.spacing);
+  EXPECT_EQ(loose.orientations, tight.orientations);
+  ASSERT_GT(loose.planes.size(), tight.planes.size() + 8);
+  std::set<std::pair<int, double>> loose_planes;
+  for (const SlicingPlane& p : loose.planes) loose_planes.insert({p.orientation, p.offset});
+  for (const SlicingPlane& p : tight.planes)
+    EXPECT_TRUE(loose_planes.count({p.orientation, p.offset})) << p.orientation << " " << p.offset;
+  // The planes that meet no cloth add empty slices and change no cone: the same values to the bit.
+  const FrameVisibility a = compute_visibility(cloth.topology(), frame, tight);
+  const FrameVisibility b = compute_visibility(cloth.topology(), frame, loose);
+  for (Side side : kBothSides)
+    for (Index v = 0; v < cloth.topology().num_vertices; ++v)
+      ASSERT_EQ(a.measure(side, v).sky_visibility, b.measure(side, v).sky_visibility) << v;
+}
+
+TEST(SlicingPlan, CoverWithPlanesRejectsWhatCannotBeALattice) {
+  SlicingPlan plan;
+  plan.orientations = {{0, 0, 1}};
+  Bounds box;
+  box.add({0, 0, 0});
+  box.add({1, 1, 1});
+  EXPECT_THROW(cover_with_planes(plan, box), std::invalid_argument);  // no spacing
+  plan.spacing = 0.25;
+  EXPECT_THROW(cover_with_planes(plan, Bounds{}), std::invalid_argument);  // nothing to cover
+  cover_with_planes(plan, box);
+  ASSERT_EQ(plan.planes.size(), 4u);  // 0.125, 0.375, 0.625, 0.875
+  EXPECT_EQ(plan.planes.front().offset, 0.125);
+  EXPECT_EQ(plan.planes.back().offset, 0.875);
+  plan.spacing = 1e-12;
+  EXPECT_THROW(cover_with_planes(plan, box), std::invalid_argument);  // absurdly many planes
 }
 
 TEST(SlicingPlan, AnIsolatedVertexDoesNotStretchAPlan) {

@@ -1,4 +1,4 @@
-// pleat visibility: the CSV contract (DESIGN.md §5), --frames, --stats, and clean failures with no output.
+// pleat visibility: the CSV contract (docs/method.md §12), --frames, --stats, and clean failures with no output.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -84,6 +84,58 @@ TEST(VisibilityCommand, MissingInputFailsCleanlyAndWritesNothing) {
 std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// The lines of a CSV after its header.
+std::string csv_rows(const std::filesystem::path& p) {
+  const std::string text = slurp(p);
+  const std::size_t header_end = text.find('\n');
+  return header_end == std::string::npos ? std::string() : text.substr(header_end + 1);
+}
+
+/// A farm splits a shot by --frames: the pieces concatenate to the full run's bytes, with either engine,
+/// any chunking, and a plan pinned in a file; `shade` renders a frame the same from any range.
+TEST(VisibilityCommand, ASplitShotConcatenatesToTheFullRunsBytes) {
+  test::TempDir dir;
+  ASSERT_EQ(test::run_pleat("generate flag -o " + (dir / "f.obj").string() + " --resolution 11 --frames 9")
+                .exit_code,
+            0);
+  const std::string input = (dir / "f.obj").string() + " --cache " + (dir / "f.pc2").string();
+  auto visibility = [&](const std::string& name, const std::string& options) {
+    const auto result =
+        test::run_pleat("visibility " + input + " -o " + (dir / name).string() + " " + options);
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    return csv_rows(dir / name);
+  };
+  const std::string full = visibility("full.csv", "--save-plan " + (dir / "plan.json").string());
+  ASSERT_GT(full.size(), 9u * 121u * 10u);
+  for (const std::string engine : {"kinetic", "static"}) {
+    const std::string pieces = visibility("a.csv", "--frames 0:3 --engine " + engine) +
+                               visibility("b.csv", "--frames 3:4 --engine " + engine) +
+                               visibility("c.csv", "--frames 4: --chunks 2 --engine " + engine);
+    EXPECT_TRUE(pieces == full) << engine << ": the pieces differ from the full run";
+  }
+  EXPECT_TRUE(visibility("chunked.csv", "--chunks 4") == full);
+  // A pinned plan, read back, cuts with the same planes.
+  const std::string last_two = full.substr(full.find("\n7,") + 1);
+  EXPECT_TRUE(visibility("pinned.csv", "--frames 7: --plan " + (dir / "plan.json").string()) == last_two);
+  // --plan replaces every placement option: together they are a usage error.
+  const auto both = test::run_pleat("visibility " + input + " -o " + (dir / "both.csv").string() +
+                                    " --plan " + (dir / "plan.json").string() + " --orientations 12");
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "both.csv"));
+
+  // shade: frame 6 rendered in a run of the whole shot and in a run of its last three frames.
+  for (const std::string range : {"0:9", "6:9"}) {
+    const auto shaded =
+        test::run_pleat("shade " + input + " -o " + (dir / ("s" + range.substr(0, 1) + ".glb")).string() +
+                        " -q --frames " + range + " --render-every 3 --width 48 --height 36 --render " +
+                        (dir / ("r" + range.substr(0, 1))).string());
+    ASSERT_EQ(shaded.exit_code, 0) << shaded.output;
+  }
+  const std::string image = slurp(dir / "r0" / "frame_0006.png");
+  EXPECT_GT(image.size(), 100u);
+  EXPECT_TRUE(image == slurp(dir / "r6" / "frame_0006.png"));
 }
 
 /// `pleat visibility` on the bundled sequence `name` (data/NAME/NAME.obj and .pc2) over `frames`: with the

@@ -1,5 +1,5 @@
 // The frame-coherence benchmark's outputs: the CSV (one row per measurement x method x rays x threads), the
-// markdown report and the README's headline tables.
+// markdown report and the headline tables of docs/benchmarks.md.
 #pragma once
 
 #include <filesystem>
@@ -27,8 +27,8 @@ bool matched_embree(const Measurement& m, int threads, bool p95, MatchedRays& ou
 void write_csv_header(std::ostream& out);
 void write_csv_rows(std::ostream& out, const Measurement& m);
 
-/// The README's headline: the cone engines against Embree at matched error, and cost per element with
-/// kinetic ÷ static per temporal resolution.
+/// The headline of docs/benchmarks.md: the cone engines against Embree at matched error, and cost per element
+/// with kinetic ÷ static per temporal resolution.
 std::string headline_tables(const Options& options, const SourceState& source,
                             const std::vector<Measurement>& all);
 
