@@ -28,8 +28,8 @@ struct SlicingPlane {
       0;  ///< index into SlicingPlan::orientations (cones are grouped and filled per orientation)
 };
 
-/// How a plane's 2D cones reach mesh vertices (docs/method.md §7). A slice vertex lies on a mesh edge; its cone
-/// is offered to the edge's endpoints, at their 3D distances from it.
+/// How a plane's 2D cones reach mesh vertices (docs/method.md §7). A slice vertex lies on a mesh edge; its
+/// cone is offered to the edge's endpoints, at their 3D distances from it.
 enum class ConeStorage {
   /// The paper's rule: to the nearer endpoint only; per plane, side and vertex the nearest offer is kept, and
   /// a

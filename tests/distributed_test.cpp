@@ -86,7 +86,8 @@ TEST(Distributed, TheCostMeasureCountsTheSliceVerticesTheEngineMakes) {
       0);
   const auto stats = nlohmann::json::parse(slurp(dir / "s.json"));
   const MeshSequence sequence = load_sequence(dir / "c.obj", dir / "c.pc2");
-  const SlicingPlan plan = make_diffuse_plan(sequence.topology(), sequence.frame(0), DiffusePlanParams{});
+  const SlicingPlan plan =
+      make_diffuse_plan(sequence.topology(), sequence.frame(0), DiffusePlanParams{}, &sequence.bounds());
   const cli::SliceVertexCounter counter(sequence.topology(), plan);
   ASSERT_EQ(stats["frames"].size(), sequence.num_frames());
   for (std::size_t f = 0; f < sequence.num_frames(); ++f)

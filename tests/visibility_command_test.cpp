@@ -1,4 +1,5 @@
-// pleat visibility: the CSV contract (docs/method.md §12), --frames, --stats, and clean failures with no output.
+// pleat visibility: the CSV contract (docs/method.md §12), --frames, --stats, and clean failures with no
+// output.
 #include <gtest/gtest.h>
 
 #include <filesystem>
