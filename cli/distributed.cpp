@@ -42,18 +42,6 @@ void check(int status, const char* what) {
   if (status != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
 }
 
-// Rank 0 of a job whose other ranks may fail: Open MPI ends the survivors with SIGTERM, where no destructor
-// runs; remove the outputs' temporary files and say why once.
-extern "C" void on_termination(int signal) {
-  remove_uncommitted_files();
-  static const char message[] =
-      "pleat: error: the job was stopped (a rank failed or was killed); no output was written\n";
-  if (g_rank == 0) {
-    [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, message, sizeof message - 1);
-  }
-  ::_exit(128 + signal);
-}
-
 // Sends of this rank still in flight (their buffers must live until they complete).
 struct PendingSends {
   std::deque<std::pair<MPI_Request, std::string>> sends;
@@ -136,10 +124,6 @@ void World::init(int& argc, char**& argv) {
   g_mpi = true;
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
-  if (g_size > 1) {
-    std::signal(SIGTERM, on_termination);
-    std::signal(SIGINT, on_termination);
-  }
 }
 
 void World::finalize() {

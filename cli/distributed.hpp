@@ -10,7 +10,8 @@
 //    in the environment); otherwise a world of one rank that never calls MPI: without mpirun nothing changes.
 //  - JobError and agree(): errors every rank learns about (bad input), reported once by rank 0. An error only
 //    one rank meets (or a rank killed) aborts the whole job (MPI_Abort / Open MPI's own kill); rank 0 then
-//    removes its temporary output files from its SIGTERM handler, so no partial output is left.
+//    removes its temporary output files from its termination handler (cli/termination.hpp), so no partial
+//    output is left.
 //  - load_shared(): the loading pass (validation and welding) split between the ranks, so no rank reads the
 //    whole cache, and a 64-bit fingerprint of every frame's positions for the checkpoint.
 //  - split_by_cost() / assign_chunks(): contiguous chunks of nearly equal measured cost, and contiguous runs

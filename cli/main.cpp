@@ -5,6 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/distributed.hpp"
+#include "cli/termination.hpp"
 #include "static_core/input_error.hpp"
 
 namespace {
@@ -26,6 +27,7 @@ int fail(const std::string& message, int code, bool agreed) {
 
 int main(int argc, char** argv) {
   pleat::cli::World::init(argc, argv);  // MPI only when launched by mpirun
+  pleat::cli::install_termination_handler();
   CLI::App app{
       "pleat — visibility cones on animated cloth (Stewart 1999, kept alive frame to frame), and shading "
       "from them.\n"};

@@ -78,7 +78,7 @@ void write_file_atomically(const std::filesystem::path& path,
 void write_file_atomically(const std::filesystem::path& path, const std::string& content);
 
 /// Removes the temporary file of every AtomicFile not yet committed (or destroyed). Async-signal-safe (only
-/// unlink): for a termination signal handler, where destructors do not run (cli/distributed.cpp).
+/// unlink): for a termination signal handler, where destructors do not run (cli/termination.hpp).
 void remove_uncommitted_files() noexcept;
 
 }  // namespace pleat
