@@ -26,6 +26,7 @@
 
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/global_options.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
 #include "shading/path_trace.hpp"
@@ -53,7 +54,6 @@ struct CompareOptions {
   std::string camera;
   std::string up = "0,1,0";
   PlanOptions plan;
-  bool quiet = false;
 };
 
 double luminance(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
@@ -240,7 +240,7 @@ void run_compare(const CompareOptions& options) {
   create_parent_directory(output);
   write_png(output, side_by_side(panels));
 
-  if (!options.quiet) {
+  {
     const double ms = 1e3;
     char line[512];
     std::snprintf(
@@ -252,7 +252,7 @@ void run_compare(const CompareOptions& options) {
         100 * signed_sum / count / scale, 100 * noise / scale, 2 * trace.paths_per_vertex,
         ms * std::chrono::duration<double>(t1 - t0).count(), ms * shade_seconds,
         std::chrono::duration<double>(t3 - t2).count(), output.string().c_str());
-    std::cout << line;
+    report() << line;
   }
 }
 
@@ -291,7 +291,6 @@ void register_compare_command(CLI::App& app) {
                   "ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov] (default: auto-framed 3/4 view)");
   cmd->add_option("--up", options->up, "world up for the auto-framed camera")->capture_default_str();
   options->plan.add_to(*cmd);
-  cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
   cmd->footer(
       "Examples:\n"
       "  pleat compare data/drape/drape.obj --cache data/drape/drape.pc2 --frame 60 --light "

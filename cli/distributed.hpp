@@ -202,7 +202,8 @@ ChunkJob plan_chunks(const SharedSequence& input, std::size_t first, std::size_t
 
 /// Runs the job: this rank computes its chunks; rank 0 receives every frame's bytes (its own, the other
 /// ranks', the checkpoint's) and passes them to `consume` in frame order, keeping finished chunks in the
-/// checkpoint. Progress per rank and overall on rank 0's stderr when it (or mpirun's output) is a terminal.
+/// checkpoint. Progress per rank and overall on rank 0's stderr as --progress says (auto: when rank 0's
+/// stderr, or mpirun's, is a terminal).
 void run_chunks(const ChunkJob& job, const std::string& what, const ComputeChunk& compute,
                 const ConsumeFrame& consume);
 

@@ -10,6 +10,7 @@
 
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/global_options.hpp"
 #include "cli/progress.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "sim_io/mesh_sequence.hpp"
@@ -36,11 +37,11 @@ std::string kind_list() {
 void run_generate(const GenerateOptions& options) {
   const std::optional<ClothKind> kind = parse_cloth_kind(options.kind);
   if (!kind)
-    throw std::runtime_error("unknown cloth kind '" + options.kind + "' (choose " + kind_list() + ")");
+    throw std::invalid_argument("unknown cloth kind '" + options.kind + "' (choose " + kind_list() + ")");
   const std::filesystem::path obj_path = options.output;
   if (obj_path.extension() != ".obj")
-    throw std::runtime_error("output '" + options.output +
-                             "' must end in .obj (the cache is written beside it, as .pc2)");
+    throw std::invalid_argument("output '" + options.output +
+                                "' must end in .obj (the cache is written beside it, as .pc2)");
   std::filesystem::path pc2_path = obj_path;
   pc2_path.replace_extension(".pc2");
 
@@ -48,7 +49,7 @@ void run_generate(const GenerateOptions& options) {
   create_parent_directory(obj_path);
   std::vector<std::vector<glm::dvec3>> frames;
   frames.reserve(generator.num_frames());
-  Progress progress("generating frames", generator.num_frames());
+  Progress progress("generate", generator.num_frames());
   for (std::size_t i = 0; i < generator.num_frames(); ++i) {
     frames.push_back(generator.frame(i).positions);
     progress.advance();
@@ -61,10 +62,10 @@ void run_generate(const GenerateOptions& options) {
   write_obj(obj_path, generator.topology(), frames.front());
 
   const MeshTopology& topology = generator.topology();
-  std::cout << "wrote " << obj_path.string() << " (" << cloth_kind_name(*kind) << ", "
-            << topology.num_vertices << " vertices, " << topology.triangles.size() << " triangles, frame 0)\n"
-            << "wrote " << pc2_path.string() << " (" << frames.size() << " frames at " << options.params.fps
-            << " fps, seed " << options.params.seed << ")\n";
+  report() << "wrote " << obj_path.string() << " (" << cloth_kind_name(*kind) << ", " << topology.num_vertices
+           << " vertices, " << topology.triangles.size() << " triangles, frame 0)\n"
+           << "wrote " << pc2_path.string() << " (" << frames.size() << " frames at " << options.params.fps
+           << " fps, seed " << options.params.seed << ")\n";
 }
 
 }  // namespace

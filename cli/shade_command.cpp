@@ -26,6 +26,7 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/distributed.hpp"
+#include "cli/global_options.hpp"
 #include "shading/cone_cache.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
@@ -59,7 +60,6 @@ struct ShadeOptions {
   int render_every = 1;
   int turntable = 0;
   PlanOptions plan;
-  bool quiet = false;
   ChunkOptions chunking;
 };
 
@@ -282,11 +282,11 @@ void run_shade(const ShadeOptions& options) {
       writers[s]->add_frame(positions, front, back, sides[0], sides[1]);
     }
   };
-  run_chunks(job, "shading frames", compute, consume);
+  run_chunks(job, "shade", compute, consume);
   if (!World::root()) return;
   for (auto& writer : writers) writer->finish();
 
-  if (!options.quiet) {
+  {
     std::ostringstream out;
     const double n = double(frame_ids.size());
     out << "shaded " << frame_ids.size() << " frames of " << topology.num_vertices << " vertices: cones "
@@ -303,7 +303,7 @@ void run_shade(const ShadeOptions& options) {
       std::istringstream lights(setups[s].describe());
       for (std::string line; std::getline(lights, line);) out << "  " << line << '\n';
     }
-    std::cout << out.str();
+    report() << out.str();
   }
 }
 
@@ -358,7 +358,6 @@ void register_shade_command(CLI::App& app) {
                   "with a single frame: N images turning about the up axis")
       ->check(CLI::NonNegativeNumber);
   options->plan.add_to(*cmd);
-  cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
   options->chunking.add_to(*cmd);
   cmd->footer(
       "Examples:\n"

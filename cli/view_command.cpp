@@ -17,6 +17,7 @@
 #include <string>
 
 #include "cli/commands.hpp"
+#include "cli/global_options.hpp"
 #include "sim_io/byte_order.hpp"
 #include "static_core/input_error.hpp"
 
@@ -125,9 +126,9 @@ void run_view(const ViewOptions& options) {
   for (const char* name :
        {"three.min.js", "GLTFLoader.js", "OrbitControls.js", "scene.js", "viewer.js", "index.html"})
     fs::rename(staging / name, dir / name);
-  std::cout << "wrote " << (dir / "index.html").string()
-            << ": open it in a browser (file:// works), or serve it: python3 -m http.server -d "
-            << dir.string() << "\n";
+  report() << "wrote " << (dir / "index.html").string()
+           << ": open it in a browser (file:// works), or serve it: python3 -m http.server -d "
+           << dir.string() << "\n";
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/distributed.hpp"
+#include "cli/global_options.hpp"
 #include "kinetic/kinetic_visibility.hpp"
 #include "shading/cone_cache.hpp"
 #include "sim_io/atomic_file.hpp"
@@ -209,16 +210,16 @@ void run(const VisibilityOptions& options) {
   if (!options.timings.empty()) write_file_atomically(options.timings, timings.dump(2) + "\n");
   if (cones) cones->commit();
   csv->commit();  // last: the CSV exists only when every other output was written
-  std::cout << "wrote " << options.output << ": " << (last - first) << " frames x "
-            << sequence.num_input_vertices() << " vertices (" << plan.planes.size()
-            << " planes: " << options.plan.describe() << ")\n";
+  report() << "wrote " << options.output << ": " << (last - first) << " frames x "
+           << sequence.num_input_vertices() << " vertices (" << plan.planes.size()
+           << " planes: " << options.plan.describe() << ")\n";
   if (job.bounds.size() > 2 || World::distributed())
-    std::cout << "  " << job.bounds.size() - 1 << " chunks over " << World::size() << " ranks"
-              << (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "")
-              << "\n";
-  if (cones) std::cout << "wrote " << options.cones << ": the 3D cones of every frame\n";
+    report() << "  " << job.bounds.size() - 1 << " chunks over " << World::size() << " ranks"
+             << (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "")
+             << "\n";
+  if (cones) report() << "wrote " << options.cones << ": the 3D cones of every frame\n";
   if (crossing_frames > 0)
-    std::cout << "warning: chains cross in " << crossing_frames
+    std::cerr << "pleat: warning: chains cross in " << crossing_frames
               << " frames (the surface self-intersects there); crossing points were inserted and counted in "
                  "--stats\n";
 }
