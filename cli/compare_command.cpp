@@ -3,10 +3,10 @@
 // Embree path-traced reference of the same frame, lights and albedo (shading/path_trace.hpp, per vertex and
 // side, in the same units), both tone-mapped alike and rendered from the same camera, and (right) the
 // per-vertex absolute difference of their luminances as a colour map with a legend. One summary line on
-// stdout: the mean and 95th percentile of |cone - reference| over every vertex and both sides, relative to
-// the reference's mean luminance, the mean signed difference (bias), and the reference's own Monte-Carlo
-// noise (estimated from two independent halves of the paths, so the floor under which a difference means
-// nothing is printed beside it).
+// stdout (on stderr when the image goes to standard output; none with --quiet): the mean and 95th percentile
+// of |cone - reference| over every vertex and both sides, relative to the reference's mean luminance, the
+// mean signed difference (bias), and the reference's own Monte-Carlo noise (estimated from two independent
+// halves of the paths, so the floor under which a difference means nothing is printed beside it).
 //
 // Luminance: Rec. 709 weights of linear RGB radiance (the tone mapping's Y). Cost: one compute_visibility,
 // one shade_frame, and paths x (mean depth ~ 1/(1 - albedo)) rays per vertex and side.
@@ -32,6 +32,7 @@
 #include "shading/path_trace.hpp"
 #include "shading/render.hpp"
 #include "shading/shade.hpp"
+#include "sim_io/atomic_file.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/visibility.hpp"
 
@@ -129,11 +130,12 @@ double percentile(std::vector<double> values, double q) {
 }
 
 void run_compare(const CompareOptions& options) {
+  check_outputs({{"-o", options.output}});
   Lighting lighting;
   if (!options.lights_file.empty()) lighting = load_lighting(options.lights_file);
   for (const std::string& spec : options.light_specs) add_light_spec(lighting, spec);
   if (lighting.empty()) throw std::invalid_argument("give at least one --light (or --lights FILE)");
-  if (std::filesystem::path(options.output).extension() != ".png")
+  if (options.output != kStandardOutput && std::filesystem::path(options.output).extension() != ".png")
     throw std::invalid_argument("-o: the comparison is a .png image, got '" + options.output + "'");
 
   const MeshSequence sequence = load_sequence(options.in.input, options.in.cache);
@@ -270,7 +272,7 @@ void register_compare_command(CLI::App& app) {
       ->capture_default_str();
   add_light_option(*cmd, options->light_specs, "At least one (or --lights).");
   cmd->add_option("--lights", options->lights_file, "JSON lighting file (combined with --light)");
-  cmd->add_option("-o,--output", options->output, "output .png")->required();
+  cmd->add_option("-o,--output", options->output, "output .png; - for standard output")->required();
   cmd->add_option("--paths", options->paths, "path-traced samples per vertex and side")
       ->capture_default_str()
       ->check(CLI::Range(2, 1 << 20));

@@ -32,6 +32,7 @@
 #include "shading/lights.hpp"
 #include "shading/render.hpp"
 #include "shading/shade.hpp"
+#include "sim_io/atomic_file.hpp"
 #include "sim_io/gltf_writer.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/slicing_plan.hpp"
@@ -113,6 +114,16 @@ void run_shade(const ShadeOptions& options) {
   std::vector<Lighting> setups;
   together([&] { setups = gather_lightings(options); });
   const bool relight = !options.relight_file.empty();
+  together([&] {
+    if (!World::root()) return;
+    std::vector<OutputFile> files;
+    if (options.output == kStandardOutput)
+      files.push_back({"-o", options.output, /*stdout_allowed=*/!relight});  // --relight: one file per setup
+    else
+      for (const Lighting& setup : setups)
+        files.push_back({"-o", relight ? setup_output(options.output, setup.name).string() : options.output});
+    check_outputs(files, {{"--render", options.render_dir}, {"--checkpoint", options.chunking.checkpoint}});
+  });
   const SharedSequence input = load_shared(options.in.input, options.in.cache);
   const MeshSequence& sequence = input.sequence;
   const MeshTopology& topology = sequence.topology();
@@ -316,7 +327,8 @@ void register_shade_command(CLI::App& app) {
       "Shade an animated cloth from its visibility cones (both sides, Stewart-Langer inter-reflection) under "
       "any lights, and write an animated .glb with sRGB vertex colours (and PNG renders).");
   options->in.add_to(*cmd);
-  cmd->add_option("-o,--output", options->output, "output .glb (with --relight: OUT_<setup>.glb per setup)")
+  cmd->add_option("-o,--output", options->output,
+                  "output .glb (with --relight: OUT_<setup>.glb per setup); - for standard output")
       ->required();
   add_light_option(*cmd, options->light_specs, "Default: sky:1");
   cmd->add_option(
@@ -340,7 +352,9 @@ void register_shade_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--no-interreflection", options->no_interreflection, "direct light only: B = rho E / pi");
   add_frames_option(*cmd, options->frames);
-  cmd->add_option("--render", options->render_dir, "also write PNG images of the shaded frames into DIR");
+  cmd->add_option("--render", options->render_dir,
+                  "also write PNG images of the shaded frames into DIR (with --relight: DIR/<setup>/), as "
+                  "frame_NNNN.png");
   cmd->add_option("--width", options->width, "image width")
       ->capture_default_str()
       ->check(CLI::Range(16, 16384));

@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/global_options.hpp"
 #include "sim_io/byte_order.hpp"
@@ -93,6 +94,7 @@ void write(const fs::path& path, const std::string& content) {
 }
 
 void run_view(const ViewOptions& options) {
+  check_outputs({}, {{"-o", options.output}});
   const std::string glb = read_bytes(options.input);
   check_glb(options.input, glb);
   const fs::path three = PLEAT_THREE_JS_DIR;

@@ -98,6 +98,15 @@ class Engine {
 };
 
 void run(const VisibilityOptions& options) {
+  together([&] {
+    if (World::root())
+      check_outputs(
+          {{"-o", options.output},
+           {"--stats", options.stats},
+           {"--timings", options.timings},
+           {"--cones", options.cones, /*stdout_allowed=*/false}},  // its frame table is written last
+          {{"--checkpoint", options.chunking.checkpoint}});
+  });
   const bool with_cones = !options.cones.empty();
   const ConeEncoding encoding =
       options.cones_encoding == "compact" ? ConeEncoding::Compact : ConeEncoding::Exact;
@@ -231,7 +240,9 @@ void register_visibility_command(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("visibility", "per-vertex sky visibility A (front, back) of every frame, as CSV");
   options->in.add_to(*cmd);
-  cmd->add_option("-o,--output", options->output, "the visibility CSV (frame,vertex,front,back)")->required();
+  cmd->add_option("-o,--output", options->output,
+                  "the visibility CSV (frame,vertex,front,back); - for standard output")
+      ->required();
   cmd->add_option("--engine", options->engine,
                   "kinetic (default: slices kept alive and repaired between frames) or static (full "
                   "recompute per frame); both give the same output")
