@@ -14,6 +14,7 @@
 #include "shading/cone_cache.hpp"
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/mesh_sequence.hpp"
+#include "sim_io/self_intersections.hpp"
 #include "sim_io/visibility_csv.hpp"
 #include "static_core/visibility.hpp"
 
@@ -119,7 +120,16 @@ void run(const VisibilityOptions& options) {
   // The plan is made from the first requested frame, as by one process, on rank 0, and sent to the others.
   SlicingPlan plan;
   together([&] {
-    if (World::root()) plan = options.plan.make(topology, sequence.frame(first));
+    if (!World::root()) return;
+    const Frame frame = sequence.frame(first);
+    plan = options.plan.make(topology, frame);
+    // The algorithm assumes a surface free of self-intersections: a warning, not a failure (later frames are
+    // not checked; `pleat info --check-intersections` checks them all).
+    if (const std::size_t pairs = self_intersecting_faces(topology, frame).size(); pairs > 0)
+      std::cerr << "pleat: warning: frame " << first << " self-intersects (" << pairs
+                << (pairs == 1 ? " face pair" : " face pairs")
+                << "); visibility near the intersections is unreliable (`pleat info "
+                   "--check-intersections` lists every frame's)\n";
   });
   broadcast_plan(plan);
   const double planned_at = World::seconds();

@@ -1,6 +1,6 @@
 // A predictable command line (issue 38): exit status 0 / 1 / 2 on every subcommand, written in every --help;
 // a misspelt option or subcommand gets the nearest name; --version; the global options -q, --progress and
-// --threads before or after the subcommand.
+// --threads before or after the subcommand; `visibility` warns when the first frame self-intersects.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "sim_io/obj_format.hpp"
+#include "sim_io/pc2_format.hpp"
 #include "test_support.hpp"
 
 namespace pleat {
@@ -206,6 +208,30 @@ TEST(CommandLine, ProgressLinesForLogs) {
   EXPECT_EQ(quiet_lines.output.find("wrote"), std::string::npos) << quiet_lines.output;
   EXPECT_NE(quiet_lines.output.find("pleat: generate 20/20 frames 100.0% "), std::string::npos)
       << quiet_lines.output;
+}
+
+TEST(CommandLine, VisibilityWarnsWhenTheFirstFrameSelfIntersects) {
+  // Two triangles piercing each other in frame 1 only.
+  test::TempDir dir;
+  const MeshTopology t{6, {{0, 1, 2}, {3, 4, 5}}};
+  const std::vector<glm::dvec3> apart = {{0, 0, 0},     {2, 0, 0},     {0, 2, 0},
+                                         {0.5, 0.5, 1}, {0.5, 0.5, 2}, {1, 0.5, 1}};
+  std::vector<glm::dvec3> pierced = apart;
+  pierced[3].z = -1;
+  write_obj(dir / "x.obj", t, apart);
+  write_pc2(dir / "x.pc2", {apart, pierced}, 0.0, 1.0);
+  const std::string input =
+      (dir / "x.obj").string() + " --cache " + (dir / "x.pc2").string() + " -o " + (dir / "v.csv").string();
+  const std::string warning = "pleat: warning: frame 1 self-intersects (1 face pair)";
+  for (const std::string extra : {"", " -q"}) {  // a warning stays with -q
+    const auto result = run_pleat("visibility " + input + " --frames 1:2" + extra);
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find(warning), std::string::npos) << result.output;
+    EXPECT_TRUE(fs::exists(dir / "v.csv"));
+  }
+  const auto clean = run_pleat("visibility " + input + " --frames 0:2");  // only the first frame is checked
+  EXPECT_EQ(clean.exit_code, 0) << clean.output;
+  EXPECT_EQ(clean.output.find("warning: frame"), std::string::npos) << clean.output;
 }
 
 }  // namespace
