@@ -59,17 +59,22 @@ TEST(OutputSafety, WritesThroughSymbolicLinks) {
   EXPECT_EQ(names_in(dir / "real"), (std::vector<std::string>{"c.glb", "v.csv"}));
 }
 
+// System paths are reached through links of the test's own (dir/null.csv -> /dev/null, dir/stdout.csv ->
+// /dev/stdout): pleat refuses them as it refuses the paths themselves, and a pleat that did not would replace
+// the test's link, not the system's device or link (as root, it can).
+
 TEST(OutputSafety, RefusesFifosDevicesAndDirectoriesBeforeAnyWork) {
   test::TempDir dir;
   const std::string input = small_curtain(dir.path());
   ASSERT_EQ(::mkfifo((dir / "fifo.csv").c_str(), 0644), 0);
   fs::create_directories(dir / "directory.csv");
   fs::create_symlink("fifo.csv", dir / "link.csv");
+  fs::create_symlink("/dev/null", dir / "null.csv");
   const std::vector<std::string> before = names_in(dir.path());
   const std::pair<std::string, std::string> targets[] = {{(dir / "fifo.csv").string(), "a FIFO"},
                                                          {(dir / "link.csv").string(), "a FIFO"},
                                                          {(dir / "directory.csv").string(), "a directory"},
-                                                         {"/dev/null", "a character device"}};
+                                                         {(dir / "null.csv").string(), "a character device"}};
   for (const auto& [target, kind] : targets) {
     SCOPED_TRACE(target);
     const std::string expected =
@@ -93,7 +98,7 @@ TEST(OutputSafety, RefusesFifosDevicesAndDirectoriesBeforeAnyWork) {
   EXPECT_TRUE(fs::is_symlink(dir / "link.csv"));
   EXPECT_TRUE(fs::is_directory(dir / "directory.csv"));
   EXPECT_TRUE(fs::is_empty(dir / "directory.csv"));
-  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_TRUE(fs::is_symlink(dir / "null.csv"));
   EXPECT_EQ(names_in(dir.path()), before);
   // generate: OUT.obj and the OUT.pc2 beside it; view and --render: directories.
   fs::create_directories(dir / "g.pc2");
@@ -107,18 +112,18 @@ TEST(OutputSafety, RefusesFifosDevicesAndDirectoriesBeforeAnyWork) {
   EXPECT_NE(view.output.find("c.obj: not a directory"), std::string::npos) << view.output;
 }
 
-TEST(OutputSafety, DevStdoutOnAPipeIsRefusedAndStaysALink) {
+TEST(OutputSafety, StandardOutputOnAPipeIsRefused) {
   // Run as root, pleat once replaced the system's /dev/stdout symbolic link with a regular file. Here stdout
-  // is the pipe run_pleat reads.
-  const bool was_link = fs::is_symlink("/dev/stdout");
+  // is the pipe run_pleat reads: /dev/stdout leads to a FIFO.
   test::TempDir dir;
   const std::string input = small_curtain(dir.path());
-  const auto result = test::run_pleat("visibility " + input + " -o /dev/stdout");
+  fs::create_symlink("/dev/stdout", dir / "stdout.csv");
+  const auto result = test::run_pleat("visibility " + input + " -o " + (dir / "stdout.csv").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.output.find("/dev/stdout: not a regular file (a FIFO)"), std::string::npos)
+  EXPECT_NE(result.output.find("stdout.csv: not a regular file (a FIFO)"), std::string::npos)
       << result.output;
   EXPECT_NE(result.output.find("give -"), std::string::npos) << result.output;
-  EXPECT_EQ(fs::is_symlink("/dev/stdout"), was_link);
+  EXPECT_TRUE(fs::is_symlink(dir / "stdout.csv"));
 }
 
 TEST(OutputSafety, DashWritesToStandardOutput) {
