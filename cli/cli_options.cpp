@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "cli/global_options.hpp"
+#include "sim_io/atomic_file.hpp"
 #include "sim_io/plan_file.hpp"
 
 namespace pleat::cli {
@@ -39,7 +41,42 @@ void parse_frame_range(const std::string& text, std::size_t count, std::size_t& 
 }
 
 void create_parent_directory(const std::filesystem::path& output) {
-  if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
+  if (output == kStandardOutput) return;
+  const std::filesystem::path target = resolve_output_target(output);
+  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
+}
+
+void check_outputs(const std::vector<OutputFile>& files,
+                   const std::vector<std::pair<std::string, std::string>>& directories) {
+  namespace fs = std::filesystem;
+  std::vector<std::pair<fs::path, std::string>> seen;  // resolved target, option
+  for (const OutputFile& file : files) {
+    if (file.path.empty()) continue;
+    if (file.path == kStandardOutput) {
+      if (!file.stdout_allowed)
+        throw std::invalid_argument(file.option + " -: this output cannot be streamed to standard output");
+      report_to_stderr();
+    }
+    const fs::path target = resolve_output_target(file.path);
+    const fs::path key = target == kStandardOutput ? target : fs::weakly_canonical(fs::absolute(target));
+    for (const auto& [other, option] : seen) {
+      if (other != key) continue;
+      if (key == kStandardOutput)
+        throw std::invalid_argument(option + " and " + file.option +
+                                    " both stream to standard output (-); give one of them a file");
+      throw std::invalid_argument(option + " and " + file.option + " name the same file (" + file.path +
+                                  "); give each output its own");
+    }
+    seen.emplace_back(key, file.option);
+  }
+  for (const auto& [option, path] : directories) {
+    if (path.empty()) continue;
+    if (path == kStandardOutput) throw std::invalid_argument(option + " -: this output is a directory");
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    if (fs::exists(status) && !fs::is_directory(status))
+      throw OutputRefused(path, "not a directory; " + option + " writes files into a directory");
+  }
 }
 
 void InputOptions::add_to(CLI::App& command) {

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim_io/mesh_sequence.hpp"
@@ -42,8 +43,24 @@ struct ChunkOptions {
   void add_to(CLI::App& command);
 };
 
-/// Creates the directory an output file goes into, if missing (outputs are written atomically inside it).
+/// Creates the directory an output file goes into (that of the file its symbolic links lead to), if missing;
+/// nothing for "-" (standard output).
 void create_parent_directory(const std::filesystem::path& output);
+
+/// One output file of a subcommand: the option naming it, its path (empty: not asked for), and whether "-"
+/// (standard output) may stand for it.
+struct OutputFile {
+  std::string option;
+  std::string path;
+  bool stdout_allowed = true;
+};
+
+/// Refuses, before any work, with a usage error (exit status 2): an output file whose path is not a regular
+/// file after following links (sim_io/atomic_file.hpp's resolve_output_target), "-" where it is not allowed
+/// or for two outputs, one file named by two outputs, and an output directory that exists and is not a
+/// directory. When an output is "-", moves the lines saying what was written to stderr (report_to_stderr()).
+void check_outputs(const std::vector<OutputFile>& files,
+                   const std::vector<std::pair<std::string, std::string>>& directories = {});
 
 /// How the slicing planes are placed (docs/method.md §2). The plan is made once for the whole sequence, never
 /// from the requested frames: orientations and spacing from the sequence's first frame, the world-anchored

@@ -3,10 +3,10 @@
 // Embree path-traced reference of the same frame, lights and albedo (shading/path_trace.hpp, per vertex and
 // side, in the same units), both tone-mapped alike and rendered from the same camera, and (right) the
 // per-vertex absolute difference of their luminances as a colour map with a legend. One summary line on
-// stdout: the mean and 95th percentile of |cone - reference| over every vertex and both sides, relative to
-// the reference's mean luminance, the mean signed difference (bias), and the reference's own Monte-Carlo
-// noise (estimated from two independent halves of the paths, so the floor under which a difference means
-// nothing is printed beside it).
+// stdout (on stderr when the image goes to standard output; none with --quiet): the mean and 95th percentile
+// of |cone - reference| over every vertex and both sides, relative to the reference's mean luminance, the
+// mean signed difference (bias), and the reference's own Monte-Carlo noise (estimated from two independent
+// halves of the paths, so the floor under which a difference means nothing is printed beside it).
 //
 // Luminance: Rec. 709 weights of linear RGB radiance (the tone mapping's Y). Cost: one compute_visibility,
 // one shade_frame, and paths x (mean depth ~ 1/(1 - albedo)) rays per vertex and side.
@@ -26,11 +26,13 @@
 
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/global_options.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
 #include "shading/path_trace.hpp"
 #include "shading/render.hpp"
 #include "shading/shade.hpp"
+#include "sim_io/atomic_file.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/visibility.hpp"
 
@@ -53,7 +55,6 @@ struct CompareOptions {
   std::string camera;
   std::string up = "0,1,0";
   PlanOptions plan;
-  bool quiet = false;
 };
 
 double luminance(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
@@ -129,11 +130,12 @@ double percentile(std::vector<double> values, double q) {
 }
 
 void run_compare(const CompareOptions& options) {
+  check_outputs({{"-o", options.output}});
   Lighting lighting;
   if (!options.lights_file.empty()) lighting = load_lighting(options.lights_file);
   for (const std::string& spec : options.light_specs) add_light_spec(lighting, spec);
   if (lighting.empty()) throw std::invalid_argument("give at least one --light (or --lights FILE)");
-  if (std::filesystem::path(options.output).extension() != ".png")
+  if (options.output != kStandardOutput && std::filesystem::path(options.output).extension() != ".png")
     throw std::invalid_argument("-o: the comparison is a .png image, got '" + options.output + "'");
 
   const MeshSequence sequence = load_sequence(options.in.input, options.in.cache);
@@ -240,7 +242,7 @@ void run_compare(const CompareOptions& options) {
   create_parent_directory(output);
   write_png(output, side_by_side(panels));
 
-  if (!options.quiet) {
+  {
     const double ms = 1e3;
     char line[512];
     std::snprintf(
@@ -252,7 +254,7 @@ void run_compare(const CompareOptions& options) {
         100 * signed_sum / count / scale, 100 * noise / scale, 2 * trace.paths_per_vertex,
         ms * std::chrono::duration<double>(t1 - t0).count(), ms * shade_seconds,
         std::chrono::duration<double>(t3 - t2).count(), output.string().c_str());
-    std::cout << line;
+    report() << line;
   }
 }
 
@@ -270,7 +272,7 @@ void register_compare_command(CLI::App& app) {
       ->capture_default_str();
   add_light_option(*cmd, options->light_specs, "At least one (or --lights).");
   cmd->add_option("--lights", options->lights_file, "JSON lighting file (combined with --light)");
-  cmd->add_option("-o,--output", options->output, "output .png")->required();
+  cmd->add_option("-o,--output", options->output, "output .png; - for standard output")->required();
   cmd->add_option("--paths", options->paths, "path-traced samples per vertex and side")
       ->capture_default_str()
       ->check(CLI::Range(2, 1 << 20));
@@ -291,7 +293,6 @@ void register_compare_command(CLI::App& app) {
                   "ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov] (default: auto-framed 3/4 view)");
   cmd->add_option("--up", options->up, "world up for the auto-framed camera")->capture_default_str();
   options->plan.add_to(*cmd);
-  cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
   cmd->footer(
       "Examples:\n"
       "  pleat compare data/drape/drape.obj --cache data/drape/drape.pc2 --frame 60 --light "

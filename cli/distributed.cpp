@@ -20,8 +20,9 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "cli/global_options.hpp"
+#include "cli/progress.hpp"
 #include "sim_io/atomic_file.hpp"
-#include "static_core/input_error.hpp"
 
 namespace pleat::cli {
 
@@ -40,18 +41,6 @@ constexpr char kChunkEnd[8] = {'P', 'L', 'E', 'A', 'T', 'E', 'N', 'D'};
 
 void check(int status, const char* what) {
   if (status != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
-}
-
-// Rank 0 of a job whose other ranks may fail: Open MPI ends the survivors with SIGTERM, where no destructor
-// runs; remove the outputs' temporary files and say why once.
-extern "C" void on_termination(int signal) {
-  remove_uncommitted_files();
-  static const char message[] =
-      "pleat: error: the job was stopped (a rank failed or was killed); no output was written\n";
-  if (g_rank == 0) {
-    [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, message, sizeof message - 1);
-  }
-  ::_exit(128 + signal);
 }
 
 // Sends of this rank still in flight (their buffers must live until they complete).
@@ -111,8 +100,8 @@ struct ChunkHeader {
   std::uint64_t job_key, chunk_key, first, last;
 };
 
-bool progress_wanted() {
-  if (const char* forced = std::getenv("PLEAT_PROGRESS")) return std::string(forced) == "1";
+// Whether this rank's stderr is a terminal, or under mpirun its launcher's: for --progress auto.
+bool launcher_terminal() {
   if (isatty(STDERR_FILENO) != 0) return true;
   if (!g_mpi) return false;
   // Under mpirun a rank's stderr is a pipe to its launcher (mpirun itself on its node): show progress when
@@ -136,10 +125,6 @@ void World::init(int& argc, char**& argv) {
   g_mpi = true;
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
-  if (g_size > 1) {
-    std::signal(SIGTERM, on_termination);
-    std::signal(SIGINT, on_termination);
-  }
 }
 
 void World::finalize() {
@@ -174,10 +159,8 @@ void agree(std::exception_ptr error) {
       std::rethrow_exception(error);
     } catch (const JobError& e) {
       message = e.what(), code = e.code();
-    } catch (const InputError& e) {
-      message = e.what(), code = 2;
     } catch (const std::exception& e) {
-      message = e.what(), code = 1;
+      message = e.what(), code = exit_status_of(e);
     } catch (...) {
       message = "unknown error";
     }
@@ -488,24 +471,26 @@ void maybe_kill_for_test() {
 
 namespace {
 
-// Rank 0's view of the progress: frames done per rank, printed as one line.
+// Rank 0's view of the progress: frames done per rank, shown as one bar or line (cli/progress.hpp) with the
+// counts of each rank.
 class RankProgress {
  public:
   // Collective: rank 0 decides whether progress is shown, and every rank learns it (the other ranks then
   // send rank 0 one message per frame, which it receives to the last).
-  RankProgress(std::string what, const ChunkJob& job)
-      : m_what(std::move(what)), m_total(g_size, 0), m_done(g_size, 0) {
-    int enabled = g_rank == 0 && progress_wanted() ? 1 : 0;
+  RankProgress(std::string what, const ChunkJob& job) : m_total(g_size, 0), m_done(g_size, 0) {
+    const ProgressMode mode = g_rank == 0 ? progress_mode(launcher_terminal()) : ProgressMode::None;
+    int enabled = mode != ProgressMode::None ? 1 : 0;
     if (g_size > 1) check(MPI_Bcast(&enabled, 1, MPI_INT, 0, MPI_COMM_WORLD), "Bcast");
     m_enabled = enabled != 0;
     for (std::size_t c = 0; c + 1 < job.bounds.size(); ++c)
       if (job.owner[c] >= 0) m_total[std::size_t(job.owner[c])] += job.bounds[c + 1] - job.bounds[c];
-    m_start = std::chrono::steady_clock::now();
+    m_line.emplace(std::move(what), std::accumulate(m_total.begin(), m_total.end(), std::size_t(0)), "frames",
+                   mode);
   }
   bool enabled() const { return m_enabled; }
   void set(int rank, std::size_t done) {
     m_done[std::size_t(rank)] = done;
-    print(false);
+    print();
   }
   void drain(bool wait = false) {  // progress messages of the other ranks; with `wait`, all of them
     if (!m_enabled || g_size == 1) return;
@@ -519,41 +504,23 @@ class RankProgress {
         m_done[std::size_t(r)] = done;
       }
     }
-    print(false);
+    print();
   }
-  void finish() {
-    if (m_enabled && m_printed) {
-      print(true);
-      std::fprintf(stderr, "\n");
-    }
-    m_printed = false;
-  }
+  void finish() { m_line->finish(); }
 
  private:
-  void print(bool force) {
+  void print() {
     if (!m_enabled) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (!force && now - m_last < std::chrono::milliseconds(200)) return;
-    m_last = now;
-    const std::size_t total = std::accumulate(m_total.begin(), m_total.end(), std::size_t(0));
-    const std::size_t done = std::accumulate(m_done.begin(), m_done.end(), std::size_t(0));
-    const double elapsed = std::chrono::duration<double>(now - m_start).count();
-    std::string line = "\r" + m_what + " " + std::to_string(done) + "/" + std::to_string(total);
-    if (done > 0)
-      line += "  " + std::to_string(int(elapsed * double(total - done) / double(done))) + " s left";
+    std::string ranks;
     if (g_size > 1)
       for (int r = 0; r < g_size; ++r)
-        line += "  r" + std::to_string(r) + " " + std::to_string(m_done[std::size_t(r)]) + "/" +
-                std::to_string(m_total[std::size_t(r)]);
-    std::fprintf(stderr, "%s   ", line.c_str());
-    std::fflush(stderr);
-    m_printed = true;
+        ranks += "  r" + std::to_string(r) + " " + std::to_string(m_done[std::size_t(r)]) + "/" +
+                 std::to_string(m_total[std::size_t(r)]);
+    m_line->set(std::accumulate(m_done.begin(), m_done.end(), std::size_t(0)), ranks);
   }
-  std::string m_what;
   bool m_enabled;
-  bool m_printed = false;
   std::vector<std::size_t> m_total, m_done;
-  std::chrono::steady_clock::time_point m_start, m_last{};
+  std::optional<Progress> m_line;
 };
 
 // Writes one chunk file: header, frame records, end marker.

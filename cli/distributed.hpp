@@ -10,7 +10,8 @@
 //    in the environment); otherwise a world of one rank that never calls MPI: without mpirun nothing changes.
 //  - JobError and agree(): errors every rank learns about (bad input), reported once by rank 0. An error only
 //    one rank meets (or a rank killed) aborts the whole job (MPI_Abort / Open MPI's own kill); rank 0 then
-//    removes its temporary output files from its SIGTERM handler, so no partial output is left.
+//    removes its temporary output files from its termination handler (cli/termination.hpp), so no partial
+//    output is left.
 //  - load_shared(): the loading pass (validation and welding) split between the ranks, so no rank reads the
 //    whole cache, and a 64-bit fingerprint of every frame's positions for the checkpoint.
 //  - split_by_cost() / assign_chunks(): contiguous chunks of nearly equal measured cost, and contiguous runs
@@ -201,7 +202,8 @@ ChunkJob plan_chunks(const SharedSequence& input, std::size_t first, std::size_t
 
 /// Runs the job: this rank computes its chunks; rank 0 receives every frame's bytes (its own, the other
 /// ranks', the checkpoint's) and passes them to `consume` in frame order, keeping finished chunks in the
-/// checkpoint. Progress per rank and overall on rank 0's stderr when it (or mpirun's output) is a terminal.
+/// checkpoint. Progress per rank and overall on rank 0's stderr as --progress says (auto: when rank 0's
+/// stderr, or mpirun's, is a terminal).
 void run_chunks(const ChunkJob& job, const std::string& what, const ComputeChunk& compute,
                 const ConsumeFrame& consume);
 

@@ -1,7 +1,8 @@
 // `pleat generate KIND -o OUT.obj`: writes an analytic animated cloth (sim_io/cloth_generators.hpp) as an
 // OBJ of frame 0 plus a PC2 point cache of every frame beside it (OUT with the extension .pc2), the pair
-// `pleat info/visibility/shade OUT.obj --cache OUT.pc2` reads back. Frames are generated one at a time;
-// the PC2 writer takes them all, so memory is about 24 bytes x vertices x frames.
+// `pleat info/visibility/shade OUT.obj --cache OUT.pc2` reads back. OUT.obj, which the user named, is
+// replaced like any output; an existing OUT.pc2, which the user did not name, only with --force. Frames are
+// generated one at a time; the PC2 writer takes them all, so memory is about 24 bytes x vertices x frames.
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -10,7 +11,9 @@
 
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/global_options.hpp"
 #include "cli/progress.hpp"
+#include "sim_io/atomic_file.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/obj_format.hpp"
@@ -23,6 +26,7 @@ namespace {
 struct GenerateOptions {
   std::string kind;
   std::string output;
+  bool force = false;
   GeneratorParams params;
 };
 
@@ -36,19 +40,28 @@ std::string kind_list() {
 void run_generate(const GenerateOptions& options) {
   const std::optional<ClothKind> kind = parse_cloth_kind(options.kind);
   if (!kind)
-    throw std::runtime_error("unknown cloth kind '" + options.kind + "' (choose " + kind_list() + ")");
+    throw std::invalid_argument("unknown cloth kind '" + options.kind + "' (choose " + kind_list() + ")");
   const std::filesystem::path obj_path = options.output;
+  if (options.output == kStandardOutput)
+    throw std::invalid_argument(
+        "-o -: generate writes two files, OUT.obj and OUT.pc2 beside it; give OUT.obj");
   if (obj_path.extension() != ".obj")
-    throw std::runtime_error("output '" + options.output +
-                             "' must end in .obj (the cache is written beside it, as .pc2)");
+    throw std::invalid_argument("output '" + options.output +
+                                "' must end in .obj (the cache is written beside it, as .pc2)");
   std::filesystem::path pc2_path = obj_path;
   pc2_path.replace_extension(".pc2");
+  check_outputs({{"-o", obj_path.string(), /*stdout_allowed=*/false},
+                 {"-o's cache", pc2_path.string(), /*stdout_allowed=*/false}});
+  if (!options.force && std::filesystem::exists(std::filesystem::symlink_status(pc2_path)))
+    throw OutputRefused(pc2_path, "exists, and generate would replace it with the cache of " +
+                                      obj_path.string() +
+                                      "; pass --force to replace it, or choose another -o");
 
   const ClothGenerator generator(*kind, options.params);  // validates the parameters
   create_parent_directory(obj_path);
   std::vector<std::vector<glm::dvec3>> frames;
   frames.reserve(generator.num_frames());
-  Progress progress("generating frames", generator.num_frames());
+  Progress progress("generate", generator.num_frames());
   for (std::size_t i = 0; i < generator.num_frames(); ++i) {
     frames.push_back(generator.frame(i).positions);
     progress.advance();
@@ -61,10 +74,10 @@ void run_generate(const GenerateOptions& options) {
   write_obj(obj_path, generator.topology(), frames.front());
 
   const MeshTopology& topology = generator.topology();
-  std::cout << "wrote " << obj_path.string() << " (" << cloth_kind_name(*kind) << ", "
-            << topology.num_vertices << " vertices, " << topology.triangles.size() << " triangles, frame 0)\n"
-            << "wrote " << pc2_path.string() << " (" << frames.size() << " frames at " << options.params.fps
-            << " fps, seed " << options.params.seed << ")\n";
+  report() << "wrote " << obj_path.string() << " (" << cloth_kind_name(*kind) << ", " << topology.num_vertices
+           << " vertices, " << topology.triangles.size() << " triangles, frame 0)\n"
+           << "wrote " << pc2_path.string() << " (" << frames.size() << " frames at " << options.params.fps
+           << " fps, seed " << options.params.seed << ")\n";
 }
 
 }  // namespace
@@ -79,8 +92,12 @@ void register_generate_command(CLI::App& app) {
                   "curtain (pleats deepen and relax), roll (a sheet rolls into a spiral and unrolls; alias "
                   "spiral), flag (a travelling wave), sleeve (a tube with accordion folds; alias tube)")
       ->required();
-  cmd->add_option("-o,--output", options->output, "output OBJ path; the PC2 cache goes beside it")
+  cmd->add_option("-o,--output", options->output,
+                  "OUT.obj: writes frame 0 there (replacing it) and every frame to OUT.pc2 beside it")
       ->required();
+  cmd->add_flag("--force", options->force,
+                "replace an existing OUT.pc2 (without it, generate refuses to overwrite the cache it was not "
+                "named)");
   cmd->add_option("--resolution", options->params.resolution,
                   "grid of N x N vertices (55: ~3k, 173: ~30k, 548: ~300k vertices)")
       ->capture_default_str()

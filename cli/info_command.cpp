@@ -43,8 +43,7 @@ void run_info(const InfoOptions& options) {
   const MeshSequence sequence = load_sequence(options.in.input, options.in.cache, load);
 
   std::vector<std::size_t> intersecting_pairs;  // per frame, when checked
-  Progress progress(options.check_intersections ? "checking frames" : "reading frames",
-                    sequence.num_frames());
+  Progress progress("info", sequence.num_frames());
   const MeshReport report = report_mesh(sequence, [&](std::size_t, const Frame& frame) {
     if (options.check_intersections)
       intersecting_pairs.push_back(self_intersecting_faces(sequence.topology(), frame).size());

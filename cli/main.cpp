@@ -1,18 +1,24 @@
 // pleat: per-vertex visibility cones on animated cloth, and shading from them.
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "cli/commands.hpp"
 #include "cli/distributed.hpp"
-#include "static_core/input_error.hpp"
+#include "cli/global_options.hpp"
+#include "cli/termination.hpp"
 
 namespace {
+
+using pleat::cli::World;
 
 // Under mpirun: an error every rank learnt of (JobError) is printed once by rank 0 and every rank exits with
 // its code; an error of one rank alone ends the whole job (rank 0's temporary outputs are removed).
 int fail(const std::string& message, int code, bool agreed) {
-  using pleat::cli::World;
   if (!agreed && World::distributed()) {
     std::cerr << "pleat: error: rank " << World::rank() << ": " << message << '\n';
     World::abort(code);
@@ -22,10 +28,95 @@ int fail(const std::string& message, int code, bool agreed) {
   return code;
 }
 
+// Optimal string alignment distance (Damerau-Levenshtein with adjacent transpositions, no substring edited
+// twice). O(|a| |b|).
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] != b[j - 1])});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+// The name of `names` nearest `typed` if it is near enough to be a slip (distance at most 2, or a third of
+// the length), else empty.
+std::string nearest(const std::string& typed, const std::vector<std::string>& names) {
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, typed.size() / 3) + 1;
+  for (const std::string& name : names) {
+    const std::size_t d = edit_distance(typed, name);
+    if (d < best_distance) best = name, best_distance = d;
+  }
+  return best;
+}
+
+// One line per unknown option left over by the main app or the subcommand given that is near an option name
+// of that app (the global options included), "  --spcing: did you mean --spacing?", and when no subcommand
+// was given, one for an unknown subcommand near a subcommand's name.
+std::string suggestions(const CLI::App& app, const CLI::App& command) {
+  std::string lines;
+  for (const CLI::App* parsed : {&app, &command}) {
+    if (parsed == &command && &command == &app) break;
+    std::vector<std::string> options;
+    for (const CLI::Option* option : parsed->get_options())
+      for (const std::string& name : option->get_lnames()) options.push_back(name);
+    for (const std::string& arg : parsed->remaining()) {
+      const std::size_t start = arg.find_first_not_of('-');
+      if (start == 0 || start == std::string::npos || arg.size() - start < 2) continue;  // a value, or -x
+      const std::size_t equals = arg.find('=');
+      const std::string typed = arg.substr(start, equals == std::string::npos ? equals : equals - start);
+      const std::string name = nearest(typed, options);
+      if (!name.empty()) lines += "  " + arg.substr(0, equals) + ": did you mean --" + name + "?\n";
+    }
+  }
+  if (&command == &app) {
+    std::vector<std::string> subcommands;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+      subcommands.push_back(sub->get_name());
+    for (const std::string& arg : app.remaining())
+      if (!arg.empty() && arg[0] != '-') {
+        const std::string name = nearest(arg, subcommands);
+        if (!name.empty()) lines += "  " + arg + ": did you mean `pleat " + name + "`?\n";
+        break;
+      }
+  }
+  return lines;
+}
+
+// A parse error: --help and --version print and exit 0; anything else is a usage error (exit status 2): what
+// is wrong, a suggestion for each misspelt option, and a pointer to --help.
+int parse_failure(const CLI::App& app, const CLI::ParseError& e) {
+  // Every rank parses the same arguments: one of them says what is wrong.
+  int code = pleat::cli::kUsage;
+  if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) {
+    code = pleat::cli::kSuccess;
+    if (World::root()) app.exit(e);
+  } else if (World::root()) {
+    const auto used = app.get_subcommands();
+    const CLI::App& command = used.empty() ? app : *used.front();
+    std::string what = e.what();
+    if (dynamic_cast<const CLI::ExtrasError*>(&e)) {  // CLI11 lists them last first
+      what = "unexpected argument(s):";
+      for (const std::string& arg : app.remaining(/*recurse=*/true)) what += " " + arg;
+    }
+    const std::string name = used.empty() ? "pleat" : "pleat " + command.get_name();
+    std::cerr << "pleat: error: " << what << '\n'
+              << suggestions(app, command) << "Run `" << name << " --help` for the options.\n";
+  }
+  World::finalize();
+  return code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  pleat::cli::World::init(argc, argv);  // MPI only when launched by mpirun
+  World::init(argc, argv);  // MPI only when launched by mpirun
+  pleat::cli::install_termination_handler();
   CLI::App app{
       "pleat — visibility cones on animated cloth (Stewart 1999, kept alive frame to frame), and shading "
       "from them.\n"};
@@ -45,20 +136,16 @@ int main(int argc, char** argv) {
   pleat::cli::register_shade_command(app);
   pleat::cli::register_compare_command(app);
   pleat::cli::register_view_command(app);
+  pleat::cli::add_global_options(app, PLEAT_VERSION);
   try {
-    app.parse(argc, argv);
+    app.parse(argc, argv);  // runs the subcommand
   } catch (const CLI::ParseError& e) {
-    // Every rank parses the same arguments: one of them says what is wrong.
-    const int code = pleat::cli::World::root() ? app.exit(e) : e.get_exit_code();
-    pleat::cli::World::finalize();
-    return code;
+    return parse_failure(app, e);
   } catch (const pleat::cli::JobError& e) {
     return fail(e.what(), e.code(), true);
-  } catch (const pleat::InputError& e) {
-    return fail(e.what(), 2, false);
   } catch (const std::exception& e) {
-    return fail(e.what(), 1, false);
+    return fail(e.what(), pleat::cli::exit_status_of(e), false);
   }
   pleat::cli::World::finalize();
-  return 0;
+  return pleat::cli::kSuccess;
 }

@@ -1,50 +1,47 @@
-// Progress on stderr for long work (done/total, rate, time remaining), only when stderr is a terminal:
-// CI logs and pipes stay quiet.
+// Progress of long work on stderr, as --progress says (cli/global_options.hpp): a bar redrawn in place
+// (done/total, rate, time left), or for logs one parseable line when another 5% is done or 10 s have passed
+// since the last line (and one at the end):
+//   pleat: visibility 37/120 frames 30.8% 2.1 frames/s eta 40 s
 #pragma once
 
 #include <unistd.h>
 
 #include <chrono>
 #include <cstddef>
-#include <cstdio>
 #include <string>
+
+#include "cli/global_options.hpp"
 
 namespace pleat::cli {
 
 class Progress {
  public:
-  Progress(std::string what, std::size_t total)
-      : m_what(std::move(what)),
-        m_total(total),
-        m_enabled(isatty(STDERR_FILENO) != 0),
-        m_start(std::chrono::steady_clock::now()) {}
+  /// `what` names the work (the subcommand), `unit` what is counted.
+  Progress(std::string what, std::size_t total, std::string unit = "frames",
+           ProgressMode mode = progress_mode(isatty(STDERR_FILENO) != 0));
   ~Progress() { finish(); }
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
 
-  void advance(std::size_t n = 1) {
-    m_done += n;
-    if (!m_enabled) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (m_done < m_total && now - m_last < std::chrono::milliseconds(200)) return;
-    m_last = now;
-    const double elapsed = std::chrono::duration<double>(now - m_start).count();
-    const double rate = elapsed > 0 ? double(m_done) / elapsed : 0.0;
-    const double remaining = rate > 0 ? double(m_total - m_done) / rate : 0.0;
-    std::fprintf(stderr, "\r%s %zu/%zu  %.1f/s  %.0f s left   ", m_what.c_str(), m_done, m_total, rate,
-                 remaining);
-    std::fflush(stderr);
-  }
-
-  void finish() {
-    if (m_enabled && !m_finished && m_done > 0) std::fprintf(stderr, "\n");
-    m_finished = true;
-  }
+  void advance(std::size_t n = 1) { set(m_done + n); }
+  /// `done` of the total are done; `detail` is appended to the bar or line (e.g. per-rank counts).
+  void set(std::size_t done, const std::string& detail = "");
+  /// Ends the bar's line, or prints the last line if it was not printed. Called once (the destructor calls
+  /// it).
+  void finish();
 
  private:
+  void print(const std::string& detail);
+
   std::string m_what;
+  std::string m_unit;
   std::size_t m_total;
+  ProgressMode m_mode;
   std::size_t m_done = 0;
-  bool m_enabled;
+  std::size_t m_printed_done = 0;  // done at the last line or bar drawn
+  bool m_printed = false;
   bool m_finished = false;
+  std::string m_detail;
   std::chrono::steady_clock::time_point m_start;
   std::chrono::steady_clock::time_point m_last{};
 };

@@ -26,11 +26,13 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/distributed.hpp"
+#include "cli/global_options.hpp"
 #include "shading/cone_cache.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
 #include "shading/render.hpp"
 #include "shading/shade.hpp"
+#include "sim_io/atomic_file.hpp"
 #include "sim_io/gltf_writer.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/slicing_plan.hpp"
@@ -59,7 +61,6 @@ struct ShadeOptions {
   int render_every = 1;
   int turntable = 0;
   PlanOptions plan;
-  bool quiet = false;
   ChunkOptions chunking;
 };
 
@@ -113,6 +114,16 @@ void run_shade(const ShadeOptions& options) {
   std::vector<Lighting> setups;
   together([&] { setups = gather_lightings(options); });
   const bool relight = !options.relight_file.empty();
+  together([&] {
+    if (!World::root()) return;
+    std::vector<OutputFile> files;
+    if (options.output == kStandardOutput)
+      files.push_back({"-o", options.output, /*stdout_allowed=*/!relight});  // --relight: one file per setup
+    else
+      for (const Lighting& setup : setups)
+        files.push_back({"-o", relight ? setup_output(options.output, setup.name).string() : options.output});
+    check_outputs(files, {{"--render", options.render_dir}, {"--checkpoint", options.chunking.checkpoint}});
+  });
   const SharedSequence input = load_shared(options.in.input, options.in.cache);
   const MeshSequence& sequence = input.sequence;
   const MeshTopology& topology = sequence.topology();
@@ -281,11 +292,11 @@ void run_shade(const ShadeOptions& options) {
       writers[s]->add_frame(positions, front, back, sides[0], sides[1]);
     }
   };
-  run_chunks(job, "shading frames", compute, consume);
+  run_chunks(job, "shade", compute, consume);
   if (!World::root()) return;
   for (auto& writer : writers) writer->finish();
 
-  if (!options.quiet) {
+  {
     std::ostringstream out;
     const double n = double(frame_ids.size());
     out << "shaded " << frame_ids.size() << " frames of " << topology.num_vertices << " vertices: cones "
@@ -302,7 +313,7 @@ void run_shade(const ShadeOptions& options) {
       std::istringstream lights(setups[s].describe());
       for (std::string line; std::getline(lights, line);) out << "  " << line << '\n';
     }
-    std::cout << out.str();
+    report() << out.str();
   }
 }
 
@@ -315,7 +326,8 @@ void register_shade_command(CLI::App& app) {
       "Shade an animated cloth from its visibility cones (both sides, Stewart-Langer inter-reflection) under "
       "any lights, and write an animated .glb with sRGB vertex colours (and PNG renders).");
   options->in.add_to(*cmd);
-  cmd->add_option("-o,--output", options->output, "output .glb (with --relight: OUT_<setup>.glb per setup)")
+  cmd->add_option("-o,--output", options->output,
+                  "output .glb (with --relight: OUT_<setup>.glb per setup); - for standard output")
       ->required();
   add_light_option(*cmd, options->light_specs, "Default: sky:1");
   cmd->add_option(
@@ -339,7 +351,9 @@ void register_shade_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--no-interreflection", options->no_interreflection, "direct light only: B = rho E / pi");
   add_frames_option(*cmd, options->frames);
-  cmd->add_option("--render", options->render_dir, "also write PNG images of the shaded frames into DIR");
+  cmd->add_option("--render", options->render_dir,
+                  "also write PNG images of the shaded frames into DIR (with --relight: DIR/<setup>/), as "
+                  "frame_NNNN.png");
   cmd->add_option("--width", options->width, "image width")
       ->capture_default_str()
       ->check(CLI::Range(16, 16384));
@@ -358,7 +372,6 @@ void register_shade_command(CLI::App& app) {
                   "with a single frame: N images turning about the up axis")
       ->check(CLI::NonNegativeNumber);
   options->plan.add_to(*cmd);
-  cmd->add_flag("-q,--quiet", options->quiet, "no summary on stdout");
   options->chunking.add_to(*cmd);
   cmd->footer(
       "Examples:\n"

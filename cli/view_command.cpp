@@ -16,7 +16,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/global_options.hpp"
 #include "sim_io/byte_order.hpp"
 #include "static_core/input_error.hpp"
 
@@ -92,6 +94,7 @@ void write(const fs::path& path, const std::string& content) {
 }
 
 void run_view(const ViewOptions& options) {
+  check_outputs({}, {{"-o", options.output}});
   const std::string glb = read_bytes(options.input);
   check_glb(options.input, glb);
   const fs::path three = PLEAT_THREE_JS_DIR;
@@ -125,9 +128,9 @@ void run_view(const ViewOptions& options) {
   for (const char* name :
        {"three.min.js", "GLTFLoader.js", "OrbitControls.js", "scene.js", "viewer.js", "index.html"})
     fs::rename(staging / name, dir / name);
-  std::cout << "wrote " << (dir / "index.html").string()
-            << ": open it in a browser (file:// works), or serve it: python3 -m http.server -d "
-            << dir.string() << "\n";
+  report() << "wrote " << (dir / "index.html").string()
+           << ": open it in a browser (file:// works), or serve it: python3 -m http.server -d "
+           << dir.string() << "\n";
 }
 
 }  // namespace

@@ -9,10 +9,12 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/distributed.hpp"
+#include "cli/global_options.hpp"
 #include "kinetic/kinetic_visibility.hpp"
 #include "shading/cone_cache.hpp"
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/mesh_sequence.hpp"
+#include "sim_io/self_intersections.hpp"
 #include "sim_io/visibility_csv.hpp"
 #include "static_core/visibility.hpp"
 
@@ -97,6 +99,15 @@ class Engine {
 };
 
 void run(const VisibilityOptions& options) {
+  together([&] {
+    if (World::root())
+      check_outputs(
+          {{"-o", options.output},
+           {"--stats", options.stats},
+           {"--timings", options.timings},
+           {"--cones", options.cones, /*stdout_allowed=*/false}},  // its frame table is written last
+          {{"--checkpoint", options.chunking.checkpoint}});
+  });
   const bool with_cones = !options.cones.empty();
   const ConeEncoding encoding =
       options.cones_encoding == "compact" ? ConeEncoding::Compact : ConeEncoding::Exact;
@@ -110,7 +121,16 @@ void run(const VisibilityOptions& options) {
   // others.
   SlicingPlan plan;
   together([&] {
-    if (World::root()) plan = options.plan.make(sequence);
+    if (!World::root()) return;
+    plan = options.plan.make(sequence);
+    // The algorithm assumes a surface free of self-intersections: a warning, not a failure (later frames are
+    // not checked; `pleat info --check-intersections` checks them all).
+    const Frame frame = sequence.frame(first);
+    if (const std::size_t pairs = self_intersecting_faces(topology, frame).size(); pairs > 0)
+      std::cerr << "pleat: warning: frame " << first << " self-intersects (" << pairs
+                << (pairs == 1 ? " face pair" : " face pairs")
+                << "); visibility near the intersections is unreliable (`pleat info "
+                   "--check-intersections` lists every frame's)\n";
   });
   broadcast_plan(plan);
   const double planned_at = World::seconds();
@@ -210,16 +230,16 @@ void run(const VisibilityOptions& options) {
   if (!options.timings.empty()) write_file_atomically(options.timings, timings.dump(2) + "\n");
   if (cones) cones->commit();
   csv->commit();  // last: the CSV exists only when every other output was written
-  std::cout << "wrote " << options.output << ": " << (last - first) << " frames x "
-            << sequence.num_input_vertices() << " vertices (" << plan.planes.size()
-            << " planes: " << options.plan.describe() << ")\n";
+  report() << "wrote " << options.output << ": " << (last - first) << " frames x "
+           << sequence.num_input_vertices() << " vertices (" << plan.planes.size()
+           << " planes: " << options.plan.describe() << ")\n";
   if (job.bounds.size() > 2 || World::distributed())
-    std::cout << "  " << job.bounds.size() - 1 << " chunks over " << World::size() << " ranks"
-              << (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "")
-              << "\n";
-  if (cones) std::cout << "wrote " << options.cones << ": the 3D cones of every frame\n";
+    report() << "  " << job.bounds.size() - 1 << " chunks over " << World::size() << " ranks"
+             << (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "")
+             << "\n";
+  if (cones) report() << "wrote " << options.cones << ": the 3D cones of every frame\n";
   if (crossing_frames > 0)
-    std::cout << "warning: chains cross in " << crossing_frames
+    std::cerr << "pleat: warning: chains cross in " << crossing_frames
               << " frames (the surface self-intersects there); crossing points were inserted and counted in "
                  "--stats\n";
 }
@@ -231,7 +251,9 @@ void register_visibility_command(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("visibility", "per-vertex sky visibility A (front, back) of every frame, as CSV");
   options->in.add_to(*cmd);
-  cmd->add_option("-o,--output", options->output, "the visibility CSV (frame,vertex,front,back)")->required();
+  cmd->add_option("-o,--output", options->output,
+                  "the visibility CSV (frame,vertex,front,back); - for standard output")
+      ->required();
   cmd->add_option("--engine", options->engine,
                   "kinetic (default: slices kept alive and repaired between frames) or static (full "
                   "recompute per frame); both give the same output")

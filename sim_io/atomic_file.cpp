@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -67,6 +68,70 @@ void unregister_temporary(int slot) {
   if (slot >= 0) g_temporaries[slot].used.store(false);
 }
 
+// Refuses `path` (as given) when what it leads to exists and is not a regular file.
+void refuse_unless_regular(const std::filesystem::path& path, const std::filesystem::file_status& status) {
+  namespace fs = std::filesystem;
+  if (!fs::exists(status) || fs::is_regular_file(status)) return;
+  std::string kind = "not a regular file";
+  switch (status.type()) {
+    case fs::file_type::directory:
+      kind = "a directory";
+      break;
+    case fs::file_type::fifo:
+      kind = "a FIFO";
+      break;
+    case fs::file_type::socket:
+      kind = "a socket";
+      break;
+    case fs::file_type::character:
+      kind = "a character device";
+      break;
+    case fs::file_type::block:
+      kind = "a block device";
+      break;
+    case fs::file_type::symlink:
+      kind = "a symbolic link made while pleat was writing";
+      break;
+    default:
+      break;
+  }
+  std::string what =
+      "not a regular file (" + kind + "); pleat writes outputs atomically and does not replace it";
+  if (status.type() == fs::file_type::fifo || status.type() == fs::file_type::character)
+    what += " (to write to standard output, give -)";
+  throw OutputRefused(path, what);
+}
+
+// Standard output (file descriptor 1) behind a buffer of its own; ::write is retried on EINTR and short
+// writes. Nothing is written on destruction: an output abandoned before commit() is not completed.
+class StandardOutputBuffer : public std::streambuf {
+ public:
+  StandardOutputBuffer() { setp(m_data, m_data + sizeof m_data); }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (!drain()) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return drain() ? 0 : -1; }
+
+ private:
+  bool drain() {
+    for (const char* p = pbase(); p < pptr();) {
+      const ssize_t n = ::write(STDOUT_FILENO, p, std::size_t(pptr() - p));
+      if (n < 0 && errno != EINTR) return false;
+      if (n > 0) p += n;
+    }
+    setp(m_data, m_data + sizeof m_data);
+    return true;
+  }
+  char m_data[1 << 16];
+};
+
 }  // namespace
 
 void remove_uncommitted_files() noexcept {
@@ -74,37 +139,79 @@ void remove_uncommitted_files() noexcept {
     if (slot.used.load()) ::unlink(slot.path);
 }
 
-AtomicFile::AtomicFile(std::filesystem::path path) : m_path(std::move(path)) {
+std::filesystem::path resolve_output_target(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  if (path == kStandardOutput) return path;
+  // What the kernel finds at the path, links followed (it also follows /proc's links to pipes and terminals,
+  // which have no path of their own).
+  std::error_code ec;
+  const fs::file_status found = fs::status(path, ec);
+  if (ec.value() == ELOOP) throw OutputRefused(path, "too many levels of symbolic links");
+  refuse_unless_regular(path, found);
+  // The file the link chain names, read link by link (a dangling link names the file to create).
+  fs::path target = path;
+  for (int links = 0; fs::is_symlink(fs::symlink_status(target, ec)); ++links) {
+    if (links == 40) throw OutputRefused(path, "too many levels of symbolic links");
+    const fs::path next = fs::read_symlink(target, ec);
+    if (ec)
+      throw OutputRefused(path, "cannot read the symbolic link " + target.string() + ": " + ec.message());
+    target = next.is_absolute() ? next : target.parent_path() / next;
+  }
+  const fs::file_status named = fs::symlink_status(target, ec);
+  refuse_unless_regular(path, named);
+  if (fs::exists(found) && !fs::exists(named))
+    throw OutputRefused(path,
+                        "its symbolic links lead to no file pleat can replace (" + target.string() + ")");
+  return target;
+}
+
+AtomicFile::AtomicFile(std::filesystem::path path) : m_path(std::move(path)), m_out(nullptr) {
   if (m_path.empty() || m_path.filename().empty()) throw write_error(m_path, "no file name");
-  m_temporary = make_temporary_sibling(m_path);
-  m_out.open(m_temporary, std::ios::binary | std::ios::trunc);
-  if (!m_out) {
+  m_target = resolve_output_target(m_path);
+  if (m_target == kStandardOutput) {
+    std::fflush(stdout);  // anything already on standard output goes first
+    m_buffer = std::make_unique<StandardOutputBuffer>();
+    m_out.rdbuf(m_buffer.get());
+    return;
+  }
+  m_temporary = make_temporary_sibling(m_target);
+  m_slot = register_temporary(m_temporary);
+  auto file = std::make_unique<std::filebuf>();
+  if (!file->open(m_temporary, std::ios::out | std::ios::binary | std::ios::trunc)) {
     std::error_code ignored;
     std::filesystem::remove(m_temporary, ignored);
+    unregister_temporary(m_slot);
     throw write_error(m_path, "cannot open the temporary file " + m_temporary.string());
   }
-  m_slot = register_temporary(m_temporary);
+  m_buffer = std::move(file);
+  m_out.rdbuf(m_buffer.get());  // also clears the stream's state
 }
 
 AtomicFile::~AtomicFile() {
-  if (m_committed) return;
-  unregister_temporary(m_slot);
-  m_out.close();
+  if (m_committed || m_temporary.empty()) return;
+  m_out.rdbuf(nullptr);
+  m_buffer.reset();  // closes the temporary file
   std::error_code ignored;
   std::filesystem::remove(m_temporary, ignored);
+  unregister_temporary(m_slot);  // after the removal: a signal in between finds the slot still listed
 }
 
 void AtomicFile::commit() {
   if (m_committed) throw std::logic_error("AtomicFile::commit called twice");
   m_out.flush();
   if (!m_out) throw write_error(m_path, "I/O error while writing");
-  m_out.close();
-  if (m_out.fail()) throw write_error(m_path, "I/O error while closing");
+  if (m_temporary.empty()) {  // standard output
+    m_committed = true;
+    return;
+  }
+  if (!static_cast<std::filebuf&>(*m_buffer).close()) throw write_error(m_path, "I/O error while closing");
+  // The target may have changed while the output was computed: still nothing but a regular file is replaced.
   std::error_code ec;
+  refuse_unless_regular(m_path, std::filesystem::symlink_status(m_target, ec));
+  std::filesystem::rename(m_temporary, m_target, ec);
+  if (ec) throw write_error(m_path, "cannot rename the temporary file into place: " + ec.message());
   unregister_temporary(m_slot);
   m_slot = -1;
-  std::filesystem::rename(m_temporary, m_path, ec);
-  if (ec) throw write_error(m_path, "cannot rename the temporary file into place: " + ec.message());
   m_committed = true;
 }
 

@@ -1,9 +1,13 @@
 // The in-memory model: welding over all frames, removed faces, frame rate, OBJ sequences (pattern and
 // directory), load_sequence dispatch, the atomic writer and the visibility CSV.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <limits>
+#include <set>
 #include <stdexcept>
 
 #include "sim_io/atomic_file.hpp"
@@ -209,6 +213,100 @@ TEST(SimIoAtomicFile, UnfinishedStreamingWritersLeaveNothing) {
   EXPECT_THROW(
       write_obj(dir / "missing_dir/a.obj", MeshTopology{3, {{0, 1, 2}}}, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}),
       std::runtime_error);
+}
+
+// The names in `dir` other than `keep`: what a write left behind (temporaries are hidden .NAME.tmp.*).
+std::vector<std::string> other_names(const std::filesystem::path& dir, const std::set<std::string>& keep) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (!keep.count(entry.path().filename().string())) names.push_back(entry.path().filename().string());
+  return names;
+}
+
+TEST(SimIoAtomicFile, WritesThroughSymbolicLinks) {
+  // link.txt -> ../data/chain.txt -> file.txt: each link read from its own directory; both links stay
+  // links, the file they lead to is replaced, and the temporary lived beside it.
+  TempDir dir;
+  std::filesystem::create_directories(dir / "out");
+  std::filesystem::create_directories(dir / "data");
+  write_file_atomically(dir / "data/file.txt", std::string("old"));
+  std::filesystem::create_symlink("file.txt", dir / "data/chain.txt");
+  std::filesystem::create_symlink("../data/chain.txt", dir / "out/link.txt");
+  EXPECT_EQ(resolve_output_target(dir / "out/link.txt"), dir / "out/../data/file.txt");
+  write_file_atomically(dir / "out/link.txt", std::string("new"));
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "out/link.txt"));
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "data/chain.txt"));
+  EXPECT_EQ(test::file_bytes(dir / "data/file.txt"), "new");
+  EXPECT_TRUE(other_names(dir / "out", {"link.txt"}).empty());
+  EXPECT_TRUE(other_names(dir / "data", {"file.txt", "chain.txt"}).empty());
+
+  // A dangling link names the file to create.
+  std::filesystem::create_symlink("fresh.txt", dir / "out/dangling.txt");
+  write_file_atomically(dir / "out/dangling.txt", std::string("created"));
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "out/dangling.txt"));
+  EXPECT_EQ(test::file_bytes(dir / "out/fresh.txt"), "created");
+}
+
+TEST(SimIoAtomicFile, RefusesWhatIsNotARegularFile) {
+  TempDir dir;
+  ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0644), 0);
+  std::filesystem::create_directories(dir / "directory");
+  std::filesystem::create_symlink("fifo", dir / "link_to_fifo");
+  std::filesystem::create_symlink("loop_b", dir / "loop_a");
+  std::filesystem::create_symlink("loop_a", dir / "loop_b");
+  const std::pair<std::filesystem::path, std::string> refused[] = {
+      {dir / "fifo", "(a FIFO)"},
+      {dir / "link_to_fifo", "(a FIFO)"},
+      {dir / "directory", "(a directory)"},
+      {"/dev/null", "(a character device)"},
+      {dir / "loop_a", "too many levels of symbolic links"}};
+  for (const auto& [path, why] : refused) {
+    SCOPED_TRACE(path.string());
+    try {
+      AtomicFile file(path);
+      ADD_FAILURE() << "not refused";
+    } catch (const OutputRefused& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(path.string() + ": ", 0), 0u) << e.what();
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(resolve_output_target(path), OutputRefused);
+  }
+  EXPECT_TRUE(std::filesystem::is_fifo(dir / "fifo"));
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "link_to_fifo"));
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "directory"));
+  EXPECT_TRUE(std::filesystem::is_character_file("/dev/null"));
+  EXPECT_TRUE(other_names(dir.path(), {"fifo", "directory", "link_to_fifo", "loop_a", "loop_b"}).empty());
+}
+
+TEST(SimIoAtomicFile, TargetTurnedIntoSomethingElseIsNotReplaced) {
+  // Checked again at commit: a directory put where the output goes while it was computed stays.
+  TempDir dir;
+  AtomicFile file(dir / "out.txt");
+  file.stream() << "content";
+  std::filesystem::create_directories(dir / "out.txt");
+  EXPECT_THROW(file.commit(), OutputRefused);
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "out.txt"));
+}
+
+TEST(SimIoAtomicFile, DashStreamsToStandardOutput) {
+  // Standard output redirected to a file for the test: "-" writes there, and creates no file named "-".
+  TempDir dir;
+  const std::filesystem::path captured = dir / "stdout.txt";
+  std::fflush(stdout);
+  const int saved = ::dup(STDOUT_FILENO);
+  const int fd = ::open(captured.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  ASSERT_GE(fd, 0);
+  ::dup2(fd, STDOUT_FILENO);
+  ::close(fd);
+  const auto previous = std::filesystem::current_path();
+  std::filesystem::current_path(dir.path());
+  std::string big(200000, 'x');  // more than the stream's buffer
+  write_file_atomically(kStandardOutput, "head," + big + ",tail");
+  std::filesystem::current_path(previous);
+  ::dup2(saved, STDOUT_FILENO);
+  ::close(saved);
+  EXPECT_EQ(test::file_bytes(captured), "head," + big + ",tail");
+  EXPECT_FALSE(std::filesystem::exists(dir / "-"));
 }
 
 TEST(SimIoVisibilityCsv, RowsPerInputVertexInInputOrderRoundTrip) {
