@@ -25,6 +25,8 @@ const char* rebuild_reason_name(RebuildReason reason) {
       return "repair_failed";
     case RebuildReason::cost:
       return "cost";
+    case RebuildReason::frame_cost:
+      return "frame_cost";
     case RebuildReason::count:
       break;
   }
@@ -214,6 +216,31 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
     average(m_rebuild_cost);
     m_carry_cost = -1.0;
   }
+  return counts;
+}
+
+KineticCounts KineticSlice::rebuild_outright(const MeshTopology& topology,
+                                             const MeshConnectivity& connectivity, const Frame& next,
+                                             const SlicingPlane& plane, std::span<const Index> faces,
+                                             bool keep, KineticScratch& scratch) {
+  const auto start = std::chrono::steady_clock::now();
+  KineticCounts counts;
+  counts.slices_rebuilt = 1;
+  ++counts.rebuilt_because[static_cast<std::size_t>(RebuildReason::frame_cost)];
+  m_changed_edges.clear();
+  m_carried = m_attempted = false;
+  m_rebuilds_left = 0;  // the slice's own run of rebuilds is the engine's now
+  m_carry_cost = -1.0;  // measured afresh when carried again
+  try {
+    slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_out.slice);
+    finish_build(topology, next, scratch, keep);
+  } catch (...) {
+    m_editable = false;
+    m_kept.release();
+    throw;
+  }
+  counts.cone_seconds = m_cone_seconds;
+  counts.structure_seconds = seconds_since(start) - m_cone_seconds;
   return counts;
 }
 

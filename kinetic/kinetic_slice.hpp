@@ -134,6 +134,13 @@ class KineticSlice {
                         const SlicingPlane& plane, std::span<const Index> faces, const KineticPolicy& policy,
                         KineticScratch& scratch);
 
+  /// To `next` by the static build, as the static engine does it (no attempt to carry), for the engine's
+  /// whole-interval policy (KineticPolicy::measured_cost); `keep`: keep the triangulation for the next
+  /// interval to carry. Counted as rebuilt for frame_cost.
+  KineticCounts rebuild_outright(const MeshTopology& topology, const MeshConnectivity& connectivity,
+                                 const Frame& next, const SlicingPlane& plane, std::span<const Index> faces,
+                                 bool keep, KineticScratch& scratch);
+
   const PlaneCones& cones() const { return m_out; }
   /// The mesh edges that started or stopped crossing the plane in the last advance() (local edits only).
   const std::vector<Index>& changed_edges() const { return m_changed_edges; }

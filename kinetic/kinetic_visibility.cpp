@@ -81,14 +81,33 @@ struct KineticVisibility::Impl {
     return cuts == 2;
   }
 
+  /// KineticPolicy::measured_cost: whether this interval carries the slices or rebuilds them all, and whether
+  /// a rebuilt interval keeps the triangulations (the last one before an interval that carries).
+  struct Schedule {
+    static constexpr int kProbeEvery = 16;  // carrying: every 16th interval rebuilds, as a fresh sample
+    double carry_cost = -1.0, rebuild_cost = -1.0;  // seconds per slice vertex, averaged; -1: unknown
+    int rebuilds_left = 0;                          // of a run of whole-interval rebuilds
+    int doublings = 0;                              // of the next run's length (8, 16, 32)
+    int carried = 0;                                // intervals carried since the last whole-interval rebuild
+  };
+
   void advance(const Frame& next) {
     const auto start = std::chrono::steady_clock::now();
     candidate_faces_per_plane(topology, next, plan, faces);
+    const bool engine_cost = params.policy.measured_cost;
+    const bool rebuild_all =
+        engine_cost && (schedule.rebuilds_left > 0 || schedule.carried >= Schedule::kProbeEvery ||
+                        (schedule.rebuild_cost < 0 && schedule.carried > 0));
+    // A run's last rebuild keeps the triangulations: the next interval carries them.
+    const bool keep = !rebuild_all || schedule.rebuilds_left <= 1;
     for_each_plane([&](std::size_t p) {
-      counts[p] = slices[p].advance(topology, connectivity, next, plan.planes[p], faces[p], params.policy,
-                                    local_scratch());
+      counts[p] = rebuild_all ? slices[p].rebuild_outright(topology, connectivity, next, plan.planes[p],
+                                                           faces[p], keep, local_scratch())
+                              : slices[p].advance(topology, connectivity, next, plan.planes[p], faces[p],
+                                                  params.policy, local_scratch());
       check(p);
     });
+    if (engine_cost) update_schedule(rebuild_all, std::chrono::steady_clock::now() - start);
     const auto assembly_start = std::chrono::steady_clock::now();
     gather_and_assemble(next);
     const double assembly_seconds =
@@ -114,6 +133,32 @@ struct KineticVisibility::Impl {
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
+  /// After an interval: its wall time per slice vertex into the estimate of its kind, then the next
+  /// interval's kind (Schedule, KineticPolicy::measured_cost).
+  void update_schedule(bool rebuilt_all, std::chrono::steady_clock::duration elapsed) {
+    std::size_t vertices = 0;
+    for (const KineticSlice& slice : slices) vertices += slice.cones().slice.vertices.size();
+    const double sample =
+        std::chrono::duration<double>(elapsed).count() / double(std::max<std::size_t>(vertices, 1));
+    auto average = [&](double& cost) { cost = cost < 0 ? sample : 0.5 * (cost + sample); };
+    Schedule& s = schedule;
+    if (rebuilt_all) {
+      average(s.rebuild_cost);
+      s.carried = 0;
+      if (s.rebuilds_left > 0 && --s.rebuilds_left == 0) s.carry_cost = -1.0;  // the next carry is the probe
+      return;
+    }
+    average(s.carry_cost);
+    ++s.carried;
+    if (s.rebuild_cost < 0) return;
+    if (s.carry_cost > s.rebuild_cost) {  // carrying loses: a run of rebuilds, longer after each lost probe
+      s.rebuilds_left = 8 << s.doublings;
+      s.doublings = std::min(s.doublings + 1, 2);
+    } else {
+      s.doublings = 0;
+    }
+  }
+
   void gather_and_assemble(const Frame& frame) {
     plane_views.resize(slices.size());
     for (std::size_t p = 0; p < slices.size(); ++p) plane_views[p] = &slices[p].cones();
@@ -133,6 +178,7 @@ struct KineticVisibility::Impl {
   Frame previous;
   std::vector<std::size_t> crossed_stamp;
   std::size_t stamp_base = 0;
+  Schedule schedule;
   FrameVisibility result;
   KineticFrameStats stats;
 };

@@ -28,7 +28,17 @@ namespace kinetic {
 class KineticSlice;
 
 /// Why a slice was built from scratch in an interval.
-enum class RebuildReason : int { none = 0, degenerate, crossing, policy, repair_failed, cost, count };
+/// frame_cost: the engine rebuilt every slice of the interval (KineticPolicy::measured_cost).
+enum class RebuildReason : int {
+  none = 0,
+  degenerate,
+  crossing,
+  policy,
+  repair_failed,
+  cost,
+  frame_cost,
+  count
+};
 const char* rebuild_reason_name(RebuildReason reason);
 
 /// When repairing a slice costs more than rebuilding it. A slice is repaired by local edits (its crossing
@@ -48,6 +58,11 @@ struct KineticPolicy {
   /// Rebuild a slice, then for the retry interval, when carrying it has cost more per slice vertex than
   /// rebuilding it: each slice measures both (wall time of its intervals, averaged) and takes the cheaper.
   /// The output is the same either way; which slices are rebuilt, and the counters, depend on the timings.
+  /// The engine, above the slices, measures whole intervals too: the wall time per slice vertex of the
+  /// intervals it carries against that of intervals that rebuild every slice outright (the static engine's
+  /// work), and rebuilds every slice for a run of intervals (8, 16, 32: doubling after each carrying probe
+  /// that still loses) while carrying costs more; while carrying, every 16th interval rebuilds every slice to
+  /// keep that estimate fresh (counted as rebuilt for frame_cost). False: neither measures (edits alone).
   bool measured_cost = true;
   /// A slice whose attempt after a run of outright rebuilds fails again (rebuilt for its edits or its cost)
   /// starts a run twice as long as the last, up to this many doublings (8, 16, 32 intervals by default); an

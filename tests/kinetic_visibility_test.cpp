@@ -303,14 +303,16 @@ TEST(KineticVisibility, FailedRetriesBackOff) {
 
 /// The measured policy (the default) rebuilds slices whose carrying has cost more than their rebuilding, then
 /// rebuilds them outright, keeping nothing, until the retry interval: its choices follow the timings, the
-/// output still equals a recompute at every frame. On these small slices carrying rarely pays, so some
-/// slices are rebuilt for their cost.
+/// output still equals a recompute at every frame. On these small slices carrying rarely pays, so slices are
+/// rebuilt for their cost: one by one, or the whole interval's by the engine.
 TEST(KineticVisibility, MeasuredCostRebuildsKeepTheOutput) {
   const FlagRun flag(24);
   KineticFrameStats totals;
   EXPECT_EQ(run_and_compare(flag.cloth.topology(), flag.frames, flag.plan, true, &totals, {false, {}, true}),
             "");
-  EXPECT_GT(totals.rebuilt_because[static_cast<std::size_t>(kinetic::RebuildReason::cost)], 0u);
+  EXPECT_GT(totals.rebuilt_because[static_cast<std::size_t>(kinetic::RebuildReason::cost)] +
+                totals.rebuilt_because[static_cast<std::size_t>(kinetic::RebuildReason::frame_cost)],
+            0u);
   EXPECT_GT(totals.slices_repaired + totals.slices_unchanged, 0u);
 }
 
@@ -432,6 +434,41 @@ TEST(KineticVisibility, ThousandFramesWithoutDrift) {
   EXPECT_EQ(run_and_compare(cloth.topology(), frames, plan, false, &totals, {false, {0.5, 8, false}, false}),
             "");
   EXPECT_GT(totals.slices_repaired + totals.slices_unchanged, totals.slices_rebuilt);
+}
+
+/// The measured policy's whole intervals (KineticPolicy::measured_cost): the engine rebuilds every slice in
+/// some intervals (the second one always: the first sample of a rebuild's cost), the output stays the
+/// recompute's, and without the measured policy no interval is rebuilt whole.
+TEST(KineticVisibility, WholeIntervalRebuildsKeepTheOutput) {
+  const ClothGenerator cloth(ClothKind::Flag, {12, 40, 24.0, 5});
+  std::vector<Frame> frames;
+  for (std::size_t f = 0; f < 40; ++f) frames.push_back(cloth.frame(f));
+  const SlicingPlan plan = plan_for(cloth.topology(), frames, 6, {});
+  const auto whole = static_cast<std::size_t>(kinetic::RebuildReason::frame_cost);
+  for (const bool measured : {true, false}) {
+    KineticParams params{false, {}, true};
+    params.policy.measured_cost = measured;
+    KineticVisibility engine(cloth.topology(), plan, frames[0], params);
+    std::size_t whole_intervals = 0;
+    for (std::size_t f = 1; f < frames.size(); ++f) {
+      const FrameVisibility& kinetic = engine.advance(frames[f]);
+      const KineticFrameStats& stats = engine.last_stats();
+      if (stats.rebuilt_because[whole] > 0) {
+        EXPECT_EQ(stats.rebuilt_because[whole], plan.planes.size()) << "frame " << f;  // every slice or none
+        ++whole_intervals;
+      }
+      if (measured && f == 2) EXPECT_EQ(stats.rebuilt_because[whole], plan.planes.size());
+      const FrameVisibility fresh = compute_visibility(cloth.topology(), frames[f], plan);
+      for (int side = 0; side < 2; ++side)
+        for (std::size_t v = 0; v < fresh.measures[side].size(); ++v)
+          ASSERT_EQ(kinetic.measures[side][v].sky_visibility, fresh.measures[side][v].sky_visibility)
+              << "frame " << f << " vertex " << v;
+    }
+    if (measured)
+      EXPECT_GE(whole_intervals, 2u);  // the first sample, and at least every 16th interval after it
+    else
+      EXPECT_EQ(whole_intervals, 0u);
+  }
 }
 
 /// Parallel and serial kinetic runs agree bit for bit (slices are independent).
