@@ -118,6 +118,34 @@ void add_light_option(CLI::App& command, std::vector<std::string>& specs, const 
           false);  // one spec per --light: `--light sky:1 cloth.obj` keeps cloth.obj positional
 }
 
+void SceneOptions::add_to(CLI::App& command) {
+  command
+      .add_option(
+          "--occluder", occluders,
+          "a mesh of the scene that blocks the sky but receives no cones (repeatable): PATH (.obj, an OBJ "
+          "sequence, .gltf/.glb; one frame: static) or PATH,cache=CACHE (.obj with .pc2/.mdd); an animated "
+          "one needs the cloth's frame count and rate")
+      ->allow_extra_args(false);
+  command.add_option(
+      "--ground", ground,
+      "an infinite ground plane AXIS=VALUE, e.g. y=0 (the bundled data is Y-up) or z=0 (Blender)");
+}
+
+Scene SceneOptions::make(const MeshSequence& cloth) const {
+  std::vector<OccluderSpec> specs;
+  for (const std::string& o : occluders) specs.push_back(parse_occluder_spec(o));
+  std::vector<GroundPlane> grounds;
+  if (!ground.empty()) grounds.push_back(parse_ground_plane(ground));
+  return Scene(cloth, specs, grounds);
+}
+
+std::string SceneOptions::describe() const {
+  std::string text;
+  for (const std::string& o : occluders) text += "occluder " + o + "; ";
+  if (!ground.empty()) text += "ground " + ground;
+  return text;
+}
+
 void PlanOptions::add_to(CLI::App& command) {
   std::vector<CLI::Option*> placement;  // what --plan replaces
   placement.push_back(command.add_option(

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sim_io/mesh_sequence.hpp"
+#include "sim_io/scene.hpp"
 #include "static_core/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
 
@@ -61,6 +62,18 @@ struct OutputFile {
 /// directory. When an output is "-", moves the lines saying what was written to stderr (report_to_stderr()).
 void check_outputs(const std::vector<OutputFile>& files,
                    const std::vector<std::pair<std::string, std::string>>& directories = {});
+
+/// The scene the cloth was simulated in (sim_io/scene.hpp): --occluder PATH[,cache=CACHE] (repeatable) and
+/// --ground AXIS=VALUE. The same on every subcommand that computes cones.
+struct SceneOptions {
+  std::vector<std::string> occluders;
+  std::string ground;
+  void add_to(CLI::App& command);
+  /// Reads the occluders (InputError naming the file on bad input).
+  Scene make(const MeshSequence& cloth) const;
+  /// What the options say, for the checkpoint's job key: "" with no occluder.
+  std::string describe() const;
+};
 
 /// How the slicing planes are placed (docs/method.md §2). The plan is made once for the whole sequence, never
 /// from the requested frames: orientations and spacing from the sequence's first frame, the world-anchored

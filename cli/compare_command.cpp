@@ -55,6 +55,7 @@ struct CompareOptions {
   std::string camera;
   std::string up = "0,1,0";
   PlanOptions plan;
+  SceneOptions scene;
 };
 
 double luminance(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
@@ -140,6 +141,7 @@ void run_compare(const CompareOptions& options) {
 
   const MeshSequence sequence = load_sequence(options.in.input, options.in.cache);
   const MeshTopology& topology = sequence.topology();
+  const Scene world = options.scene.make(sequence);  // the cloth in its scene: occluders block, get no cones
   std::size_t first = 0, last = 0;
   parse_frame_range(options.frame, sequence.num_frames(), first, last);
   if (last != first + 1)
@@ -150,7 +152,8 @@ void run_compare(const CompareOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const SlicingPlan plan = options.plan.make(sequence);
-  const FrameVisibility visibility = compute_visibility(topology, frame, plan);
+  const Frame world_frame = world.with_occluders(first, frame);
+  const FrameVisibility visibility = compute_visibility(world.topology(), world_frame, plan);
   const auto t1 = Clock::now();
   ShadeParams shade_params;
   shade_params.albedo = options.albedo;
@@ -164,16 +167,16 @@ void run_compare(const CompareOptions& options) {
   const auto t2 = Clock::now();
 
   // The reference: two independent halves of the paths (their difference measures the noise), averaged.
-  EmbreeScene scene(topology, frame);
+  EmbreeScene scene(world.topology(), world_frame);  // occluders scatter paths as grey Lambertian surfaces
   PathTraceParams trace;
   trace.albedo = options.albedo;
   trace.paths_per_vertex = std::max(1, options.paths / 2);
   trace.seed = options.seed;
   const PathTracedFrame half_a =
-      path_trace_vertices(scene, topology, frame, visibility.normals, lighting, trace);
+      path_trace_vertices(scene, world.topology(), world_frame, visibility.normals, lighting, trace);
   trace.seed = options.seed + 0x9e3779b97f4a7c15ULL;
   const PathTracedFrame half_b =
-      path_trace_vertices(scene, topology, frame, visibility.normals, lighting, trace);
+      path_trace_vertices(scene, world.topology(), world_frame, visibility.normals, lighting, trace);
   const auto t3 = Clock::now();
 
   const std::size_t n = topology.num_vertices;
@@ -293,6 +296,7 @@ void register_compare_command(CLI::App& app) {
                   "ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov] (default: auto-framed 3/4 view)");
   cmd->add_option("--up", options->up, "world up for the auto-framed camera")->capture_default_str();
   options->plan.add_to(*cmd);
+  options->scene.add_to(*cmd);
   cmd->footer(
       "Examples:\n"
       "  pleat compare data/drape/drape.obj --cache data/drape/drape.pc2 --frame 60 --light "

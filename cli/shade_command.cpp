@@ -61,6 +61,7 @@ struct ShadeOptions {
   int render_every = 1;
   int turntable = 0;
   PlanOptions plan;
+  SceneOptions scene;
   ChunkOptions chunking;
 };
 
@@ -129,6 +130,10 @@ void run_shade(const ShadeOptions& options) {
   const MeshTopology& topology = sequence.topology();
   std::size_t first = 0, last = 0;
   together([&] { parse_frame_range(options.frames, sequence.num_frames(), first, last); });
+  // The cloth in its scene: the engine slices the occluders with it (every rank reads them).
+  std::optional<Scene> world_holder;
+  together([&] { world_holder.emplace(options.scene.make(sequence)); });
+  const Scene& world = *world_holder;
   std::vector<std::size_t> frame_ids;
   for (std::size_t i = first; i < last; ++i) frame_ids.push_back(i);
 
@@ -157,7 +162,7 @@ void run_shade(const ShadeOptions& options) {
   if (!cache) broadcast_plan(plan);
 
   Fingerprint options_key;  // what decides the outputs' bytes (the checkpoint's job key)
-  options_key.add("shade").add_value(plan_fingerprint(plan)).add(options.cones);
+  options_key.add("shade").add_value(plan_fingerprint(plan)).add(options.cones).add(options.scene.describe());
   if (cache) {  // a rewritten cone cache: its size and time of last write change
     options_key.add_value(std::uint64_t(std::filesystem::file_size(options.cones)));
     options_key.add_value(std::filesystem::last_write_time(options.cones).time_since_epoch().count());
@@ -229,7 +234,7 @@ void run_shade(const ShadeOptions& options) {
   // visibility attributes go to rank 0 as bytes.
   const auto compute = [&](std::size_t chunk_first, std::size_t chunk_last, const EmitFrame& emit) {
     std::optional<StaticVisibility> engine;  // reused across the chunk's frames
-    if (!cache) engine.emplace(topology, plan);
+    if (!cache) engine.emplace(world.topology(), plan);
     std::unique_ptr<EmbreeScene> scene;
     FrameVisibility from_cache;
     std::array<SideVisibility, 2> sides;
@@ -238,7 +243,9 @@ void run_shade(const ShadeOptions& options) {
       const Frame frame = sequence.frame(f);
       const auto t0 = std::chrono::steady_clock::now();
       if (cache) cache->read_frame(cached[j], frame, from_cache);
-      const FrameVisibility& visibility = cache ? from_cache : engine->compute(frame);
+      const FrameVisibility& visibility =
+          cache ? from_cache
+                : engine->compute(world.num_occluders() ? world.with_occluders(f, frame) : frame);
       const auto t1 = std::chrono::steady_clock::now();
       for (Side side : kBothSides) side_visibility(visibility, side, sides[int(side)]);
       // Frame numbers, not positions in the range: the same frames are rendered however the shot is split.
@@ -372,6 +379,7 @@ void register_shade_command(CLI::App& app) {
                   "with a single frame: N images turning about the up axis")
       ->check(CLI::NonNegativeNumber);
   options->plan.add_to(*cmd);
+  options->scene.add_to(*cmd);
   options->chunking.add_to(*cmd);
   cmd->footer(
       "Examples:\n"

@@ -32,6 +32,7 @@ struct VisibilityOptions {
   std::string timings;
   ChunkOptions chunking;
   PlanOptions plan;
+  SceneOptions scene;
   bool serial = false;
   kinetic::KineticPolicy policy;
 };
@@ -117,6 +118,10 @@ void run(const VisibilityOptions& options) {
   std::size_t first = 0, last = 0;
   together([&] { parse_frame_range(options.frames, sequence.num_frames(), first, last); });
   const MeshTopology& topology = sequence.topology();
+  // The cloth in its scene: the engines slice the occluders with it (every rank reads them).
+  std::optional<Scene> scene_holder;
+  together([&] { scene_holder.emplace(options.scene.make(sequence)); });
+  const Scene& scene = *scene_holder;
   // The plan is made for the whole sequence (never from the requested frames), on rank 0, and sent to the
   // others.
   SlicingPlan plan;
@@ -137,6 +142,7 @@ void run(const VisibilityOptions& options) {
 
   Fingerprint options_key;  // what decides the output's bytes (the checkpoint's job key)
   options_key.add("visibility")
+      .add(options.scene.describe())
       .add(options.engine)
       .add(options.plan.describe())
       .add_value(plan_fingerprint(plan))
@@ -175,12 +181,13 @@ void run(const VisibilityOptions& options) {
   params.parallel = !options.serial;
   // One chunk: a fresh engine (the kinetic one starts with a static build), every frame's result as bytes.
   const auto compute = [&](std::size_t chunk_first, std::size_t chunk_last, const EmitFrame& emit) {
-    Engine engine(options.engine, topology, plan, params.parallel, options.policy);
+    Engine engine(options.engine, scene.topology(), plan, params.parallel, options.policy);
     std::vector<double> front(topology.num_vertices), back(topology.num_vertices);
     for (std::size_t f = chunk_first; f < chunk_last; ++f) {
-      const Frame frame = sequence.frame(f);
+      const Frame frame = sequence.frame(f);  // the cloth's (the cone cache's fingerprint is of it)
       const auto start = std::chrono::steady_clock::now();
-      const FrameVisibility& vis = engine.next(frame);
+      const FrameVisibility& vis =
+          engine.next(scene.num_occluders() ? scene.with_occluders(f, frame) : frame);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       for (Index v = 0; v < topology.num_vertices; ++v) {
         front[v] = vis.measure(Side::Front, v).sky_visibility;
@@ -240,7 +247,8 @@ void run(const VisibilityOptions& options) {
   if (cones) report() << "wrote " << options.cones << ": the 3D cones of every frame\n";
   if (crossing_frames > 0)
     std::cerr << "pleat: warning: chains cross in " << crossing_frames
-              << " frames (the surface self-intersects there); crossing points were inserted and counted in "
+              << " frames (the surface self-intersects there, or meets an occluder); crossing points were "
+                 "inserted and counted in "
                  "--stats\n";
 }
 
@@ -284,6 +292,7 @@ void register_visibility_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--serial", options->serial, "one thread (default: TBB over slices)");
   options->plan.add_to(*cmd);
+  options->scene.add_to(*cmd);
   cmd->footer(
       "Example:\n  pleat visibility data/drape/drape.obj --cache data/drape/drape.pc2 -o drape.csv --stats "
       "stats.json");

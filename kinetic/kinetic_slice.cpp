@@ -185,7 +185,8 @@ void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame
 
 void KineticSlice::grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
-  compute_plane_cones(topology.num_vertices, m_storage, frame, scratch.triangulation, scratch.cones, m_out);
+  compute_plane_cones(topology.num_receivers(), m_storage, frame, scratch.triangulation, scratch.cones,
+                      m_out);
   m_cone_seconds = seconds_since(start);
 }
 

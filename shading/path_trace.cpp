@@ -196,7 +196,7 @@ PathTracedFrame path_trace_vertices(EmbreeScene& scene, const MeshTopology& topo
     throw std::invalid_argument("path_trace_vertices: albedo must be in [0, 1)");
   scene.update(frame);
 
-  const Index n_vertices = topology.num_vertices;
+  const Index n_vertices = topology.num_receivers();  // occluders scatter paths (grey, ρ), start none
   const int k = params.paths_per_vertex;
   PathTracedFrame out;
   for (int s = 0; s < 2; ++s) out.radiance[s].assign(n_vertices, glm::vec3(0.0f));

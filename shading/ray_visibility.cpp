@@ -129,10 +129,11 @@ void check_vertex_estimator_inputs(const char* who, const char* count_name, int 
                                    const std::vector<glm::dvec3>& normals) {
   const std::string name(who);
   if (count < 1) throw std::invalid_argument(name + ": " + count_name + " must be >= 1");
-  if (frame.positions.size() != topology.num_vertices || normals.size() != topology.num_vertices)
+  if (frame.positions.size() != topology.num_vertices || normals.size() != topology.num_receivers())
     throw std::invalid_argument(name + ": frame has " + std::to_string(frame.positions.size()) +
                                 " positions and " + std::to_string(normals.size()) + " normals for " +
-                                std::to_string(topology.num_vertices) + " vertices");
+                                std::to_string(topology.num_vertices) + " vertices (" +
+                                std::to_string(topology.num_receivers()) + " not occluders)");
   if (scene.topology().num_vertices != topology.num_vertices ||
       scene.topology().triangles.size() != topology.triangles.size())
     throw std::invalid_argument(name + ": the Embree scene was built for another topology");
@@ -146,7 +147,7 @@ RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topolo
     throw std::invalid_argument("ray_cast_visibility: vertex_stride must be >= 1");
   scene.update(frame);
 
-  const Index n_vertices = topology.num_vertices;
+  const Index n_vertices = topology.num_receivers();  // occluders block rays, cast none
   const int k = params.rays_per_vertex;
   const double tnear = 1e-6 * scene.scene_diameter();
   RayVisibility out;

@@ -61,8 +61,9 @@ struct RayVisibility {
 };
 
 /// The preconditions shared by the per-vertex Embree estimators (ray casting, path tracing): `count` >= 1,
-/// one position and one normal per vertex, a scene built for this topology. Throws std::invalid_argument
-/// naming `who`.
+/// one position per vertex and one normal per vertex that is not an occluder (MeshTopology::num_receivers:
+/// the estimators cast from those only; occluders block), a scene built for this topology. Throws
+/// std::invalid_argument naming `who`.
 void check_vertex_estimator_inputs(const char* who, const char* count_name, int count,
                                    const EmbreeScene& scene, const MeshTopology& topology, const Frame& frame,
                                    const std::vector<glm::dvec3>& normals);

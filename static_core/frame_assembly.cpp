@@ -12,11 +12,12 @@
 
 namespace pleat {
 
-void store_cones(Index num_vertices, ConeStorage storage, const Frame& frame, const Slice& slice,
+void store_cones(Index num_receivers, ConeStorage storage, const Frame& frame, const Slice& slice,
                  std::vector<StoredCone>& stored, std::vector<std::int64_t>& best_of) {
-  if (best_of.size() != 2 * std::size_t(num_vertices)) best_of.assign(2 * std::size_t(num_vertices), -1);
+  if (best_of.size() != 2 * std::size_t(num_receivers)) best_of.assign(2 * std::size_t(num_receivers), -1);
   stored.clear();
   auto offer = [&](Index vertex, Index x, double distance, bool vertex_above) {
+    if (vertex >= num_receivers) return;  // an occluder's: it receives no cone
     for (int side = 0; side < 2; ++side) {
       std::int64_t& best = best_of[2 * std::size_t(vertex) + side];
       if (best >= 0 && stored[best].distance <= distance) continue;
@@ -40,9 +41,9 @@ void store_cones(Index num_vertices, ConeStorage storage, const Frame& frame, co
   for (const StoredCone& s : stored) best_of[2 * std::size_t(s.vertex) + s.side] = -1;
 }
 
-void compute_plane_cones(Index num_vertices, ConeStorage storage, const Frame& frame,
+void compute_plane_cones(Index num_receivers, ConeStorage storage, const Frame& frame,
                          const SliceTriangulation& triangulation, PlaneConeScratch& s, PlaneCones& out) {
-  store_cones(num_vertices, storage, frame, out.slice, out.stored, s.best);
+  store_cones(num_receivers, storage, frame, out.slice, out.stored, s.best);
   s.needed.assign(out.slice.vertices.size(), 0);
   for (const StoredCone& c : out.stored) s.needed[c.slice_vertex] = 1;
   compute_slice_cones(out.slice, triangulation, s.cones, out.cones, s.needed);
@@ -149,7 +150,9 @@ struct FrameAssembler::Impl {
 void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCones* const> planes,
                                     FrameVisibility& result) {
   const std::size_t n = topology.num_vertices;
+  const Index receivers = topology.num_receivers();  // the result holds theirs only: occluders get no cone
   result.normals = area_weighted_normals(topology, frame);
+  result.normals.resize(receivers);
 
   VisibilityStats& stats = result.stats;
   stats = {};
@@ -237,14 +240,14 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     const std::int32_t* src = fill_source.data();  // (may be empty: no vertex)
     for (Index v = 0; v < n; ++v) source[key_of(0, o, v)] = source[key_of(1, o, v)] = src[v];
     std::size_t filled = 0;
-    for (Index v = 0; v < n; ++v) filled += src[v] >= 0 && src[v] != static_cast<std::int32_t>(v);
-    stats.filled_fraction[o] = n ? double(filled) / double(n) : 0.0;
+    for (Index v = 0; v < receivers; ++v) filled += src[v] >= 0 && src[v] != static_cast<std::int32_t>(v);
+    stats.filled_fraction[o] = receivers ? double(filled) / double(receivers) : 0.0;
   }
 
   // 4. 3D cones and their measures, per vertex and side (per-thread scratch; result memory reused).
   for (int side = 0; side < 2; ++side) {
-    result.cones[side].resize(n);
-    result.measures[side].assign(n, {});
+    result.cones[side].resize(receivers);
+    result.measures[side].assign(receivers, {});
   }
   auto cone_of = [&](const Ref& r, int side) {
     return planes[r.plane]->cones.cone(r.slice_vertex, static_cast<Side>(side));
@@ -292,9 +295,9 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     }
   };
   if (params.parallel)
-    tbb::parallel_for(std::size_t(0), n, assemble_vertex);
+    tbb::parallel_for(std::size_t(0), std::size_t(receivers), assemble_vertex);
   else
-    for (std::size_t v = 0; v < n; ++v) assemble_vertex(v);
+    for (std::size_t v = 0; v < receivers; ++v) assemble_vertex(v);
 }
 
 FrameAssembler::FrameAssembler(const MeshTopology& topology, const MeshConnectivity& connectivity,

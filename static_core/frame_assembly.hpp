@@ -47,9 +47,10 @@ struct PlaneCones {
 };
 
 /// The cones a plane offers its mesh vertices under `storage`: per mesh vertex and side, the nearest offering
-/// slice vertex of `slice` (ties: the lower index), into `stored`. `best` is per-thread scratch of
-/// 2 * num_vertices entries, all -1 on entry and on return.
-void store_cones(Index num_vertices, ConeStorage storage, const Frame& frame, const Slice& slice,
+/// slice vertex of `slice` (ties: the lower index), into `stored`. Only vertices below `num_receivers` are
+/// offered cones (MeshTopology::num_receivers: occluders receive none). `best` is per-thread scratch of
+/// 2 * num_receivers entries, all -1 on entry and on return.
+void store_cones(Index num_receivers, ConeStorage storage, const Frame& frame, const Slice& slice,
                  std::vector<StoredCone>& stored, std::vector<std::int64_t>& best);
 
 /// Per-thread memory of compute_plane_cones.
@@ -61,8 +62,9 @@ struct PlaneConeScratch {
 
 /// A plane's part of a frame once its slice (out.slice) is triangulated: its offers to mesh vertices
 /// (store_cones) and the 2D cones of the slice vertices offered — no other cone is ever read, so no other is
-/// computed. Both engines call it for every plane they re-derive.
-void compute_plane_cones(Index num_vertices, ConeStorage storage, const Frame& frame,
+/// computed (an occluder's slice vertices block sight lines and get none). Both engines call it for every
+/// plane they re-derive.
+void compute_plane_cones(Index num_receivers, ConeStorage storage, const Frame& frame,
                          const SliceTriangulation& triangulation, PlaneConeScratch& scratch, PlaneCones& out);
 
 /// Per-thread memory of nearest_sources.

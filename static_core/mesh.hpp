@@ -20,9 +20,16 @@ using Index = std::uint32_t;
 using Triangle = std::array<Index, 3>;
 
 /// Triangles over welded vertices 0..num_vertices-1, in the input's winding.
+///
+/// A scene with occluders (the bodies, tables and ground a cloth was simulated against) appends their
+/// vertices after the cloth's, and their triangles after the cloth's: the last num_occluder_vertices vertices
+/// are occluders. They are sliced with the cloth and block sight lines, but receive no cones: every engine
+/// computes and stores cones for the first num_receivers() vertices only (docs/method.md §1).
 struct MeshTopology {
   Index num_vertices = 0;
   std::vector<Triangle> triangles;
+  Index num_occluder_vertices = 0;
+  Index num_receivers() const { return num_vertices - num_occluder_vertices; }
 };
 
 /// One instant of the sequence: a position per welded vertex.

@@ -40,6 +40,10 @@ bool all_finite(const std::vector<glm::dvec3>& positions) {
 }  // namespace
 
 void validate_topology(const MeshTopology& topology, const char* who) {
+  if (topology.num_occluder_vertices > topology.num_vertices)
+    throw InputError(who, "",
+                     std::to_string(topology.num_occluder_vertices) + " occluder vertices of " +
+                         std::to_string(topology.num_vertices));
   Index largest = 0;
   for (const Triangle& t : topology.triangles) largest = std::max({largest, t[0], t[1], t[2]});
   if (topology.triangles.empty() || largest < topology.num_vertices) return;

@@ -27,7 +27,7 @@ void process_plane(const MeshTopology& topology, const MeshConnectivity& connect
   slice_mesh(topology, connectivity, frame, plane, faces, ws.slicer, out.slice);
   ws.triangulation.build(out.slice);
   out.crossings = ws.triangulation.crossings();
-  compute_plane_cones(topology.num_vertices, storage, frame, ws.triangulation, ws.cones, out);
+  compute_plane_cones(topology.num_receivers(), storage, frame, ws.triangulation, ws.cones, out);
 }
 
 }  // namespace

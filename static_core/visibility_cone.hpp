@@ -37,6 +37,7 @@ struct VisibilityStats {
 
 /// Everything computed for one frame, indexed by welded vertex.
 struct FrameVisibility {
+  /// Per vertex that receives cones (MeshTopology::num_receivers: the cloth, not its occluders).
   std::vector<glm::dvec3> normals;                    ///< n(v), area-weighted, unit
   std::array<std::vector<VisibilityCone>, 2> cones;   ///< [side][vertex]
   std::array<std::vector<ConeMeasures>, 2> measures;  ///< [side][vertex]

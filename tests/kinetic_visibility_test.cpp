@@ -108,7 +108,7 @@ std::string compare_slice(const KineticVisibility& kinetic, std::size_t p, const
   SliceTriangulation st;
   st.build(fresh.slice);
   PlaneConeScratch scratch;
-  compute_plane_cones(topology.num_vertices, kinetic.plan().storage, frame, st, scratch, fresh);
+  compute_plane_cones(topology.num_receivers(), kinetic.plan().storage, frame, st, scratch, fresh);
   const Slice& slice = fresh.slice;
   const SliceCones& cones = fresh.cones;
   const kinetic::KineticSlice& ks = kinetic.slice(p);

@@ -1,0 +1,108 @@
+#include "sim_io/scene.hpp"
+
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <stdexcept>
+
+#include "static_core/input_error.hpp"
+
+namespace pleat {
+
+OccluderSpec parse_occluder_spec(std::string_view text) {
+  OccluderSpec spec;
+  const std::size_t comma = text.rfind(",cache=");
+  spec.path = std::string(text.substr(0, comma));
+  if (comma != std::string_view::npos) spec.cache = std::string(text.substr(comma + 7));
+  if (spec.path.empty() || (comma != std::string_view::npos && spec.cache.empty()))
+    throw std::invalid_argument("--occluder: '" + std::string(text) + "' is not PATH or PATH,cache=CACHE");
+  return spec;
+}
+
+GroundPlane parse_ground_plane(std::string_view text) {
+  const auto bad = [&] {
+    return std::invalid_argument("--ground: '" + std::string(text) + "' is not AXIS=VALUE (e.g. y=0)");
+  };
+  if (text.size() < 3 || text[1] != '=' || (text[0] != 'x' && text[0] != 'y' && text[0] != 'z')) throw bad();
+  GroundPlane ground;
+  ground.axis = text[0] - 'x';
+  const std::string value(text.substr(2));
+  std::size_t used = 0;
+  try {
+    ground.height = std::stod(value, &used);
+  } catch (const std::exception&) {
+    throw bad();
+  }
+  if (used != value.size() || !std::isfinite(ground.height)) throw bad();
+  return ground;
+}
+
+Scene::Scene(const MeshSequence& cloth) : m_cloth(&cloth), m_topology(cloth.topology()) {}
+
+Scene::Scene(const MeshSequence& cloth, const std::vector<OccluderSpec>& occluders,
+             const std::vector<GroundPlane>& grounds)
+    : Scene(cloth) {
+  const std::size_t frames = cloth.num_frames();
+  for (const OccluderSpec& spec : occluders) {
+    MeshSequence mesh = load_sequence(spec.path, spec.cache);
+    const std::string name = spec.cache.empty() ? spec.path : spec.cache;
+    if (mesh.num_frames() != 1 && mesh.num_frames() != frames)
+      throw InputError(name, "",
+                       "the occluder has " + std::to_string(mesh.num_frames()) + " frames, the cloth " +
+                           std::to_string(frames) +
+                           " (an animated occluder needs the cloth's frames; a static "
+                           "one, a single frame)");
+    if (mesh.num_frames() > 1 && frames > 1 &&
+        std::abs(mesh.frame_rate() - cloth.frame_rate()) > 1e-6 * cloth.frame_rate())
+      throw InputError(name, "",
+                       "the occluder runs at " + std::to_string(mesh.frame_rate()) +
+                           " frames per second, the cloth "
+                           "at " +
+                           std::to_string(cloth.frame_rate()));
+    Occluder occluder{std::move(mesh), {}};
+    if (occluder.mesh.num_frames() == 1) occluder.still = occluder.mesh.frame(0).positions;
+    m_occluders.push_back(std::move(occluder));
+  }
+  // Every occluder's triangles over vertices numbered after the cloth's (and the previous occluders').
+  for (const Occluder& o : m_occluders) {
+    const Index base = m_topology.num_vertices;
+    for (const Triangle& t : o.mesh.topology().triangles)
+      m_topology.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+    m_topology.num_vertices += o.mesh.topology().num_vertices;
+  }
+  const Bounds& box = cloth.bounds();
+  const glm::dvec3 centre = 0.5 * (box.lo + box.hi);
+  const double half = 50.0 * std::max(glm::length(box.hi - box.lo), 1e-9);
+  for (const GroundPlane& g : grounds) {
+    const int a = (g.axis + 1) % 3,
+              b = (g.axis + 2) % 3;  // (a, b, axis) right-handed: the square faces +axis
+    const Index base = m_topology.num_vertices;
+    for (const auto [sa, sb] : {std::pair{-1, -1}, std::pair{1, -1}, std::pair{1, 1}, std::pair{-1, 1}}) {
+      glm::dvec3 corner(0.0);
+      corner[g.axis] = g.height;
+      corner[a] = centre[a] + sa * half;
+      corner[b] = centre[b] + sb * half;
+      m_grounds.push_back(corner);
+    }
+    m_topology.triangles.push_back({base, base + 1, base + 2});
+    m_topology.triangles.push_back({base, base + 2, base + 3});
+    m_topology.num_vertices += 4;
+  }
+  m_topology.num_occluder_vertices = m_topology.num_vertices - cloth.topology().num_vertices;
+}
+
+Frame Scene::with_occluders(std::size_t i, Frame frame) const {
+  if (m_topology.num_occluder_vertices == 0) return frame;
+  frame.positions.reserve(m_topology.num_vertices);
+  for (const Occluder& o : m_occluders) {
+    if (!o.still.empty()) {
+      frame.positions.insert(frame.positions.end(), o.still.begin(), o.still.end());
+    } else {
+      const Frame moving = o.mesh.frame(i);
+      frame.positions.insert(frame.positions.end(), moving.positions.begin(), moving.positions.end());
+    }
+  }
+  frame.positions.insert(frame.positions.end(), m_grounds.begin(), m_grounds.end());
+  return frame;
+}
+
+}  // namespace pleat

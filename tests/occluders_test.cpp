@@ -1,0 +1,215 @@
+// Occluders (sim_io/scene.hpp): the meshes and ground a cloth was simulated against block its sky and
+// receive no cones. Closed forms (a sheet over the ground, beside an infinite wall), ray casting of the same
+// scene, kinetic = static with a moving occluder, cloth touching and crossing the ground, bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "kinetic/kinetic_visibility.hpp"
+#include "oracles/test_meshes.hpp"
+#include "shading/embree_scene.hpp"
+#include "shading/ray_visibility.hpp"
+#include "sim_io/cloth_generators.hpp"
+#include "sim_io/obj_format.hpp"
+#include "sim_io/scene.hpp"
+#include "static_core/input_error.hpp"
+#include "static_core/visibility.hpp"
+#include "test_support.hpp"
+
+namespace pleat {
+namespace {
+
+/// A cloth of one frame as a sequence (the scenes are built over sequences).
+MeshSequence sequence_of(const test::TestMesh& mesh) {
+  return MeshSequence("sheet", mesh.topology, {mesh.frame});
+}
+
+/// The cones of frame `f` of the cloth in `scene`, with the plan the CLI makes (lattice over the cloth).
+FrameVisibility cones_in(const Scene& scene, const MeshSequence& cloth, std::size_t f = 0) {
+  const SlicingPlan plan = make_diffuse_plan(cloth.topology(), cloth.frame(0), {}, &cloth.bounds());
+  return compute_visibility(scene.topology(), scene.frame(f), plan);
+}
+
+TEST(Occluders, ASheetOverTheGroundSeesTheSkyAboveAndNothingBelow) {
+  auto sheet = test::flat_sheet(15, 12, 0.1);
+  for (auto& p : sheet.frame.positions) p.z = 0.3;  // 0.3 above the ground z = 0; front (+z) faces up
+  const MeshSequence cloth = sequence_of(sheet);
+  const Scene alone(cloth), grounded(cloth, {}, {parse_ground_plane("z=0")});
+  EXPECT_EQ(grounded.topology().num_occluder_vertices, 4u);
+  EXPECT_EQ(grounded.topology().num_receivers(), cloth.topology().num_vertices);
+  const FrameVisibility free = cones_in(alone, cloth), held = cones_in(grounded, cloth);
+  ASSERT_EQ(held.measures[0].size(), cloth.topology().num_vertices);  // the ground gets no cone
+  for (Index v = 0; v < cloth.topology().num_vertices; ++v) {
+    EXPECT_NEAR(free.measure(Side::Back, v).sky_visibility, 1.0, 1e-9) << v;
+    EXPECT_NEAR(held.measure(Side::Front, v).sky_visibility, 1.0, 1e-9) << v;
+    // The ground's edge is 50 cloth diagonals away: its sliver above the horizon is all the back sees.
+    EXPECT_LT(held.measure(Side::Back, v).sky_visibility, 1e-3) << v;
+  }
+}
+
+TEST(Occluders, AnInfiniteWallBesideASheetHidesHalfOfEachSide) {
+  // A vertical wall x = 1 (two triangles a thousand units wide) beside a sheet over [0, 0.7]^2 at z = 0:
+  // every direction with a positive x component meets it, half of each hemisphere's cosine-weighted sky.
+  test::TempDir dir;
+  MeshTopology wall{4, {{0, 1, 2}, {0, 2, 3}}};
+  write_obj(dir / "wall.obj", wall, {{1, -1000, -1000}, {1, 1000, -1000}, {1, 1000, 1000}, {1, -1000, 1000}});
+  const MeshSequence cloth = sequence_of(test::flat_sheet(8, 8, 0.1));
+  const Scene scene(cloth, {parse_occluder_spec((dir / "wall.obj").string())}, {});
+  const FrameVisibility vis = cones_in(scene, cloth);
+  for (Index v = 0; v < cloth.topology().num_vertices; ++v)
+    for (Side side : kBothSides) EXPECT_NEAR(vis.measure(side, v).sky_visibility, 0.5, 2e-3) << v;
+}
+
+TEST(Occluders, ConesAgreeWithRayCastingOfTheSameScene) {
+  // A folded generated cloth over the ground and an animated occluder: the cones against 1024 cosine-
+  // weighted rays per vertex and side cast in the scene itself (occluders and ground included).
+  test::TempDir dir;
+  const ClothGenerator generator(ClothKind::Roll, {18, 3, 24.0, 0});
+  std::vector<Frame> frames;
+  for (int f = 0; f < 3; ++f) frames.push_back(generator.frame(f));
+  const MeshSequence cloth("roll", generator.topology(), frames);
+  const Bounds& box = cloth.bounds();
+  // A block under part of the roll, as an OBJ (static: one frame).
+  const glm::dvec3 lo = box.lo - glm::dvec3(0.2), hi = glm::dvec3(box.hi.x, box.lo.y, box.hi.z);
+  MeshTopology block{8,
+                     {{0, 2, 1},
+                      {0, 3, 2},
+                      {4, 5, 6},
+                      {4, 6, 7},
+                      {0, 1, 5},
+                      {0, 5, 4},
+                      {1, 2, 6},
+                      {1, 6, 5},
+                      {2, 3, 7},
+                      {2, 7, 6},
+                      {3, 0, 4},
+                      {3, 4, 7}}};
+  write_obj(dir / "block.obj", block,
+            {{lo.x, lo.y, lo.z},
+             {hi.x, lo.y, lo.z},
+             {hi.x, hi.y, lo.z},
+             {lo.x, hi.y, lo.z},
+             {lo.x, lo.y, hi.z},
+             {hi.x, lo.y, hi.z},
+             {hi.x, hi.y, hi.z},
+             {lo.x, hi.y, hi.z}});
+  const std::string ground = "y=" + std::to_string(box.lo.y - 0.05);
+  const Scene scene(cloth, {parse_occluder_spec((dir / "block.obj").string())}, {parse_ground_plane(ground)});
+  const Frame frame = scene.frame(2);
+  const FrameVisibility vis = cones_in(scene, cloth, 2);
+  EmbreeScene rays(scene.topology(), frame);
+  RayVisibilityParams params;
+  params.rays_per_vertex = 1024;
+  const auto truth = ray_cast_sky_visibility(rays, scene.topology(), frame, vis.normals, params);
+  ASSERT_EQ(truth[0].size(), cloth.topology().num_vertices);
+  double error = 0.0;
+  for (Side side : kBothSides)
+    for (Index v = 0; v < cloth.topology().num_vertices; ++v)
+      error += std::abs(vis.measure(side, v).sky_visibility - truth[int(side)][v]);
+  error /= 2.0 * cloth.topology().num_vertices;
+  EXPECT_LT(error, 0.03) << "mean |A - A_rays| in the scene";
+  // Without the occluders the cones answer another question: far from the scene's truth.
+  const FrameVisibility alone = cones_in(Scene(cloth), cloth, 2);
+  double alone_error = 0.0;
+  for (Side side : kBothSides)
+    for (Index v = 0; v < cloth.topology().num_vertices; ++v)
+      alone_error += std::abs(alone.measure(side, v).sky_visibility - truth[int(side)][v]);
+  alone_error /= 2.0 * cloth.topology().num_vertices;
+  EXPECT_GT(alone_error, 3.0 * error);
+}
+
+TEST(Occluders, KineticEqualsStaticWithAMovingOccluderAndTheGround) {
+  test::TempDir dir;
+  const ClothGenerator generator(ClothKind::Flag, {12, 10, 24.0, 3});
+  std::vector<Frame> frames;
+  for (int f = 0; f < 10; ++f) frames.push_back(generator.frame(f));
+  const MeshSequence cloth("flag", generator.topology(), frames);
+  // A tilted quad sweeping through the flag's box, frame by frame (an OBJ sequence).
+  const Bounds& box = cloth.bounds();
+  const glm::dvec3 c = 0.5 * (box.lo + box.hi), size = box.hi - box.lo;
+  MeshTopology quad{4, {{0, 1, 2}, {0, 2, 3}}};
+  for (int f = 0; f < 10; ++f) {
+    const double x = box.lo.x + size.x * (0.1 + 0.08 * f);
+    char name[64];
+    std::snprintf(name, sizeof name, "quad_%02d.obj", f);
+    write_obj(dir / name, quad,
+              {{x, c.y - size.y, c.z - size.z},
+               {x + 0.3 * size.x, c.y + size.y, c.z - size.z},
+               {x + 0.3 * size.x, c.y + size.y, c.z + size.z},
+               {x, c.y - size.y, c.z + size.z}});
+  }
+  const Scene scene(cloth, {parse_occluder_spec((dir / "quad_%02d.obj").string())},
+                    {parse_ground_plane("y=" + std::to_string(box.lo.y - 0.01))});
+  const SlicingPlan plan = make_diffuse_plan(cloth.topology(), cloth.frame(0), {}, &box);
+  KineticVisibility kinetic(scene.topology(), plan, scene.frame(0));
+  std::size_t crossings = 0;
+  for (std::size_t f = 1; f < 10; ++f) {
+    const Frame frame = scene.frame(f);
+    const FrameVisibility& k = kinetic.advance(frame);
+    const FrameVisibility s = compute_visibility(scene.topology(), frame, plan);
+    crossings += s.stats.chain_crossings;
+    ASSERT_EQ(k.measures[0].size(), cloth.topology().num_vertices);
+    for (Side side : kBothSides)
+      for (Index v = 0; v < cloth.topology().num_vertices; ++v)
+        ASSERT_EQ(k.measure(side, v).sky_visibility, s.measure(side, v).sky_visibility)
+            << "frame " << f << " vertex " << v;
+  }
+  EXPECT_GT(crossings, 0u);  // the quad cuts through the flag: crossings, counted, no failure
+}
+
+TEST(Occluders, ClothLyingOnOrThroughTheGroundIsCountedNotFatal) {
+  for (const double height : {0.0, -0.02, 1e-12}) {  // touching, penetrating, a hair above
+    auto sheet = test::flat_sheet(10, 10, 0.1);
+    for (std::size_t v = 0; v < sheet.frame.positions.size(); ++v)
+      sheet.frame.positions[v].z =
+          height + (v % 3 == 0 ? 0.05 : 0.0);  // some above the ground, some at height
+    const MeshSequence cloth = sequence_of(sheet);
+    const Scene scene(cloth, {}, {parse_ground_plane("z=0")});
+    const FrameVisibility vis = cones_in(scene, cloth);
+    for (Side side : kBothSides)
+      for (Index v = 0; v < cloth.topology().num_vertices; ++v) {
+        const double a = vis.measure(side, v).sky_visibility;
+        EXPECT_TRUE(a >= 0.0 && a <= 1.0) << height << " " << v;
+      }
+    if (height < 0) EXPECT_GT(vis.stats.chain_crossings, 0u) << height;
+  }
+}
+
+TEST(Occluders, BadOccludersNameTheFile) {
+  test::TempDir dir;
+  const ClothGenerator generator(ClothKind::Curtain, {6, 3, 24.0, 0});
+  std::vector<Frame> frames;
+  for (int f = 0; f < 3; ++f) frames.push_back(generator.frame(f));
+  const MeshSequence cloth("curtain", generator.topology(), frames);
+  auto fails_naming = [&](const std::string& spec, const std::string& file, const std::string& what) {
+    try {
+      Scene(cloth, {parse_occluder_spec(spec)}, {});
+      ADD_FAILURE() << "accepted " << spec;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  fails_naming((dir / "missing.obj").string(), "missing.obj", "");
+  std::ofstream(dir / "nan.obj") << "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n";
+  fails_naming((dir / "nan.obj").string(), "nan.obj", "");
+  // Two frames of an occluder against three of the cloth.
+  MeshTopology tri{3, {{0, 1, 2}}};
+  write_obj(dir / "t_0.obj", tri, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  write_obj(dir / "t_1.obj", tri, {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}});
+  fails_naming((dir / "t_%d.obj").string(), "t_%d.obj", "2 frames, the cloth 3");
+  EXPECT_THROW(parse_occluder_spec(""), std::invalid_argument);
+  EXPECT_THROW(parse_occluder_spec("a.obj,cache="), std::invalid_argument);
+  EXPECT_EQ(parse_occluder_spec("a.obj,cache=b.pc2").cache, "b.pc2");
+  EXPECT_THROW(parse_ground_plane("w=0"), std::invalid_argument);
+  EXPECT_THROW(parse_ground_plane("y=zero"), std::invalid_argument);
+  EXPECT_THROW(parse_ground_plane("y=inf"), std::invalid_argument);
+  EXPECT_EQ(parse_ground_plane("z=-1.5").axis, 2);
+  EXPECT_EQ(parse_ground_plane("z=-1.5").height, -1.5);
+}
+
+}  // namespace
+}  // namespace pleat
