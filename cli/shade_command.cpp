@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <glm/geometric.hpp>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -60,6 +61,7 @@ struct ShadeOptions {
   std::string up = "0,1,0";
   int render_every = 1;
   int turntable = 0;
+  bool hide_occluders = false;
   PlanOptions plan;
   SceneOptions scene;
   ChunkOptions chunking;
@@ -238,23 +240,42 @@ void run_shade(const ShadeOptions& options) {
     std::unique_ptr<EmbreeScene> scene;
     FrameVisibility from_cache;
     std::array<SideVisibility, 2> sides;
+    // The images show the occluders (neutral grey, lit from --up) unless --hide-occluders.
+    const bool occluded = world.num_occluders() > 0;
+    const bool draw_occluders = occluded && !options.hide_occluders;
+    const MeshTopology& drawn = draw_occluders ? world.topology() : topology;
+    const glm::dvec3 up = glm::normalize(parse_vec3(options.up, "--up"));
+    std::vector<glm::vec3> occluder_grey;
+    auto with_occluders = [&](const std::vector<glm::vec3>& cloth) {
+      if (!draw_occluders) return cloth;
+      std::vector<glm::vec3> all = cloth;
+      all.insert(all.end(), occluder_grey.begin(), occluder_grey.end());
+      return all;
+    };
     for (std::size_t f = chunk_first; f < chunk_last; ++f) {
       const std::size_t j = f - first;
       const Frame frame = sequence.frame(f);
+      const Frame in_scene = occluded ? world.with_occluders(f, frame) : Frame{};
+      const Frame& world_frame = occluded ? in_scene : frame;
       const auto t0 = std::chrono::steady_clock::now();
       if (cache) cache->read_frame(cached[j], frame, from_cache);
-      const FrameVisibility& visibility =
-          cache ? from_cache
-                : engine->compute(world.num_occluders() ? world.with_occluders(f, frame) : frame);
+      const FrameVisibility& visibility = cache ? from_cache : engine->compute(world_frame);
       const auto t1 = std::chrono::steady_clock::now();
       for (Side side : kBothSides) side_visibility(visibility, side, sides[int(side)]);
       // Frame numbers, not positions in the range: the same frames are rendered however the shot is split.
       const bool render_this = render && (f % static_cast<std::size_t>(options.render_every) == 0);
+      const Frame& drawn_frame = draw_occluders ? world_frame : frame;
       if (render_this) {
         if (!scene)
-          scene = std::make_unique<EmbreeScene>(topology, frame);
+          scene = std::make_unique<EmbreeScene>(drawn, drawn_frame);
         else
-          scene->update(frame);
+          scene->update(drawn_frame);
+        if (draw_occluders) {
+          const std::vector<glm::dvec3> normals = vertex_normals(drawn, drawn_frame);
+          occluder_grey.clear();
+          for (Index v = topology.num_vertices; v < drawn.num_vertices; ++v)
+            occluder_grey.push_back(glm::vec3(float(0.30 + 0.10 * std::abs(glm::dot(normals[v], up)))));
+        }
       }
       ByteWriter bytes;
       bytes.put(std::chrono::duration<double>(t1 - t0).count());
@@ -271,11 +292,12 @@ void run_shade(const ShadeOptions& options) {
           char name[64];
           std::snprintf(name, sizeof name, "frame_%04zu.png", f);
           if (options.turntable > 0 && frame_ids.size() == 1) {
-            render_turntable(render_dirs[s], "turntable", topology, frame, front, back, *camera,
-                             options.turntable, options.width, options.height);
+            render_turntable(render_dirs[s], "turntable", drawn, drawn_frame, with_occluders(front),
+                             with_occluders(back), *camera, options.turntable, options.width, options.height);
           } else {
             write_png(render_dirs[s] / name,
-                      render_image(*scene, frame, front, back, *camera, options.width, options.height));
+                      render_image(*scene, drawn_frame, with_occluders(front), with_occluders(back), *camera,
+                                   options.width, options.height));
           }
         }
       }
@@ -375,6 +397,8 @@ void register_shade_command(CLI::App& app) {
                   "render the frames whose number is a multiple of N")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd->add_flag("--hide-occluders", options->hide_occluders,
+                "--render: draw the cloth alone (the occluders still block its sky)");
   cmd->add_option("--turntable", options->turntable,
                   "with a single frame: N images turning about the up axis")
       ->check(CLI::NonNegativeNumber);

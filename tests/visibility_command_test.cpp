@@ -139,6 +139,46 @@ TEST(VisibilityCommand, ASplitShotConcatenatesToTheFullRunsBytes) {
   EXPECT_TRUE(image == slurp(dir / "r6" / "frame_0006.png"));
 }
 
+/// The bundled pile in its scene: --ground y=0 darkens the side lying on the ground (the cloth alone sees sky
+/// through the floor); the drape's turning table as an animated --occluder; a bad occluder is one clear
+/// error naming its file, exit 2, no output.
+TEST(VisibilityCommand, OccludersAndTheGroundBlockTheSky) {
+  test::TempDir dir;
+  const std::string data = std::string(PLEAT_SOURCE_DIR) + "/data/";
+  const std::string pile =
+      data + "pile/pile.obj --cache " + data + "pile/pile.pc2 --frames -1: --engine static";
+  auto mean_back = [&](const std::string& csv) {
+    double sum = 0.0;
+    const auto rows = read_visibility_csv(dir / csv);
+    for (const auto& r : rows) sum += std::min(r.front, r.back);
+    return sum / double(rows.size());
+  };
+  ASSERT_EQ(test::run_pleat("visibility " + pile + " -o " + (dir / "alone.csv").string()).exit_code, 0);
+  const auto grounded =
+      test::run_pleat("visibility " + pile + " --ground y=0 -o " + (dir / "ground.csv").string());
+  ASSERT_EQ(grounded.exit_code, 0) << grounded.output;
+  EXPECT_GT(mean_back("alone.csv"), 0.2);    // the down side sees the sky through the floor
+  EXPECT_LT(mean_back("ground.csv"), 0.01);  // with the ground it sees (almost) nothing
+  const std::string drape = data + "drape/drape.obj --cache " + data + "drape/drape.pc2 --frames 30:32";
+  const std::string table = " --occluder " + data + "drape/drape_colliders.obj,cache=" + data +
+                            "drape/drape_colliders.pc2 --ground y=0";
+  const auto on_table = test::run_pleat("visibility " + drape + table + " -o " + (dir / "t.csv").string());
+  ASSERT_EQ(on_table.exit_code, 0) << on_table.output;
+  ASSERT_EQ(test::run_pleat("visibility " + drape + " -o " + (dir / "f.csv").string()).exit_code, 0);
+  EXPECT_LT(mean_back("t.csv"), mean_back("f.csv") - 0.05);
+  // An animated occluder of another length: one error naming it, exit 2, nothing written.
+  const auto wrong = test::run_pleat("visibility " + pile + " --occluder " + data +
+                                     "drape/drape_colliders.obj,cache=" + data +
+                                     "drape/drape_colliders.pc2 -o " + (dir / "w.csv").string());
+  EXPECT_EQ(wrong.exit_code, 2);
+  EXPECT_NE(wrong.output.find("drape_colliders.pc2"), std::string::npos) << wrong.output;
+  EXPECT_NE(wrong.output.find("100 frames, the cloth 80"), std::string::npos) << wrong.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "w.csv"));
+  const auto bad = test::run_pleat("visibility " + pile + " --ground up=0 -o " + (dir / "b.csv").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("AXIS=VALUE"), std::string::npos) << bad.output;
+}
+
 /// `pleat visibility` on the bundled sequence `name` (data/NAME/NAME.obj and .pc2) over `frames`: with the
 /// kinetic engine (the default; `kinetic_extra` options added) into dir/k.csv, with the static one into
 /// dir/s.csv.
