@@ -1,10 +1,10 @@
 // The cloth in its scene (issue: occluders): on every bundled real sequence with the colliders it was
 // simulated against (data/README.md), at its last frame, the cones' error against ray-traced truth *of the
 // scene* (4096 cosine-weighted rays per vertex and side, occluders and ground included), with the occluders
-// given and without them (the cloth alone, as pleat answered before); and what the occluders cost: a static
-// frame's CPU time with and without them, alternated, medians, one thread.
+// given and without them (the cloth alone, as pleat answered before); and what the occluders cost: a frame's
+// CPU time with and without them, each engine, over the last frames, alternated, medians, one thread.
 //
-// Usage: occluders_bench [--rays=4096] [--repeat=7] [--sequences=drape,pile,rucked,layered] [--body=OBJ]
+// Usage: occluders_bench [--rays=4096] [--repeat=10] [--sequences=drape,pile,rucked,layered] [--body=OBJ]
 // Prints a markdown table (bench/run_occluders.sh writes it to bench/results/occluders.md).
 #include <tbb/global_control.h>
 
@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "bench/bench_args.hpp"
+#include "kinetic/kinetic_visibility.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/ray_visibility.hpp"
 #include "sim_io/scene.hpp"
@@ -54,7 +55,7 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int rays = 4096, repeat = 7;
+  int rays = 4096, repeat = 10;
   std::vector<std::string> names = {"drape", "pile", "rucked", "layered"};
   std::string body;
   for (int i = 1; i < argc; ++i) {
@@ -68,8 +69,8 @@ int main(int argc, char** argv) {
   std::printf(
       "| sequence | colliders | mean, cloth alone | p95, cloth alone | mean, in its scene | p95, in its "
       "scene |"
-      " frame ms, cloth alone | frame ms, in its scene | ratio "
-      "|\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
+      " static ms: alone / in scene (ratio) | kinetic ms: alone / in scene (ratio) |\n"
+      "|---|---|---:|---:|---:|---:|---:|---:|\n");
   for (const std::string& name : names) {
     const std::filesystem::path dir = data / name;
     const MeshSequence cloth = load_sequence(dir / (name + ".obj"), dir / (name + ".pc2"));
@@ -104,22 +105,38 @@ int main(int argc, char** argv) {
     params.parallel = false;
     const auto truth = ray_cast_sky_visibility(embree, scene.topology(), scene_frame, with.normals, params);
     const Errors before = errors(without, truth), after = errors(with, truth);
-    // Cost: the static engine's frame, alternated (cloth alone, then in its scene), CPU seconds.
-    StaticVisibility engine_alone(alone.topology(), plan, serial),
-        engine_scene(scene.topology(), plan, serial);
-    std::vector<double> t_alone, t_scene;
-    for (int r = 0; r < repeat; ++r) {
+    // Cost: a frame of each engine over the last `repeat` frames, cloth alone and in its scene alternated
+    // frame by frame (CPU seconds; the kinetic engines built on the frame before, not counted).
+    const std::size_t from = f + 1 - std::min<std::size_t>(std::size_t(repeat), f);
+    StaticVisibility static_alone(alone.topology(), plan, serial),
+        static_scene(scene.topology(), plan, serial);
+    KineticParams kinetic_params;
+    kinetic_params.parallel = false;
+    KineticVisibility kinetic_alone(alone.topology(), plan, alone.frame(from - 1), kinetic_params);
+    KineticVisibility kinetic_scene(scene.topology(), plan, scene.frame(from - 1), kinetic_params);
+    std::vector<double> t[4];
+    for (std::size_t g = from; g <= f; ++g) {
+      const Frame a = alone.frame(g), b = scene.frame(g);
       double t0 = cpu_seconds();
-      engine_alone.compute(cloth_frame);
-      t_alone.push_back(cpu_seconds() - t0);
+      static_alone.compute(a);
+      t[0].push_back(cpu_seconds() - t0);
       t0 = cpu_seconds();
-      engine_scene.compute(scene_frame);
-      t_scene.push_back(cpu_seconds() - t0);
+      static_scene.compute(b);
+      t[1].push_back(cpu_seconds() - t0);
+      t0 = cpu_seconds();
+      kinetic_alone.advance(a);
+      t[2].push_back(cpu_seconds() - t0);
+      t0 = cpu_seconds();
+      kinetic_scene.advance(b);
+      t[3].push_back(cpu_seconds() - t0);
     }
-    const double a = median(t_alone) * 1e3, s = median(t_scene) * 1e3;
-    std::printf("| %s (frame %zu, %u vertices) | %s | %.4f | %.4f | %.4f | %.4f | %.1f | %.1f | %.2f |\n",
-                name.c_str(), f, cloth.topology().num_vertices, described.c_str(), before.mean, before.p95,
-                after.mean, after.p95, a, s, s / a);
+    double ms[4];
+    for (int k = 0; k < 4; ++k) ms[k] = median(t[k]) * 1e3;
+    std::printf(
+        "| %s (frame %zu, %u vertices) | %s | %.4f | %.4f | %.4f | %.4f | %.1f / %.1f (%.2f) | %.1f / %.1f "
+        "(%.2f) |\n",
+        name.c_str(), f, cloth.topology().num_vertices, described.c_str(), before.mean, before.p95,
+        after.mean, after.p95, ms[0], ms[1], ms[1] / ms[0], ms[2], ms[3], ms[3] / ms[2]);
     std::fflush(stdout);
   }
   return 0;
