@@ -35,6 +35,8 @@
 //   --reference-rays K       default 4096
 //   --reference-sample N     the reference estimates every k-th vertex, k = ceil(vertices / N) (default 4000)
 //   --data DIR               the repository's data/ (default: found from this source file's path)
+//   --cloth-alone            real sequences without their colliders (default: in the scene they were
+//                            simulated in, data/README.md; every method, the reference included, sees it)
 //   --kinetic-timeout S      seconds without progress before the cone engines' process is declared hung
 // Exit status 1 and "frame_coherence: FAILED: ..." lines when any method failed or static and kinetic differ.
 // Plain executable: no Google Benchmark main.
@@ -183,14 +185,15 @@ struct Run {
     Measurement m;
     m.sequence = seq.name;
     m.real = seq.real;
-    m.vertices = seq.topology.num_vertices;
-    m.triangles = seq.topology.triangles.size();
+    m.vertices = seq.cloth.num_vertices;  // per cloth vertex: the occluders receive nothing
+    m.triangles = seq.cloth.triangles.size();
     m.upsample = u;
     m.frames = frame_count;
     const std::vector<Frame> frames = make_frames(seq, u, frame_count);
-    const SlicingPlan plan = make_diffuse_plan(seq.topology, frames[0], DiffusePlanParams{});
+    const SlicingPlan plan = default_plan(seq, frames[0]);
     m.planes = plan.planes.size();
-    progress(m, format("%d frames, %zu planes", frame_count, plan.planes.size()));
+    progress(m, format("%d frames, %zu planes%s", frame_count, plan.planes.size(),
+                       seq.scene.empty() ? "" : (", in its scene: " + seq.scene).c_str()));
     const bool native = u == 1;
     cone_engines(m, seq, plan, frames, options.threads.front(), native);
     if (!native) return m;
@@ -225,7 +228,7 @@ int run(int argc, char** argv) {
     for (Index size : real ? std::vector<Index>{0} : options.sizes) {
       std::optional<Sequence> seq;
       try {
-        seq = make_sequence(name, size, options.data);
+        seq = make_sequence(name, size, options.data, !options.cloth_alone);
       } catch (const std::exception& e) {
         std::fprintf(stderr, "[frame_coherence] %s %u: cannot make the sequence: %s\n", name.c_str(), size,
                      e.what());

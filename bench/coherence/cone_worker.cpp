@@ -57,10 +57,10 @@ void timed_frame(MethodRow& row, bool keep_sky, double& slice_vertices, Step&& s
 }
 
 /// Static and kinetic engines on `plan`, frame by frame in turn; with `paper`, also the static engine on the
-/// paper's plan (make_paper_plan), the baseline of the accuracy and cost comparison.
+/// paper's plan, the baseline of the accuracy and cost comparison.
 std::vector<MethodRow> run_engines(const MeshTopology& topology, const SlicingPlan& plan,
-                                   const std::vector<Frame>& frames, int threads, bool keep_sky, bool paper,
-                                   Heartbeat& heartbeat) {
+                                   const SlicingPlan* paper, const std::vector<Frame>& frames, int threads,
+                                   bool keep_sky, Heartbeat& heartbeat) {
   MethodRow s, k, b;
   s.method = "static";
   k.method = "kinetic";
@@ -70,7 +70,7 @@ std::vector<MethodRow> run_engines(const MeshTopology& topology, const SlicingPl
   std::optional<StaticVisibility> static_engine, paper_engine;
   std::optional<KineticVisibility> kinetic_engine;
   if (paper) try {
-      paper_engine.emplace(topology, make_paper_plan(topology, frames[0]));
+      paper_engine.emplace(topology, *paper);
       paper_engine->compute(frames[0]);
     } catch (const std::exception& e) {
       b.status = std::string("error at frame 0: ") + e.what();
@@ -259,12 +259,14 @@ int run_cone_worker(const Options& options) {
   heartbeat.out.open(options.worker_result.string() + ".beat");
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                               std::size_t(options.worker_threads));
-  const Sequence seq = make_sequence(options.sequences.at(0), options.sizes.at(0), options.data);
+  const Sequence seq =
+      make_sequence(options.sequences.at(0), options.sizes.at(0), options.data, !options.cloth_alone);
   const std::vector<Frame> frames = make_frames(seq, options.upsample.at(0), options.frames);
-  const SlicingPlan plan = make_diffuse_plan(seq.topology, frames[0], DiffusePlanParams{});
+  const SlicingPlan plan = default_plan(seq, frames[0]);
+  const SlicingPlan paper = paper_plan(seq, frames[0]);
   heartbeat.beat("frames");
-  const auto rows = run_engines(seq.topology, plan, frames, options.worker_threads, options.worker_keep_sky,
-                                options.worker_keep_sky, heartbeat);
+  const auto rows = run_engines(seq.topology, plan, options.worker_keep_sky ? &paper : nullptr, frames,
+                                options.worker_threads, options.worker_keep_sky, heartbeat);
   const fs::path tmp = options.worker_result.string() + ".tmp";
   {
     std::ofstream out(tmp);
@@ -316,6 +318,7 @@ std::variant<std::vector<MethodRow>, std::string> run_cone_engines_in_child(cons
                                 "--worker-threads",
                                 std::to_string(threads)};
   if (keep_sky) args.emplace_back("--worker-keep-sky");
+  if (options.cloth_alone) args.emplace_back("--cloth-alone");
   std::vector<char*> argv;
   argv.reserve(args.size() + 1);
   for (auto& a : args) argv.push_back(a.data());

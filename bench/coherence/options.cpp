@@ -89,6 +89,8 @@ Options parse_options(int argc, char** argv) {
       o.reference_sample = Index(to_int(next()));
     } else if (arg == "--data") {
       o.data = next();
+    } else if (arg == "--cloth-alone") {
+      o.cloth_alone = true;
     } else if (arg == "--kinetic-timeout") {
       o.kinetic_timeout_s = to_double(next());
     } else if (arg == "--worker") {
@@ -105,7 +107,8 @@ Options parse_options(int argc, char** argv) {
           "LIST]\n"
           "  [--rays 8,12,16,24,32,48,64,96,128,256,1024] [--threads 1,2] [--sweep-rays 32] [--random-rays "
           "16]\n"
-          "  [--reference-rays 4096] [--reference-sample 4000] [--data DIR] [--kinetic-timeout S]\n");
+          "  [--reference-rays 4096] [--reference-sample 4000] [--data DIR] [--cloth-alone] "
+          "[--kinetic-timeout S]\n");
       std::exit(0);
     } else {
       usage_error("unknown flag '" + arg + "'");

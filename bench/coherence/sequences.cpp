@@ -49,19 +49,61 @@ std::vector<std::string> default_sequences(const fs::path& data) {
   return names;
 }
 
-Sequence make_sequence(const std::string& name, Index size, const fs::path& data) {
+BundledScene bundled_scene(const std::string& name, const fs::path& data) {
+  BundledScene scene;
+  const fs::path colliders = data / name / (name + "_colliders.obj");
+  if (fs::exists(colliders)) {
+    OccluderSpec spec{colliders.string(), {}};
+    if (fs::exists(data / name / (name + "_colliders.pc2")))
+      spec.cache = (data / name / (name + "_colliders.pc2")).string();
+    scene.occluders.push_back(spec);
+    scene.describe = name + "_colliders" + (spec.cache.empty() ? " (static)" : " (animated)");
+  }
+  if (name != "rucked") {  // simulated without a ground (data/README.md)
+    scene.grounds.push_back(parse_ground_plane("y=0"));
+    scene.describe += scene.describe.empty() ? "ground y=0" : ", ground y=0";
+  }
+  return scene;
+}
+
+Frame cloth_part(const Sequence& s, const Frame& frame) {
+  Frame cloth{frame.time, {frame.positions.begin(), frame.positions.begin() + s.cloth.num_vertices}};
+  return cloth;
+}
+
+SlicingPlan default_plan(const Sequence& s, const Frame& first) {
+  return make_diffuse_plan(s.cloth, cloth_part(s, first), DiffusePlanParams{}, s.real ? &s.cover : nullptr);
+}
+
+SlicingPlan paper_plan(const Sequence& s, const Frame& first) {
+  return make_paper_plan(s.cloth, cloth_part(s, first), s.real ? &s.cover : nullptr);
+}
+
+Sequence make_sequence(const std::string& name, Index size, const fs::path& data, bool in_scene) {
   Sequence s;
   s.name = name;
   s.size = size;
   if (!parse_cloth_kind(name)) {
-    const MeshSequence seq = load_sequence(obj_of(data, name), pc2_of(data, name));
-    const std::size_t n = seq.num_frames();
+    // The cloth and its scene, kept together (the scene reads the cloth's frames).
+    struct Held {
+      MeshSequence cloth;
+      Scene scene;
+      Held(MeshSequence c, const BundledScene& b)
+          : cloth(std::move(c)), scene(cloth, b.occluders, b.grounds) {}
+    };
+    const BundledScene bundled = in_scene ? bundled_scene(name, data) : BundledScene{};
+    const auto held =
+        std::make_shared<const Held>(load_sequence(obj_of(data, name), pc2_of(data, name)), bundled);
+    const std::size_t n = held->cloth.num_frames();
     const std::size_t start = name == "drape" ? kDrapeStart : (n > kRealTail ? n - kRealTail : 0);
     s.real = true;
     s.size = 0;
-    s.topology = seq.topology();
+    s.topology = held->scene.topology();
+    s.cloth = held->cloth.topology();
+    s.cover = held->cloth.bounds();
+    s.scene = bundled.describe;
     s.native_available = n > start ? n - start : 0;
-    s.native = [seq, start](std::size_t i) { return seq.frame(start + i); };
+    s.native = [held, start](std::size_t i) { return held->scene.frame(start + i); };
     return s;
   }
   const int resolution = static_cast<int>(std::lround(std::sqrt(double(size))));
@@ -71,6 +113,7 @@ Sequence make_sequence(const std::string& name, Index size, const fs::path& data
   auto generator = std::make_shared<ClothGenerator>(*parse_cloth_kind(name),
                                                     GeneratorParams{resolution, kGeneratorCycle, 24.0, 0});
   s.topology = generator->topology();
+  s.cloth = s.topology;
   s.native_available = SIZE_MAX;
   s.native = [generator](std::size_t i) { return generator->frame((kGeneratedStart + i) % kGeneratorCycle); };
   return s;
