@@ -84,10 +84,11 @@ struct KineticVisibility::Impl {
   /// KineticPolicy::measured_cost: whether this interval carries the slices or rebuilds them all, and whether
   /// a rebuilt interval keeps the triangulations (the last one before an interval that carries).
   struct Schedule {
-    static constexpr int kProbeEvery = 16;  // carrying: every 16th interval rebuilds, as a fresh sample
+    static constexpr int kProbeEvery = 16;        // carrying: every 16th interval rebuilds, as a fresh sample
+    static constexpr double kCarryMargin = 0.95;  // carry while it costs at most this share of a rebuild
     double carry_cost = -1.0, rebuild_cost = -1.0;  // seconds per slice vertex, averaged; -1: unknown
     int rebuilds_left = 0;                          // of a run of whole-interval rebuilds
-    int doublings = 0;                              // of the next run's length (8, 16, 32)
+    int doublings = 0;                              // of the next run's length (8, 16, 32, 64)
     int carried = 0;                                // intervals carried since the last whole-interval rebuild
   };
 
@@ -151,9 +152,12 @@ struct KineticVisibility::Impl {
     average(s.carry_cost);
     ++s.carried;
     if (s.rebuild_cost < 0) return;
-    if (s.carry_cost > s.rebuild_cost) {  // carrying loses: a run of rebuilds, longer after each lost probe
+    // Carrying must pay by a margin to be kept: where it costs about what a rebuild does, the probes and the
+    // per-slice attempts that fail make it lose, and rebuilding is the static engine's work exactly.
+    if (s.carry_cost >
+        Schedule::kCarryMargin * s.rebuild_cost) {  // a run of rebuilds, longer after each lost probe
       s.rebuilds_left = 8 << s.doublings;
-      s.doublings = std::min(s.doublings + 1, 2);
+      s.doublings = std::min(s.doublings + 1, 3);
     } else {
       s.doublings = 0;
     }
