@@ -247,9 +247,8 @@ void run(const VisibilityOptions& options) {
   if (cones) report() << "wrote " << options.cones << ": the 3D cones of every frame\n";
   if (crossing_frames > 0)
     std::cerr << "pleat: warning: chains cross in " << crossing_frames
-              << " frames (the surface self-intersects there, or meets an occluder); crossing points were "
-                 "inserted and counted in "
-                 "--stats\n";
+              << " frames (the cloth self-intersects there or meets an occluder, or occluders meet, as a table "
+                 "standing on the ground); crossing points were inserted and counted in --stats\n";
 }
 
 }  // namespace
