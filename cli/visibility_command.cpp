@@ -246,9 +246,10 @@ void run(const VisibilityOptions& options) {
              << "\n";
   if (cones) report() << "wrote " << options.cones << ": the 3D cones of every frame\n";
   if (crossing_frames > 0)
-    std::cerr << "pleat: warning: chains cross in " << crossing_frames
-              << " frames (the cloth self-intersects there or meets an occluder, or occluders meet, as a table "
-                 "standing on the ground); crossing points were inserted and counted in --stats\n";
+    std::cerr
+        << "pleat: warning: chains cross in " << crossing_frames
+        << " frames (the cloth self-intersects there or meets an occluder, or occluders meet, as a table "
+           "standing on the ground); crossing points were inserted and counted in --stats\n";
 }
 
 }  // namespace
