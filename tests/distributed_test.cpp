@@ -158,6 +158,23 @@ TEST(Distributed, BothEnginesAtTwoAndThreeRanksWriteTheBytesOfOneProcess) {
   }
 }
 
+TEST(Distributed, OccludersAtTwoRanksGiveTheBytesOfOneProcess) {
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  const std::string scene =
+      " --ground z=0 --occluder " + std::string(PLEAT_SOURCE_DIR) + "/data/rucked/rucked_colliders.obj";
+  const std::string one = (dir / "one.csv").string(), two = (dir / "two.csv").string();
+  const auto single = test::run_pleat("visibility " + input + scene + " --frames 1:7 -o " + one);
+  ASSERT_EQ(single.exit_code, 0) << single.output;
+  const auto many = mpirun(2, "visibility " + input + scene + " --frames 1:7 -o " + two);
+  ASSERT_EQ(many.exit_code, 0) << many.output;
+  EXPECT_TRUE(slurp(one) == slurp(two));
+  const auto alone =
+      test::run_pleat("visibility " + input + " --frames 1:7 -o " + (dir / "alone.csv").string());
+  ASSERT_EQ(alone.exit_code, 0) << alone.output;
+  EXPECT_FALSE(slurp(one) == slurp(dir / "alone.csv"));  // the scene changes the values
+}
+
 TEST(Distributed, ShadeAtTwoAndThreeRanksWritesTheGlbAndImagesOfOneProcess) {
   TempDir dir;
   const std::string input = make_curtain(dir);
