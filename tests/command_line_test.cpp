@@ -17,13 +17,10 @@
 namespace pleat {
 namespace {
 
+using test::slurp;
+
 namespace fs = std::filesystem;
 using test::run_pleat;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 // Runs `pleat ARGS` with its stderr into `errors` (the result's output is its stdout).
 test::CommandResult run_pleat_split(const std::string& args, const fs::path& errors) {

@@ -22,13 +22,11 @@
 namespace pleat {
 namespace {
 
+using test::names_in;
+using test::slurp;
+
 using test::CommandResult;
 using test::TempDir;
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 /// In the sanitizer build, the LeakSanitizer options of every rank: Open MPI's suppressions, and the slow
 /// unwinder so that an allocation made inside Open MPI's libraries is seen to be theirs (tests/sanitizer/).
@@ -46,14 +44,6 @@ CommandResult mpirun(int ranks, const std::string& args, const std::string& env 
 }
 
 /// Files of `dir` (names), to check that a failed run left nothing behind.
-std::vector<std::string> names_in(const std::filesystem::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : std::filesystem::directory_iterator(dir))
-    names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
 /// A generated curtain of 7 frames (uneven over 2 and 3 ranks) in `dir`: "c.obj --cache c.pc2".
 std::string make_curtain(const TempDir& dir, int resolution = 10, int frames = 7) {
   const auto made = test::run_pleat("generate curtain -o " + (dir / "c.obj").string() + " --resolution " +

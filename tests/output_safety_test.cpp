@@ -15,19 +15,10 @@
 namespace pleat {
 namespace {
 
+using test::names_in;
+using test::slurp;
+
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-std::vector<std::string> names_in(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
 
 // A small generated curtain: dir/c.obj and dir/c.pc2; returns the input arguments for them.
 std::string small_curtain(const fs::path& dir) {

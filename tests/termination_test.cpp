@@ -21,19 +21,10 @@
 namespace pleat {
 namespace {
 
+using test::names_in;
+using test::slurp;
+
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-std::vector<std::string> names_in(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
 
 // Starts `pleat ARGS` with the three signals at their default action (as a farm's launcher would), stdout to
 // /dev/null and stderr to `errors`; `ignore_hangup`: SIGHUP ignored, as under nohup.

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace pleat::test {
 
@@ -35,5 +36,10 @@ std::string flip_random_bits(std::string bytes);
 CommandResult run_pleat(const std::string& args);
 /// Runs a shell command, stderr merged into the output.
 CommandResult run_command(const std::string& shell_command);
+
+/// The whole content of a file ("" when it cannot be read).
+std::string slurp(const std::filesystem::path& path);
+/// The names of the entries of a directory, sorted.
+std::vector<std::string> names_in(const std::filesystem::path& directory);
 
 }  // namespace pleat::test

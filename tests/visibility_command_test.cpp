@@ -13,6 +13,8 @@
 namespace pleat {
 namespace {
 
+using test::slurp;
+
 TEST(VisibilityCommand, WritesOneRowPerFrameAndInputVertexIntoNewDirectories) {
   test::TempDir dir;
   ASSERT_EQ(
@@ -80,11 +82,6 @@ TEST(VisibilityCommand, MissingInputFailsCleanlyAndWritesNothing) {
   EXPECT_NE(result.output.find("nope.obj"), std::string::npos) << result.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "v.csv"));
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
-}
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 /// The lines of a CSV after its header.
