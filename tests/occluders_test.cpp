@@ -27,6 +27,14 @@ MeshSequence sequence_of(const test::TestMesh& mesh) {
   return MeshSequence("sheet", mesh.topology, {mesh.frame});
 }
 
+/// The first `count` frames of a generated cloth as a sequence.
+MeshSequence generated(ClothKind kind, GeneratorParams params, int count) {
+  const ClothGenerator generator(kind, params);
+  std::vector<Frame> frames;
+  for (int f = 0; f < count; ++f) frames.push_back(generator.frame(f));
+  return MeshSequence(std::string(cloth_kind_name(kind)), generator.topology(), std::move(frames));
+}
+
 /// The cones of frame `f` of the cloth in `scene`, with the plan the CLI makes (lattice over the cloth).
 FrameVisibility cones_in(const Scene& scene, const MeshSequence& cloth, std::size_t f = 0) {
   const SlicingPlan plan = make_diffuse_plan(cloth.topology(), cloth.frame(0), {}, &cloth.bounds());
@@ -67,10 +75,7 @@ TEST(Occluders, ConesAgreeWithRayCastingOfTheSameScene) {
   // A folded generated cloth over the ground and an animated occluder: the cones against 1024 cosine-
   // weighted rays per vertex and side cast in the scene itself (occluders and ground included).
   test::TempDir dir;
-  const ClothGenerator generator(ClothKind::Roll, {18, 3, 24.0, 0});
-  std::vector<Frame> frames;
-  for (int f = 0; f < 3; ++f) frames.push_back(generator.frame(f));
-  const MeshSequence cloth("roll", generator.topology(), frames);
+  const MeshSequence cloth = generated(ClothKind::Roll, {18, 3, 24.0, 0}, 3);
   const Bounds& box = cloth.bounds();
   // A block under part of the roll, as an OBJ (static: one frame).
   const glm::dvec3 lo = box.lo - glm::dvec3(0.2), hi = glm::dvec3(box.hi.x, box.lo.y, box.hi.z);
@@ -123,10 +128,7 @@ TEST(Occluders, ConesAgreeWithRayCastingOfTheSameScene) {
 
 TEST(Occluders, KineticEqualsStaticWithAMovingOccluderAndTheGround) {
   test::TempDir dir;
-  const ClothGenerator generator(ClothKind::Flag, {12, 10, 24.0, 3});
-  std::vector<Frame> frames;
-  for (int f = 0; f < 10; ++f) frames.push_back(generator.frame(f));
-  const MeshSequence cloth("flag", generator.topology(), frames);
+  const MeshSequence cloth = generated(ClothKind::Flag, {12, 10, 24.0, 3}, 10);
   // A tilted quad sweeping through the flag's box, frame by frame (an OBJ sequence).
   const Bounds& box = cloth.bounds();
   const glm::dvec3 c = 0.5 * (box.lo + box.hi), size = box.hi - box.lo;
@@ -180,10 +182,7 @@ TEST(Occluders, ClothLyingOnOrThroughTheGroundIsCountedNotFatal) {
 
 TEST(Occluders, BadOccludersNameTheFile) {
   test::TempDir dir;
-  const ClothGenerator generator(ClothKind::Curtain, {6, 3, 24.0, 0});
-  std::vector<Frame> frames;
-  for (int f = 0; f < 3; ++f) frames.push_back(generator.frame(f));
-  const MeshSequence cloth("curtain", generator.topology(), frames);
+  const MeshSequence cloth = generated(ClothKind::Curtain, {6, 3, 24.0, 0}, 3);
   auto fails_naming = [&](const std::string& spec, const std::string& file, const std::string& what) {
     try {
       Scene(cloth, {parse_occluder_spec(spec)}, {});
