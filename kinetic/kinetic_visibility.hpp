@@ -52,7 +52,7 @@ struct KineticPolicy {
   /// A slice rebuilt by the rule above is rebuilt outright, without an attempt at repair, until this many
   /// intervals have passed since the first such rebuild, then tried again: motion too fast to repair in one
   /// interval usually is in the next ones too, and a failed attempt costs its certificates and put-backs on
-  /// top of the rebuild (the generated flag, one thread: kinetic ÷ static 1.27 with 1, 1.11 with 8). 1 (with
+  /// top of the rebuild (measured: bench/results/kinetic_policy.md). 1 (with
   /// max_retry_doublings 0): try every interval.
   int retry_interval = 8;
   /// Rebuild a slice, then for the retry interval, when carrying it has cost more per slice vertex than

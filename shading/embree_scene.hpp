@@ -4,7 +4,7 @@
 // Why: the visibility cones are checked against brute-force ray casting, and images are made by casting
 // primary rays; both want one BVH per mesh that follows the frames cheaply. Connectivity is fixed for a
 // sequence, so the index buffer is built once and only positions change: update() refits the BVH
-// (RTC_BUILD_QUALITY_REFIT, ~1 ms for 3k vertices) or rebuilds it (~2 ms / ~70 ms for 3k / 100k vertices).
+// (RTC_BUILD_QUALITY_REFIT, cheaper than a build) or rebuilds it (docs/benchmarks.md has both costs).
 // A refit keeps the tree's topology, so its quality degrades when the cloth moves far from the frame it
 // was built on; call rebuild() now and then (or use BuildMode::Rebuild) for long sequences.
 //

@@ -37,8 +37,8 @@ struct EnvironmentOrientation {
 };
 
 /// Default width maps are box-filtered down to at load: one texel is 1.4 degrees, finer than the cone
-/// polygons resolve, and the integral's cost grows with the columns an edge crosses. Measured on the drape
-/// (3,111 vertices) with a 1024 x 512 sky: 906 ms of shading per frame at full width, 214 ms at 256.
+/// polygons resolve, and the integral's cost grows with the columns an edge crosses (docs/benchmarks.md,
+/// "Shading and relighting": about a quarter of the full width's cost).
 inline constexpr int kDefaultEnvironmentWidth = 256;
 
 class EnvironmentMap {

@@ -27,10 +27,9 @@
 // Without step 3, the hemisphere about the vertex normal at a crease would see "through" the adjacent
 // faces, and a V-fold's bottom would get A = 1 instead of sin α.
 //
-// Cost: K rays per vertex and side; Embree streams of 64 rays (≈25% faster than rtcOccluded1 loops here),
-// TBB-parallel over vertices. Measured on this machine, one core (thread CPU time, shared machine): 3k-vertex
-// generated curtain/roll, 10–12 Mrays/s (K = 256: ≈0.14 s for both sides of the frame; 1–6% of the samples
-// are decided by the one-ring test without a ray); 100k-vertex curtain ≈5 Mrays/s.
+// Cost: K rays per vertex and side; Embree streams of 64 rays (faster than rtcOccluded1 loops), TBB-parallel
+// over vertices; 1–6% of the samples are decided by the one-ring test without a ray. Rays per second:
+// docs/benchmarks.md, "Against Embree at matched error".
 #pragma once
 
 #include <array>

@@ -7,9 +7,8 @@
 // topological fact comes from it: the edges are its edges, a vertex's neighbours and faces its circulators',
 // the number of faces on an edge its halfedges' faces, boundary vertices and edges its is_boundary, and the
 // loops and components are walks over those. Cost: O(F log d) for F triangles and largest vertex degree d,
-// once per sequence: 1.4 ms on a 3k-vertex curtain, 14 ms at 30k, 150 ms at 300k (about 1.4x the sorted-key
-// extraction it replaced; a frame costs 100 ms and more). The queries below are O(1) or spans into flat
-// arrays.
+// once per sequence (a small fraction of one frame: docs/benchmarks.md, "Speed of the static core"). The
+// queries below are O(1) or spans into flat arrays.
 //
 // Non-manifold input. The engines take any triangle list whose indices are in range (degenerate faces, a
 // third face on an edge, bow-ties, flipped winding, repeated or isolated vertices): they only need edges and
