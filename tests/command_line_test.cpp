@@ -12,6 +12,7 @@
 
 #include "sim_io/obj_format.hpp"
 #include "sim_io/pc2_format.hpp"
+#include "sim_io_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace pleat {
@@ -210,13 +211,7 @@ TEST(CommandLine, ProgressLinesForLogs) {
 TEST(CommandLine, VisibilityWarnsWhenTheFirstFrameSelfIntersects) {
   // Two triangles piercing each other in frame 1 only.
   test::TempDir dir;
-  const MeshTopology t{6, {{0, 1, 2}, {3, 4, 5}}};
-  const std::vector<glm::dvec3> apart = {{0, 0, 0},     {2, 0, 0},     {0, 2, 0},
-                                         {0.5, 0.5, 1}, {0.5, 0.5, 2}, {1, 0.5, 1}};
-  std::vector<glm::dvec3> pierced = apart;
-  pierced[3].z = -1;
-  write_obj(dir / "x.obj", t, apart);
-  write_pc2(dir / "x.pc2", {apart, pierced}, 0.0, 1.0);
+  test::write_piercing_pair(dir.path());
   const std::string input =
       (dir / "x.obj").string() + " --cache " + (dir / "x.pc2").string() + " -o " + (dir / "v.csv").string();
   const std::string warning = "pleat: warning: frame 1 self-intersects (1 face pair)";

@@ -93,13 +93,7 @@ TEST(InfoCommand, HumanReadableReportAndIntersectionCheck) {
 TEST(InfoCommand, ReportsSelfIntersectingFrames) {
   // Two triangles piercing each other in frame 1 only.
   TempDir dir;
-  const MeshTopology t{6, {{0, 1, 2}, {3, 4, 5}}};
-  const std::vector<glm::dvec3> apart = {{0, 0, 0},     {2, 0, 0},     {0, 2, 0},
-                                         {0.5, 0.5, 1}, {0.5, 0.5, 2}, {1, 0.5, 1}};
-  std::vector<glm::dvec3> pierced = apart;
-  pierced[3].z = -1;
-  write_obj(dir / "x.obj", t, apart);
-  write_pc2(dir / "x.pc2", {apart, pierced}, 0.0, 1.0);
+  test::write_piercing_pair(dir.path());
   const auto json =
       info_json(quoted(dir / "x.obj") + " --cache " + quoted(dir / "x.pc2") + " --check-intersections");
   EXPECT_EQ(json["self_intersections"]["frames_with_intersections"], 1);
@@ -125,7 +119,7 @@ class BadInput : public ::testing::Test {
     write_shaded_glb(m_dir / "s.glb", sheet, {0, 1}, {white, white}, {white, white}, 24.0);
   }
   std::filesystem::path path(const std::string& name) const { return m_dir / name; }
-  std::string bytes(const std::string& name) const { return test::file_bytes(m_dir / name); }
+  std::string bytes(const std::string& name) const { return test::slurp(m_dir / name); }
   void write(const std::string& name, const std::string& content) const {
     test::write_bytes(m_dir / name, content);
   }

@@ -8,6 +8,9 @@
 #include <vector>
 
 #include "sim_io/mesh_sequence.hpp"
+#include "sim_io/obj_format.hpp"
+#include "sim_io/pc2_format.hpp"
+#include "test_support.hpp"
 
 namespace pleat::test {
 
@@ -45,9 +48,15 @@ inline std::vector<std::vector<glm::dvec3>> all_positions(const MeshSequence& s)
   return out;
 }
 
-inline std::string file_bytes(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+/// Two triangles that pierce each other in frame 1 only, as DIR/x.obj + DIR/x.pc2 (two frames).
+inline void write_piercing_pair(const std::filesystem::path& dir) {
+  const MeshTopology t{6, {{0, 1, 2}, {3, 4, 5}}};
+  const std::vector<glm::dvec3> apart = {{0, 0, 0},     {2, 0, 0},     {0, 2, 0},
+                                         {0.5, 0.5, 1}, {0.5, 0.5, 2}, {1, 0.5, 1}};
+  std::vector<glm::dvec3> pierced = apart;
+  pierced[3].z = -1;
+  write_obj(dir / "x.obj", t, apart);
+  write_pc2(dir / "x.pc2", {apart, pierced}, 0.0, 1.0);
 }
 
 inline void write_bytes(const std::filesystem::path& p, const std::string& bytes) {

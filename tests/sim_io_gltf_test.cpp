@@ -334,7 +334,7 @@ TEST(SimIoGltf, WrongMagicAndTruncatedGlb) {
   const MeshSequence sheet = test::folding_sheet(1, 1, 2);
   const std::vector<glm::vec3> white(sheet.topology().num_vertices, glm::vec3(1.0f));
   write_shaded_glb(dir / "ok.glb", sheet, {0, 1}, {white, white}, {white, white}, 24.0);
-  const std::string bytes = test::file_bytes(dir / "ok.glb");
+  const std::string bytes = test::slurp(dir / "ok.glb");
   test::write_bytes(dir / "short.glb", bytes.substr(0, bytes.size() - 10));
   EXPECT_EQ(error_place(dir / "short.glb", "truncated"), "byte " + std::to_string(bytes.size() - 10));
 }
@@ -345,7 +345,7 @@ class GlbCorruption {
     const MeshSequence sheet = test::folding_sheet(2, 1, 3);
     const std::vector<glm::vec3> grey(sheet.topology().num_vertices, glm::vec3(0.5f));
     write_shaded_glb(m_dir / "s.glb", sheet, {0, 1, 2}, {grey, grey, grey}, {grey, grey, grey}, 24.0);
-    m_bytes = test::file_bytes(m_dir / "s.glb");
+    m_bytes = test::slurp(m_dir / "s.glb");
   }
   const std::string& bytes() const { return m_bytes; }
   void check(const std::string& corrupted) {

@@ -29,7 +29,7 @@ TEST(SimIoMdd, BigEndianLayout) {
   const std::string expected = std::string("\x00\x00\x00\x01\x00\x00\x00\x01", 8) +
                                std::string("\x3e\x80\x00\x00", 4) +
                                std::string("\x3f\x80\x00\x00\x40\x00\x00\x00\xc0\x00\x00\x00", 12);
-  EXPECT_EQ(test::file_bytes(dir / "t.mdd"), expected);
+  EXPECT_EQ(test::slurp(dir / "t.mdd"), expected);
   const MddHeader h = read_mdd_header(dir / "t.mdd");
   EXPECT_EQ(h.num_frames, 1);
   EXPECT_EQ(h.num_points, 1);
@@ -50,7 +50,7 @@ std::string place_of(const std::filesystem::path& p) {
 TEST(SimIoMdd, BadInputNamesThePlace) {
   TempDir dir;
   write_mdd(dir / "ok.mdd", {{{0, 0, 0}, {1, 0, 0}}, {{0, 1, 0}, {1, 1, 0}}}, {0.0, 1.0});
-  const std::string ok = test::file_bytes(dir / "ok.mdd");
+  const std::string ok = test::slurp(dir / "ok.mdd");
   test::write_bytes(dir / "a.mdd", ok.substr(0, ok.size() - 1));
   EXPECT_EQ(place_of(dir / "a.mdd"), "byte " + std::to_string(ok.size() - 1));
   test::write_bytes(dir / "b.mdd", ok.substr(0, 6));

@@ -36,7 +36,7 @@ TEST(SimIoPc2, GoldenFileReadsAsWrittenByHand) {
   // The writer produces exactly these bytes.
   TempDir dir;
   write_pc2(dir / "t.pc2", {{{0, 0, 0}, {1, 0, 0}}, {{0, 1, 0}, {1, 1, 0.5}}}, 1.0, 1.0);
-  EXPECT_EQ(test::file_bytes(dir / "t.pc2"), test::file_bytes(path));
+  EXPECT_EQ(test::slurp(dir / "t.pc2"), test::slurp(path));
 }
 
 TEST(SimIoPc2, RoundTripWithObj) {
@@ -72,7 +72,7 @@ std::string place_of(const std::filesystem::path& p) {
 
 TEST(SimIoPc2, HeaderErrorsNameTheByte) {
   TempDir dir;
-  const auto golden = test::file_bytes(test::source_dir() / "tests/golden/tiny.pc2");
+  const auto golden = test::slurp(test::source_dir() / "tests/golden/tiny.pc2");
   std::string bad = golden;
   bad[0] = 'X';
   test::write_bytes(dir / "magic.pc2", bad);
@@ -95,7 +95,7 @@ TEST(SimIoPc2, HeaderErrorsNameTheByte) {
 
 TEST(SimIoPc2, NanCoordinateNamesFrameAndVertex) {
   TempDir dir;
-  std::string bytes = test::file_bytes(test::source_dir() / "tests/golden/tiny.pc2");
+  std::string bytes = test::slurp(test::source_dir() / "tests/golden/tiny.pc2");
   bytes[32 + 12 + 12 + 4 + 3] = char(0x7f);  // frame 1, vertex 0, y: 0x7f800000 = +inf
   bytes[32 + 12 + 12 + 4 + 2] = char(0x80);
   test::write_bytes(dir / "inf.pc2", bytes);
@@ -138,7 +138,7 @@ class Pc2Corruption {
     const MeshSequence sheet = test::folding_sheet(2, 1, 3);
     write_obj(m_dir / "s.obj", sheet.topology(), sheet.frame(0).positions);
     write_pc2(m_dir / "s.pc2", test::all_positions(sheet), 0.0, 1.0);
-    m_bytes = test::file_bytes(m_dir / "s.pc2");
+    m_bytes = test::slurp(m_dir / "s.pc2");
   }
   const std::string& bytes() const { return m_bytes; }
   void check(const std::string& corrupted) {

@@ -193,7 +193,7 @@ TEST(SimIoAtomicFile, FailedWriteKeepsThePreviousFile) {
                                        throw std::runtime_error("boom");
                                      }),
                std::runtime_error);
-  EXPECT_EQ(test::file_bytes(dir / "out.txt"), "old");
+  EXPECT_EQ(test::slurp(dir / "out.txt"), "old");
   EXPECT_EQ(
       std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()),
       1);
@@ -236,7 +236,7 @@ TEST(SimIoAtomicFile, WritesThroughSymbolicLinks) {
   write_file_atomically(dir / "out/link.txt", std::string("new"));
   EXPECT_TRUE(std::filesystem::is_symlink(dir / "out/link.txt"));
   EXPECT_TRUE(std::filesystem::is_symlink(dir / "data/chain.txt"));
-  EXPECT_EQ(test::file_bytes(dir / "data/file.txt"), "new");
+  EXPECT_EQ(test::slurp(dir / "data/file.txt"), "new");
   EXPECT_TRUE(other_names(dir / "out", {"link.txt"}).empty());
   EXPECT_TRUE(other_names(dir / "data", {"file.txt", "chain.txt"}).empty());
 
@@ -244,7 +244,7 @@ TEST(SimIoAtomicFile, WritesThroughSymbolicLinks) {
   std::filesystem::create_symlink("fresh.txt", dir / "out/dangling.txt");
   write_file_atomically(dir / "out/dangling.txt", std::string("created"));
   EXPECT_TRUE(std::filesystem::is_symlink(dir / "out/dangling.txt"));
-  EXPECT_EQ(test::file_bytes(dir / "out/fresh.txt"), "created");
+  EXPECT_EQ(test::slurp(dir / "out/fresh.txt"), "created");
 }
 
 TEST(SimIoAtomicFile, RefusesWhatIsNotARegularFile) {
@@ -305,7 +305,7 @@ TEST(SimIoAtomicFile, DashStreamsToStandardOutput) {
   std::filesystem::current_path(previous);
   ::dup2(saved, STDOUT_FILENO);
   ::close(saved);
-  EXPECT_EQ(test::file_bytes(captured), "head," + big + ",tail");
+  EXPECT_EQ(test::slurp(captured), "head," + big + ",tail");
   EXPECT_FALSE(std::filesystem::exists(dir / "-"));
 }
 
@@ -317,7 +317,7 @@ TEST(SimIoVisibilityCsv, RowsPerInputVertexInInputOrderRoundTrip) {
   csv.add_frame(0, front, back);
   csv.add_frame(7, back, front);
   csv.commit();
-  const std::string text = test::file_bytes(dir / "v.csv");
+  const std::string text = test::slurp(dir / "v.csv");
   EXPECT_EQ(text.substr(0, text.find('\n')), "frame,vertex,front,back");
   const auto rows = read_visibility_csv(dir / "v.csv");
   ASSERT_EQ(rows.size(), 12u);
