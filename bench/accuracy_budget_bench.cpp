@@ -12,8 +12,9 @@
 //   settings    the engine with other orientation sets (the paper's 6 axis-aligned ones, or n spread over the
 //               hemisphere: relaxed to evenly spaced lines, the default, or on the Fibonacci spiral they
 //               start from), plane spacings and storage rules (ConeStorage::NearestOnFan: the nearest cut of
-//               the vertex's own edges per orientation; InterpolatedOnFan, the default: the cuts below and
-//               above blended), what each buys and at what cost (CPU ms, one thread);
+//               the vertex's own edges per orientation; InterpolatedOnFan: the cuts below and
+//               above blended; AimedOnFan, the default: their horizon points blended and aimed at from the
+//               vertex), what each buys and at what cost (CPU ms, one thread);
 //   vertex      an oracle: for every vertex and orientation, a plane of that orientation through the vertex
 //               itself (offset by 1e-3 edge so that it cuts the vertex's own edges), and the 2D cone of the
 //               slice vertex on the vertex's edge nearest to it — no offset between slice point and vertex,
@@ -142,7 +143,7 @@ double quadrature_sky(std::span<const PlanarCone> cones, std::span<const Slicing
                       const glm::dvec3& n) {
   double num = 0, den = 0;
   std::vector<Wedge> united, clipped;
-  std::vector<std::pair<double, double>> intervals;
+  std::vector<AngularInterval> intervals;
   auto circle = [&](const SlicingPlane& plane) {  // n projected into the plane's (u, w) frame
     const glm::dvec2 m(glm::dot(plane.u, n), glm::dot(plane.w, n));
     den += 2 * glm::length(m);
@@ -258,7 +259,7 @@ int run(int argc, char** argv) {
   int reference_rays = 4096;
   std::vector<int> oracle_orientations{6, 12, 24};
   constexpr auto kPaper = ConeStorage::NearerEndpoint, kFan = ConeStorage::NearestOnFan,
-                 kBlend = ConeStorage::InterpolatedOnFan;
+                 kBlend = ConeStorage::InterpolatedOnFan, kAim = ConeStorage::AimedOnFan;
   std::vector<Setting> settings{
       setting(6, 1.0, kPaper),        setting(6, 0.5, kPaper),         setting(12, 1.0, kPaper),
       setting(6, 1.0, kFan),          setting(8, 1.0, kFan),           setting(8, 0.75, kFan),
@@ -266,7 +267,8 @@ int run(int argc, char** argv) {
       setting(8, 1.0, kBlend),        setting(8, 0.75, kBlend, false), setting(8, 0.75, kBlend),
       setting(8, 0.5, kBlend, false), setting(8, 0.5, kBlend),         setting(8, 0.45, kBlend),
       setting(10, 0.5, kBlend),       setting(12, 0.75, kBlend),       setting(12, 0.5, kBlend, false),
-      setting(12, 0.5, kBlend)};
+      setting(12, 0.5, kBlend),       setting(8, 0.75, kAim),          setting(8, 0.5, kAim),
+      setting(12, 0.5, kAim),         setting(16, 0.75, kAim)};
   Index oracle_sample = 1000;
   bool quick = false;
   for (int i = 1; i < argc; ++i) {

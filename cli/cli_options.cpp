@@ -187,12 +187,13 @@ void PlanOptions::add_to(CLI::App& command) {
       command
           .add_option(
               "--cone-storage", storage,
-              "how 2D cones reach mesh vertices: interpolated-on-fan (per orientation, the cuts of a "
-              "vertex's "
-              "own edges nearest below and above it, blended at its height), nearest-on-fan (the nearest cut "
-              "of its own edges per orientation) or nearer-endpoint (the paper's: every plane's cut on edges "
-              "the vertex is nearer to)")
-          ->check(CLI::IsMember({"interpolated-on-fan", "nearest-on-fan", "nearer-endpoint"}))
+              "how 2D cones reach mesh vertices: aimed-on-fan (per orientation, the cuts of a vertex's own "
+              "edges nearest below and above it, their horizon points blended at its height and aimed at "
+              "from "
+              "the vertex), interpolated-on-fan (the same cuts, their wedge angles blended), nearest-on-fan "
+              "(the nearest cut of its own edges per orientation) or nearer-endpoint (the paper's: every "
+              "plane's cut on edges the vertex is nearer to)")
+          ->check(CLI::IsMember({"aimed-on-fan", "interpolated-on-fan", "nearest-on-fan", "nearer-endpoint"}))
           ->capture_default_str());
   placement.push_back(command.add_flag(
       "--paper", paper,

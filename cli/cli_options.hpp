@@ -86,7 +86,7 @@ struct PlanOptions {
   int planes_per_orientation = 0;
   bool adaptive = false;
   double max_missing = 0.05;
-  std::string storage = "interpolated-on-fan";
+  std::string storage = "aimed-on-fan";
   bool paper = false;
   std::string plan_file;  ///< --plan: read the plan from this file instead
   std::string save_plan;  ///< --save-plan: also write the plan made to this file

@@ -6,7 +6,7 @@
 // (cover_with_planes: the lattice is anchored in world space, so the planes that cut a frame are the same
 // whatever box is covered). Any other plan is stored plane by plane. Doubles are written in the shortest form
 // that reads back to the same bits, so a plan round-trips exactly:
-//   {"pleat_plan": 1, "storage": "interpolated-on-fan", "orientations": [[x, y, z], ...],
+//   {"pleat_plan": 1, "storage": "aimed-on-fan", "orientations": [[x, y, z], ...],
 //    "spacing": s}                                   (lattice)
 //    "planes": [{"orientation": o, "offset": d, "normal": [..], "u": [..], "w": [..]}, ...]
 //                                                    (otherwise, instead of "spacing")

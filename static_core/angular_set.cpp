@@ -19,7 +19,7 @@ double direction_angle(const glm::dvec2& d) { return wrap_angle(std::atan2(d.y, 
 Wedge wedge_between(const glm::dvec2& from, const glm::dvec2& to) {
   double width = std::atan2(from.x * to.y - from.y * to.x, glm::dot(from, to));
   if (width <= 0) width += kTwoPi;
-  return {direction_angle(from), width};
+  return {direction_angle(from), width, float(glm::length(from)), float(glm::length(to))};
 }
 
 Wedge thin_wedge_between(const glm::dvec2& from, const glm::dvec2& to) {
@@ -27,61 +27,63 @@ Wedge thin_wedge_between(const glm::dvec2& from, const glm::dvec2& to) {
   // The exact turn is left, so the true width is in (0, pi): a negative value is rounding of a width
   // next to 0 or next to pi.
   if (width < 0) width = width < -kTwoPi / 4 ? kTwoPi / 2 : 0.0;
-  return {direction_angle(from), width};
+  return {direction_angle(from), width, float(glm::length(from)), float(glm::length(to))};
 }
 
 namespace {
 
 /// Splits wedges into linear intervals of [0, 2pi], sorted; a full turn gives [0, 2pi] alone.
-void split_into_intervals(std::span<const Wedge> wedges, std::vector<std::pair<double, double>>& out) {
+void split_into_intervals(std::span<const Wedge> wedges, std::vector<AngularInterval>& out) {
   out.clear();
   for (const Wedge& w : wedges) {
     if (!(w.width > 0)) continue;
     if (w.width >= kTwoPi - kAngleTolerance) {
       out.clear();
-      out.emplace_back(0.0, kTwoPi);
+      out.push_back({0.0, kTwoPi});
       return;
     }
     const double s = wrap_angle(w.start), e = s + w.width;
     if (e <= kTwoPi) {
-      out.emplace_back(s, e);
-    } else {
-      out.emplace_back(s, kTwoPi);
-      out.emplace_back(0.0, e - kTwoPi);
+      out.push_back({s, e, w.start_reach, w.end_reach});
+    } else {  // the cut at 2pi is no end: merge_into_wedges joins the two pieces again
+      out.push_back({s, kTwoPi, w.start_reach, INFINITY});
+      out.push_back({0.0, e - kTwoPi, INFINITY, w.end_reach});
     }
   }
-  std::sort(out.begin(), out.end());
+  std::sort(out.begin(), out.end(), [](const AngularInterval& a, const AngularInterval& b) {
+    return a.lo < b.lo || (a.lo == b.lo && a.hi < b.hi);
+  });
 }
 
 /// Merges sorted intervals in place (touching within kAngleTolerance), then appends them to `out` as
 /// wedges, joining the interval that ends at 2pi with the one that starts at 0.
-void merge_into_wedges(std::vector<std::pair<double, double>>& iv, std::vector<Wedge>& out) {
+void merge_into_wedges(std::vector<AngularInterval>& iv, std::vector<Wedge>& out) {
   std::size_t m = 0;
   for (std::size_t i = 0; i < iv.size(); ++i) {
-    if (m > 0 && iv[i].first <= iv[m - 1].second + kAngleTolerance)
-      iv[m - 1].second = std::max(iv[m - 1].second, iv[i].second);
-    else
+    if (m > 0 && iv[i].lo <= iv[m - 1].hi + kAngleTolerance) {
+      if (iv[i].hi > iv[m - 1].hi) iv[m - 1].hi = iv[i].hi, iv[m - 1].hi_reach = iv[i].hi_reach;
+    } else {
       iv[m++] = iv[i];
+    }
   }
   iv.resize(m);
   if (m == 0) return;
-  if (m == 1 && iv[0].first <= kAngleTolerance && iv[0].second >= kTwoPi - kAngleTolerance) {
+  if (m == 1 && iv[0].lo <= kAngleTolerance && iv[0].hi >= kTwoPi - kAngleTolerance) {
     out.push_back({0.0, kTwoPi});
     return;
   }
-  const bool wraps =
-      m > 1 && iv.front().first <= kAngleTolerance && iv.back().second >= kTwoPi - kAngleTolerance;
+  const bool wraps = m > 1 && iv.front().lo <= kAngleTolerance && iv.back().hi >= kTwoPi - kAngleTolerance;
   for (std::size_t i = wraps ? 1 : 0; i < m; ++i) {
-    auto [a, b] = iv[i];
-    if (wraps && i + 1 == m) b = kTwoPi + iv.front().second;
-    if (b - a > 0) out.push_back({a, b - a});
+    AngularInterval x = iv[i];
+    if (wraps && i + 1 == m) x.hi = kTwoPi + iv.front().hi, x.hi_reach = iv.front().hi_reach;
+    if (x.hi - x.lo > 0) out.push_back({x.lo, x.hi - x.lo, x.lo_reach, x.hi_reach});
   }
   // Sorted by start: the intervals were, and the wrapping wedge is the last one.
 }
 
 }  // namespace
 
-void unite_wedges(std::span<const Wedge> wedges, std::vector<std::pair<double, double>>& scratch,
+void unite_wedges(std::span<const Wedge> wedges, std::vector<AngularInterval>& scratch,
                   std::vector<Wedge>& out) {
   split_into_intervals(wedges, scratch);
   merge_into_wedges(scratch, out);
@@ -99,9 +101,11 @@ void intersect_wedges(std::span<const Wedge> a, std::span<const Wedge> b, WedgeS
   s.z.clear();
   std::size_t i = 0, j = 0;
   while (i < s.x.size() && j < s.y.size()) {
-    const double lo = std::max(s.x[i].first, s.y[j].first), hi = std::min(s.x[i].second, s.y[j].second);
-    if (hi - lo > kAngleTolerance) s.z.emplace_back(lo, hi);
-    (s.x[i].second < s.y[j].second) ? ++i : ++j;
+    const AngularInterval &x = s.x[i], &y = s.y[j];
+    const AngularInterval& from = x.lo >= y.lo ? x : y;
+    const AngularInterval& to = x.hi <= y.hi ? x : y;
+    if (to.hi - from.lo > kAngleTolerance) s.z.push_back({from.lo, to.hi, from.lo_reach, to.hi_reach});
+    (x.hi < y.hi) ? ++i : ++j;
   }
   merge_into_wedges(s.z, out);
 }
@@ -121,8 +125,29 @@ bool is_full_turn(std::span<const Wedge> w) {
 
 }  // namespace
 
-bool blend_wedges(std::span<const Wedge> a, std::span<const Wedge> b, double t, WedgeScratch& s,
-                  std::vector<Wedge>& out) {
+namespace {
+
+/// The end at angle `blended` (reach `blended_reach`), re-aimed from `eye` at the horizon point `point` when
+/// it has one and the turn stays within kMaxAimTurn. Returns the signed turn applied and sets the reach.
+double aim_end(double blended, const glm::dvec2* point, const glm::dvec2& eye, float& reach) {
+  if (!point) return 0.0;
+  const glm::dvec2 d = *point - eye;
+  const double length = glm::length(d);
+  if (!(length > 0)) return 0.0;
+  const double turn = signed_turn(blended, direction_angle(d));
+  if (!(std::abs(turn) <= kMaxAimTurn)) return 0.0;
+  reach = float(length);
+  return turn;
+}
+
+/// blend_wedges, and with `aim` each end whose reaches are finite on both sides moved to the direction from
+/// aim->eye to the blend of the two horizon points (aim_wedges).
+struct Aim {
+  glm::dvec2 apex_a, apex_b, eye;
+};
+
+bool blend_or_aim(std::span<const Wedge> a, std::span<const Wedge> b, double t, const Aim* aim,
+                  WedgeScratch& s, std::vector<Wedge>& out) {
   const std::size_t k = a.size();
   if (b.size() != k) return false;
   if (k == 0) return true;
@@ -151,11 +176,45 @@ bool blend_wedges(std::span<const Wedge> a, std::span<const Wedge> b, double t, 
     if (std::abs(turn_start) > kMaxBlendTurn || std::abs(turn_end) > kMaxBlendTurn) return false;
     // The ends' shorter turns must describe y's own width (not y's complement or a wrapped-around one).
     if (std::abs(x.width + turn_end - turn_start - y.width) > 1e-9) return false;
-    const double width = x.width + t * (y.width - x.width);
-    if (width > 0) s.a.push_back({wrap_angle(x.start + t * turn_start), width});
+    double start = x.start + t * turn_start;
+    double width = x.width + t * (y.width - x.width);
+    float start_reach = INFINITY, end_reach = INFINITY;
+    if (aim) {
+      // The horizon points of the matched ends, blended: where the occluding silhouette crosses the plane
+      // through the eye, to first order.
+      auto point = [&](double ax, float rx, double ay, float ry, glm::dvec2& p) -> const glm::dvec2* {
+        if (!std::isfinite(rx) || !std::isfinite(ry)) return nullptr;
+        const glm::dvec2 px = aim->apex_a + double(rx) * glm::dvec2(std::cos(ax), std::sin(ax));
+        const glm::dvec2 py = aim->apex_b + double(ry) * glm::dvec2(std::cos(ay), std::sin(ay));
+        p = px + t * (py - px);
+        return &p;
+      };
+      glm::dvec2 ps, pe;
+      const double ds =
+          aim_end(start, point(x.start, x.start_reach, y.start, y.start_reach, ps), aim->eye, start_reach);
+      const double de =
+          aim_end(start + width, point(x.end(), x.end_reach, y.end(), y.end_reach, pe), aim->eye, end_reach);
+      start += ds;
+      width = std::min(width + de - ds, kTwoPi);
+    }
+    if (width > 0) s.a.push_back({wrap_angle(start), width, start_reach, end_reach});
   }
   unite_wedges(s.a, s.intervals, out);
   return true;
+}
+
+}  // namespace
+
+bool blend_wedges(std::span<const Wedge> a, std::span<const Wedge> b, double t, WedgeScratch& s,
+                  std::vector<Wedge>& out) {
+  return blend_or_aim(a, b, t, nullptr, s, out);
+}
+
+bool aim_wedges(std::span<const Wedge> a, const glm::dvec2& apex_a, std::span<const Wedge> b,
+                const glm::dvec2& apex_b, double t, const glm::dvec2& eye, WedgeScratch& s,
+                std::vector<Wedge>& out) {
+  const Aim aim{apex_a, apex_b, eye};
+  return blend_or_aim(a, b, t, &aim, s, out);
 }
 
 bool is_united(std::span<const Wedge> wedges) {
@@ -174,22 +233,32 @@ void clip_to_half_turn(std::span<const Wedge> wedges, double h, std::vector<Wedg
       continue;
     }
     const double d = wrap_angle(w.start - h);  // the wedge is [d, d + width] relative to h
-    auto piece = [&](double lo, double hi) {
-      if (hi - lo > kAngleTolerance) out.push_back({wrap_angle(h + lo), hi - lo});
+    auto piece = [&](double lo, float lo_reach, double hi, float hi_reach) {
+      if (hi - lo > kAngleTolerance) out.push_back({wrap_angle(h + lo), hi - lo, lo_reach, hi_reach});
     };
-    if (d < kHalfTurn) piece(d, std::min(d + w.width, kHalfTurn));
-    if (d + w.width > kTwoPi) piece(0.0, std::min(d + w.width - kTwoPi, kHalfTurn));
+    const double e = d + w.width;
+    if (d < kHalfTurn)
+      e <= kHalfTurn ? piece(d, w.start_reach, e, w.end_reach) : piece(d, w.start_reach, kHalfTurn, INFINITY);
+    if (e > kTwoPi)
+      e - kTwoPi <= kHalfTurn ? piece(0.0, INFINITY, e - kTwoPi, w.end_reach)
+                              : piece(0.0, INFINITY, kHalfTurn, INFINITY);
   }
 }
 
 std::vector<std::pair<double, double>> AngularSet::to_intervals(std::span<const Wedge> wedges) {
+  std::vector<AngularInterval> iv;
+  split_into_intervals(wedges, iv);
   std::vector<std::pair<double, double>> out;
-  split_into_intervals(wedges, out);
+  out.reserve(iv.size());
+  for (const AngularInterval& x : iv) out.emplace_back(x.lo, x.hi);
   return out;
 }
 
-AngularSet AngularSet::from_intervals(std::vector<std::pair<double, double>> iv) {
-  std::sort(iv.begin(), iv.end());
+AngularSet AngularSet::from_intervals(std::vector<std::pair<double, double>> pairs) {
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<AngularInterval> iv;
+  iv.reserve(pairs.size());
+  for (const auto& [lo, hi] : pairs) iv.push_back({lo, hi});
   AngularSet set;
   merge_into_wedges(iv, set.m_wedges);
   return set;

@@ -7,6 +7,7 @@
 // Cost: O(k log k) for k wedges.
 #pragma once
 
+#include <cmath>
 #include <glm/vec2.hpp>
 #include <span>
 #include <utility>
@@ -17,10 +18,23 @@ namespace pleat {
 inline constexpr double kTwoPi = 6.283185307179586476925286766559;
 inline constexpr double kAngleTolerance = 1e-12;
 
+/// A wedge of a 2D cone. Each end may carry its *reach*: the distance from the apex to the slice point that
+/// bounds the wedge there (the tangent point of a shortest path, docs/method.md §7), or +infinity when no
+/// point bounds it (a full turn, a half-plane of a flat slice, the side's horizon). A reach turns the end
+/// into a point of the horizon that other viewpoints can aim at (aim_wedges); the set operations carry it
+/// along.
 struct Wedge {
   double start = 0.0;  ///< in [0, 2pi)
   double width = 0.0;  ///< in (0, 2pi]
+  float start_reach = INFINITY;
+  float end_reach = INFINITY;
   double end() const { return start + width; }
+};
+
+/// A linear interval [lo, hi] of angles and the reaches of its ends: what the set operations work on.
+struct AngularInterval {
+  double lo = 0.0, hi = 0.0;
+  float lo_reach = INFINITY, hi_reach = INFINITY;
 };
 
 /// Angle of a direction in [0, 2pi).
@@ -36,13 +50,14 @@ Wedge wedge_between(const glm::dvec2& from, const glm::dvec2& to);
 Wedge thin_wedge_between(const glm::dvec2& from, const glm::dvec2& to);
 
 /// Appends the union of `wedges` to `out` (disjoint, sorted by start), using `scratch` for the intervals:
-/// no allocation once the buffers have grown. The one implementation of the union (AngularSet uses it).
-void unite_wedges(std::span<const Wedge> wedges, std::vector<std::pair<double, double>>& scratch,
+/// no allocation once the buffers have grown. The one implementation of the union (AngularSet uses it). Each
+/// end of the union keeps the reach of the wedge end it comes from.
+void unite_wedges(std::span<const Wedge> wedges, std::vector<AngularInterval>& scratch,
                   std::vector<Wedge>& out);
 
-/// Reusable buffers of intersect_wedges.
+/// Reusable buffers of intersect_wedges, blend_wedges and aim_wedges.
 struct WedgeScratch {
-  std::vector<std::pair<double, double>> intervals, x, y, z;
+  std::vector<AngularInterval> intervals, x, y, z;
   std::vector<Wedge> a, b;
 };
 
@@ -72,6 +87,21 @@ inline constexpr double kMaxBlendTurn = kTwoPi / 4;
 /// O(k^2) for k wedges; no allocation once `scratch` has grown.
 bool blend_wedges(std::span<const Wedge> a, std::span<const Wedge> b, double t, WedgeScratch& scratch,
                   std::vector<Wedge>& out);
+
+/// The largest turn by which aim_wedges moves an end: a larger one means the horizon point lies nearer the
+/// eye than the eye lies from the apex, where the first-order parallax says nothing.
+inline constexpr double kMaxAimTurn = kTwoPi / 8;
+
+/// blend_wedges for 2D cones seen from another viewpoint: `a` is the cone at apex `apex_a` (at t = 0), `b` at
+/// `apex_b` (t = 1), all three points in one (u, w) frame (parallel planes share it). Each pair of matched
+/// ends with finite reaches gives two horizon points, apex + reach * direction; their blend at t is where the
+/// occluding silhouette crosses the eye's plane, to first order, and the end becomes the direction from `eye`
+/// to it (docs/method.md §7) — unless that turns it by more than kMaxAimTurn from the blended angle. Other
+/// ends are blended as blend_wedges does. A wedge whose ends cross is dropped. Returns false as blend_wedges
+/// does.
+bool aim_wedges(std::span<const Wedge> a, const glm::dvec2& apex_a, std::span<const Wedge> b,
+                const glm::dvec2& apex_b, double t, const glm::dvec2& eye, WedgeScratch& scratch,
+                std::vector<Wedge>& out);
 
 class AngularSet {
  public:

@@ -218,7 +218,7 @@ bool pieces_overlap(const SphericalPolygon& a, double a_solid_angle, const Spher
 struct ConeAssemblyScratch::Buffers {
   std::vector<SpatialWedge> wedges;
   std::vector<Wedge> united, clipped;
-  std::vector<std::pair<double, double>> intervals;
+  std::vector<AngularInterval> intervals;
   std::vector<int> parent, group_of, roots;
   std::vector<const SpatialWedge*> members;
   std::vector<std::pair<double, glm::dvec3>> order;

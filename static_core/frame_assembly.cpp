@@ -194,8 +194,9 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     // Keep only the nearest offer of each key (ties: the first, i.e. the lower plane), or under
     // InterpolatedOnFan the nearest from a plane below the vertex and then the nearest from a plane above it
     // (only the nearer of the two where their planes are not parallel: they are not blended, see
-    // blend_at_vertex): compact the CSR in place.
-    const bool both_sides_of_vertex = plan.storage == ConeStorage::InterpolatedOnFan;
+    // the aiming in step 4): compact the CSR in place.
+    const bool both_sides_of_vertex =
+        plan.storage == ConeStorage::InterpolatedOnFan || plan.storage == ConeStorage::AimedOnFan;
     std::uint32_t out = 0;
     for (std::size_t k = 0; k < keys; ++k) {
       const std::uint32_t begin = first[k], end = first[k + 1];
@@ -254,15 +255,22 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
   };
   // Under InterpolatedOnFan, a key with offers from a plane below the vertex (lo) and one above it (hi), of
   // parallel planes (step 2 kept only the nearer of a pencil's two): the blend of their cones at the vertex's
-  // height, or, where they do not match, the nearer plane's cone. Appends to ws.cones (a blended cone's
-  // wedges are placed once ws.blended stops growing).
-  auto blend_at_vertex = [&](const glm::dvec3& position, const Ref& lo, const Ref& hi, int side,
+  // height, or, where they do not match, the nearer plane's cone. Under AimedOnFan the blend is of the two
+  // planes' horizon points, aimed at from the vertex itself (aim_wedges, docs/method.md §7). Appends to
+  // ws.cones (a blended cone's wedges are placed once ws.blended stops growing).
+  auto blend_at_vertex = [&](const glm::dvec3& position, const Ref& lo, const Ref& hi, int side, bool aim,
                              Workspace& ws) {
     const SlicingPlane &below = plan.planes[lo.plane], &above = plan.planes[hi.plane];
     const double t = std::clamp(
         (glm::dot(below.normal, position) - below.offset) / (above.offset - below.offset), 0.0, 1.0);
+    auto apex = [&](const Ref& r) { return planes[r.plane]->slice.vertices[r.slice_vertex].point; };
+    const glm::dvec2 eye(glm::dot(below.u, position), glm::dot(below.w, position));
     const std::size_t begin = ws.blended.size();
-    if (blend_wedges(cone_of(lo, side), cone_of(hi, side), t, ws.wedge_scratch, ws.blended)) {
+    const bool blended =
+        aim ? aim_wedges(cone_of(lo, side), apex(lo), cone_of(hi, side), apex(hi), t, eye, ws.wedge_scratch,
+                         ws.blended)
+            : blend_wedges(cone_of(lo, side), cone_of(hi, side), t, ws.wedge_scratch, ws.blended);
+    if (blended) {
       ws.blends.push_back({ws.cones.size(), begin, ws.blended.size() - begin});
       ws.cones.push_back({&below, {}});
     } else {
@@ -270,6 +278,8 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
       ws.cones.push_back({&plan.planes[nearer.plane], cone_of(nearer, side)});
     }
   };
+  const bool aim = plan.storage == ConeStorage::AimedOnFan;
+  const bool blend = aim || plan.storage == ConeStorage::InterpolatedOnFan;
   auto assemble_vertex = [&](std::size_t v) {
     Workspace& ws = workspaces.local();
     for (int side = 0; side < 2; ++side) {
@@ -280,8 +290,9 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         const std::int32_t from = source[key_of(side, o, static_cast<Index>(v))];
         if (from < 0) continue;
         const std::size_t k = key_of(side, o, static_cast<Index>(from));
-        if (plan.storage == ConeStorage::InterpolatedOnFan && first[k + 1] - first[k] == 2) {
-          blend_at_vertex(frame.positions[from], refs[first[k]], refs[first[k] + 1], side, ws);
+        const std::uint32_t count = first[k + 1] - first[k];
+        if (blend && count == 2) {  // at the height of the vertex whose cuts these are
+          blend_at_vertex(frame.positions[from], refs[first[k]], refs[first[k] + 1], side, aim, ws);
           continue;
         }
         for (std::uint32_t i = first[k]; i < first[k + 1]; ++i)

@@ -27,7 +27,8 @@ Wedge exact_wedge(const Point2& x, const Point2& p, const Point2& q) {
     case CGAL::RIGHT_TURN:
       return wedge_between(dp, dq);
     default:
-      return {direction_angle(dp), CGAL::angle(p, x, q) == CGAL::ACUTE ? kTwoPi : kTwoPi / 2};
+      if (CGAL::angle(p, x, q) == CGAL::ACUTE) return {direction_angle(dp), kTwoPi};
+      return {direction_angle(dp), kTwoPi / 2, float(glm::length(dp)), float(glm::length(dq))};
   }
 }
 

@@ -52,7 +52,7 @@ struct SliceConeScratch {
   std::vector<int> corner_stamp;
   std::vector<int> region_corners;
   std::vector<Wedge> range_wedges;
-  std::vector<std::pair<double, double>> intervals;
+  std::vector<AngularInterval> intervals;
   SleeveScratch sleeves;  ///< regions with holes
   std::vector<SleeveSight> sights;
   std::size_t sleeve_sights = 0;  ///< sights of a window through a sleeve found so far (a running count)

@@ -325,13 +325,15 @@ const char* cone_storage_name(ConeStorage storage) {
       return "nearest-on-fan";
     case ConeStorage::InterpolatedOnFan:
       return "interpolated-on-fan";
+    case ConeStorage::AimedOnFan:
+      return "aimed-on-fan";
   }
   return "?";
 }
 
 ConeStorage cone_storage_from_name(std::string_view name) {
-  for (ConeStorage s :
-       {ConeStorage::NearerEndpoint, ConeStorage::NearestOnFan, ConeStorage::InterpolatedOnFan})
+  for (ConeStorage s : {ConeStorage::NearerEndpoint, ConeStorage::NearestOnFan,
+                        ConeStorage::InterpolatedOnFan, ConeStorage::AimedOnFan})
     if (name == cone_storage_name(s)) return s;
   throw std::invalid_argument("unknown cone storage rule '" + std::string(name) + "'");
 }

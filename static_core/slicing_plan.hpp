@@ -47,12 +47,18 @@ enum class ConeStorage {
   /// cone moves continuously as the vertex moves between planes; where the two cones cannot be matched (a
   /// wedge appears or vanishes between the planes), the cone of the nearer plane.
   InterpolatedOnFan,
+  /// As InterpolatedOnFan, but the cones are seen from the vertex itself (aim_wedges, docs/method.md §7): a
+  /// wedge end bounded by a slice point (its reach) is a point of the horizon, so the end becomes the
+  /// direction
+  /// from the vertex to that point — for two planes, to the blend of their two horizon points at the vertex's
+  /// height. This removes the slice point's offset from the vertex within the plane as well as across it.
+  AimedOnFan,
 };
 
 struct SlicingPlan {
   std::vector<glm::dvec3> orientations;  ///< unit normals, one per family of planes
   std::vector<SlicingPlane> planes;
-  ConeStorage storage = ConeStorage::InterpolatedOnFan;
+  ConeStorage storage = ConeStorage::AimedOnFan;
   /// > 0: the planes are the world-anchored lattice of this spacing (cover_with_planes), so a plan is
   /// (orientations, spacing, storage) plus the box it covers; 0: the planes were placed one by one (adaptive,
   /// counted, light plans) and are the plan.
@@ -67,7 +73,7 @@ void cover_with_planes(SlicingPlan& plan, const Bounds& cover);
 /// The box of the vertices the triangles use (isolated vertices do not stretch a plan).
 Bounds cloth_bounds(const MeshTopology& topology, const Frame& frame);
 
-/// "nearer-endpoint", "nearest-on-fan", "interpolated-on-fan".
+/// "nearer-endpoint", "nearest-on-fan", "interpolated-on-fan", "aimed-on-fan".
 const char* cone_storage_name(ConeStorage storage);
 /// The rule of a name from cone_storage_name; throws std::invalid_argument for any other.
 ConeStorage cone_storage_from_name(std::string_view name);

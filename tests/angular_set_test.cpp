@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <glm/geometric.hpp>
+#include <tuple>
 #include <vector>
 
 namespace pleat {
@@ -86,7 +88,7 @@ RC_GTEST_PROP(AngularSet, HalfTurnClipEqualsTheIntersection, ()) {
     const double width = *rc::gen::inRange(0, 8) == 0 ? kTwoPi : gen_angle() * 0.5 + 1e-9;
     raw.push_back({gen_angle(), width});
   }
-  std::vector<std::pair<double, double>> scratch;
+  std::vector<AngularInterval> scratch;
   std::vector<Wedge> united;
   unite_wedges(raw, scratch, united);
   RC_ASSERT(is_united(united) || united.size() == 1);
@@ -139,7 +141,7 @@ MovingWedges gen_moving_wedges(int k) {
 }
 
 std::vector<Wedge> united(const std::vector<Wedge>& raw) {
-  std::vector<std::pair<double, double>> scratch;
+  std::vector<AngularInterval> scratch;
   std::vector<Wedge> out;
   unite_wedges(raw, scratch, out);
   return out;
@@ -188,6 +190,124 @@ TEST(AngularSet, BlendRefusesSetsThatDoNotMatch) {
   ASSERT_EQ(out.size(), 1u);
   EXPECT_NEAR(std::remainder(out[0].start - (6.2 + 0.5 * (0.1 + kTwoPi - 6.2)), kTwoPi), 0.0, 1e-12);
   EXPECT_NEAR(out[0].width, 0.3, 1e-12);
+}
+
+// aim_wedges: a 2D cone at one apex seen from another viewpoint through the horizon points its ends carry.
+
+/// The visible set from `x` of a wall, the segment [p, q] (x not on its line): the complement of the wedge
+/// the wall blocks, its ends carrying their reaches to the wall's ends.
+std::vector<Wedge> visible_past_wall(const glm::dvec2& x, const glm::dvec2& p, const glm::dvec2& q) {
+  const glm::dvec2 dp = p - x, dq = q - x;
+  const bool left = dp.x * dq.y - dp.y * dq.x > 0;  // the wall spans p -> q counter-clockwise
+  return united({left ? wedge_between(dq, dp) : wedge_between(dp, dq)});
+}
+
+glm::dvec2 gen_point(double scale) {
+  return {scale * (*rc::gen::inRange(-1000, 1001) / 1000.0),
+          scale * (*rc::gen::inRange(-1000, 1001) / 1000.0)};
+}
+
+double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
+
+RC_GTEST_PROP(AngularSet, AimingAtAWallsEndsSeesItFromTheEye, ()) {
+  // A wall's silhouette points are its ends, whatever the viewpoint: the cone at the apex, aimed from the
+  // eye, is the eye's own cone exactly (while no end turns by more than kMaxAimTurn).
+  const glm::dvec2 p = gen_point(10.0), q = gen_point(10.0);
+  const glm::dvec2 apex = gen_point(1.0), eye = apex + gen_point(0.3);
+  RC_PRE(glm::length(q - p) > 1.0);
+  RC_PRE(std::abs(cross2(q - p, apex - p)) > 0.5 * glm::length(q - p));  // well off the wall's line
+  RC_PRE(std::abs(cross2(q - p, eye - p)) > 0.5 * glm::length(q - p));
+  RC_PRE(cross2(q - p, apex - p) * cross2(q - p, eye - p) > 0);  // the same side of it
+  const std::vector<Wedge> from_apex = visible_past_wall(apex, p, q), from_eye = visible_past_wall(eye, p, q);
+  for (const glm::dvec2& end : {p, q}) {  // within the aiming's reach
+    const double turn =
+        std::acos(std::clamp(glm::dot(glm::normalize(end - apex), glm::normalize(end - eye)), -1.0, 1.0));
+    RC_PRE(turn < kMaxAimTurn - 1e-6);
+  }
+  WedgeScratch scratch;
+  std::vector<Wedge> aimed;
+  RC_ASSERT(aim_wedges(from_apex, apex, from_apex, apex, 0.0, eye, scratch, aimed));
+  RC_ASSERT(is_united(aimed));
+  RC_ASSERT(difference(aimed, from_eye) < 1e-5);  // reaches are floats
+}
+
+RC_GTEST_PROP(AngularSet, AimingBetweenTwoPlanesFollowsAStraightEdge, ()) {
+  // Two parallel planes at heights 0 and 1 cut a wall whose ends are straight lines: its ends lie at p0, q0
+  // in the lower plane and p1, q1 in the upper one (one 2D frame). An eye at height t sees the wall's cut
+  // there, whose ends are the blends at t: aiming the two planes' cones from the eye gives exactly the eye's
+  // cone.
+  const glm::dvec2 p0 = gen_point(10.0), q0 = gen_point(10.0);
+  const glm::dvec2 p1 = p0 + gen_point(0.5), q1 = q0 + gen_point(0.5);
+  const glm::dvec2 apex0 = gen_point(1.0), apex1 = apex0 + gen_point(0.3);
+  const double t = *rc::gen::inRange(0, 1001) / 1000.0;
+  const glm::dvec2 eye = apex0 + t * (apex1 - apex0) + gen_point(0.1);
+  const glm::dvec2 pt = p0 + t * (p1 - p0), qt = q0 + t * (q1 - q0);
+  for (const auto& [x, a, b] :
+       {std::tuple{apex0, p0, q0}, std::tuple{apex1, p1, q1}, std::tuple{eye, pt, qt}}) {
+    RC_PRE(glm::length(b - a) > 1.0);
+    RC_PRE(std::abs(cross2(b - a, x - a)) > 0.5 * glm::length(b - a));
+    RC_PRE(cross2(b - a, x - a) * cross2(q0 - p0, apex0 - p0) > 0);
+  }
+  const std::vector<Wedge> lo = visible_past_wall(apex0, p0, q0), hi = visible_past_wall(apex1, p1, q1);
+  const std::vector<Wedge> expected = visible_past_wall(eye, pt, qt);
+  WedgeScratch scratch;
+  std::vector<Wedge> blended, aimed;
+  RC_PRE(blend_wedges(lo, hi, t, scratch, blended));  // the two cones match
+  RC_ASSERT(aim_wedges(lo, apex0, hi, apex1, t, eye, scratch, aimed));
+  // Where the blended angle and the eye's own differ by more than kMaxAimTurn the end is left blended.
+  RC_PRE(aimed.size() == 1 && expected.size() == 1);
+  RC_PRE(std::abs(aimed[0].start - blended[0].start) < kMaxAimTurn - 1e-6);
+  RC_ASSERT(difference(aimed, expected) < 1e-5);  // reaches are floats
+}
+
+RC_GTEST_PROP(AngularSet, AimingNeverTurnsAnEndFurtherThanItsLimit, ()) {
+  // Whatever the reaches and the eye, each end of the aimed set lies within kMaxAimTurn of the blended one:
+  // the aimed set lies within that margin of the blend, and without reaches aiming is blending.
+  const MovingWedges m = gen_moving_wedges(*rc::gen::inRange(1, 5));
+  std::vector<Wedge> a = united(m.at(0.0)), b = united(m.at(1.0));
+  const bool with_reaches = *rc::gen::arbitrary<bool>();
+  for (auto* set : {&a, &b})
+    for (Wedge& w : *set) {
+      w.start_reach = with_reaches ? float(*rc::gen::inRange(1, 2000) / 100.0) : INFINITY;
+      w.end_reach = with_reaches ? float(*rc::gen::inRange(1, 2000) / 100.0) : INFINITY;
+    }
+  const double t = *rc::gen::inRange(0, 1001) / 1000.0;
+  const glm::dvec2 apex_a = gen_point(1.0), apex_b = gen_point(1.0), eye = gen_point(3.0);
+  WedgeScratch scratch;
+  std::vector<Wedge> blended, aimed;
+  RC_ASSERT(blend_wedges(a, b, t, scratch, blended));
+  RC_ASSERT(aim_wedges(a, apex_a, b, apex_b, t, eye, scratch, aimed));
+  RC_ASSERT(is_united(aimed) || aimed.size() <= 1);
+  if (!with_reaches) RC_ASSERT(difference(aimed, blended) < 1e-12);
+  // Every aimed direction is within kMaxAimTurn of a blended one.
+  const AngularSet near_blend = [&] {
+    std::vector<Wedge> grown;
+    for (const Wedge& w : blended)
+      grown.push_back({wrap_angle(w.start - kMaxAimTurn), std::min(kTwoPi, w.width + 2 * kMaxAimTurn)});
+    return AngularSet::from_wedges(grown);
+  }();
+  RC_ASSERT(AngularSet::from_wedges(aimed).subtract(near_blend).measure() < 1e-9);
+}
+
+TEST(AngularSet, UnionsKeepTheReachesOfTheirEnds) {
+  std::vector<AngularInterval> scratch;
+  std::vector<Wedge> out;
+  // Two overlapping wedges: the union runs from the first's start to the second's end, with their reaches;
+  // a third wraps past 2pi onto the first.
+  unite_wedges(std::vector<Wedge>{{1.0, 1.0, 5.0f, 6.0f}, {1.5, 1.0, 7.0f, 8.0f}, {6.0, 1.5, 9.0f, 10.0f}},
+               scratch, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_DOUBLE_EQ(out[0].start, 6.0);
+  EXPECT_NEAR(out[0].end(), kTwoPi + 2.5, 1e-12);
+  EXPECT_EQ(out[0].start_reach, 9.0f);
+  EXPECT_EQ(out[0].end_reach, 8.0f);
+  // A clip to a half-turn cuts at the horizon, which no point bounds.
+  std::vector<Wedge> clipped;
+  clip_to_half_turn(std::vector<Wedge>{{1.0, 2.0, 5.0f, 6.0f}}, 1.5, clipped);
+  ASSERT_EQ(clipped.size(), 1u);
+  EXPECT_DOUBLE_EQ(clipped[0].start, 1.5);
+  EXPECT_TRUE(std::isinf(clipped[0].start_reach));
+  EXPECT_EQ(clipped[0].end_reach, 6.0f);
 }
 
 }  // namespace

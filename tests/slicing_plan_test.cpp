@@ -32,7 +32,7 @@ TEST(SlicingPlan, DefaultDiffusePlanHasEightSpreadFamilies) {
   const ClothGenerator cloth(ClothKind::Curtain, {30, 2, 24.0, 0});
   const SlicingPlan plan = make_diffuse_plan(cloth.topology(), cloth.frame(0), {});
   ASSERT_EQ(plan.orientations.size(), 8u);
-  EXPECT_EQ(plan.storage, ConeStorage::InterpolatedOnFan);
+  EXPECT_EQ(plan.storage, ConeStorage::AimedOnFan);
   for (std::size_t a = 0; a < 8; ++a)
     for (std::size_t b = a + 1; b < 8; ++b)  // distinct families: no two normals parallel
       EXPECT_LT(std::abs(glm::dot(plan.orientations[a], plan.orientations[b])), 0.95) << a << " " << b;
