@@ -10,7 +10,8 @@ packages=(cmake make g++ pkg-config
           libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev python3-matplotlib
           clang libfuzzer-14-dev clang-format  # scripts/check_sanitized.sh and the format check
           openmpi-bin libopenmpi-dev  # mpirun -np N pleat visibility|shade (cli/distributed.hpp)
-          libjs-three chromium)  # pleat view's three.js, and the browser its test runs headless
+          libjs-three chromium  # pleat view's three.js, and the browser its test runs headless
+          blender)  # the add-on's test (tests/blender/bake_test.py) runs Blender headless
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
