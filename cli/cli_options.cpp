@@ -92,7 +92,7 @@ void add_frames_option(CLI::App& command, std::string& frames) {
   command.add_option(
       "--frames", frames,
       "frames A:B (first A, up to but excluding B; either may be omitted; negative counts from "
-      "the end) or N");
+      "the end) or N, as 0-based indices in the sequence (not source frame numbers)");
 }
 
 void ChunkOptions::add_to(CLI::App& command) {

@@ -220,7 +220,7 @@ void run(const VisibilityOptions& options) {
     const auto front = bytes.get_array<double>();
     const auto back = bytes.get_array<double>();
     crossing_frames += bytes.get<std::uint64_t>() > 0;
-    csv->add_frame(f, front, back);
+    csv->add_frame(f, sequence.source_frame(f), front, back);
     stats["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
     timings["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
     timings["frames"].back()["payload_bytes"] = payload.size();
@@ -260,7 +260,7 @@ void register_visibility_command(CLI::App& app) {
       app.add_subcommand("visibility", "per-vertex sky visibility A (front, back) of every frame, as CSV");
   options->in.add_to(*cmd);
   cmd->add_option("-o,--output", options->output,
-                  "the visibility CSV (frame,vertex,front,back); - for standard output")
+                  "the visibility CSV (frame,vertex,front,back,source_frame); - for standard output")
       ->required();
   cmd->add_option("--engine", options->engine,
                   "kinetic (default: slices kept alive and repaired between frames) or static (full "
