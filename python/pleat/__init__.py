@@ -25,7 +25,8 @@ class LoadedMesh:
     faces: (F, 3) int64, triangles (polygons are triangulated as the command line does)
     positions: (T, V, 3) float64, every frame
     fps: frames per second (0.0 for a single frame)
-    source_frames: (T,) int64, the frames' numbers (0..T-1)
+    source_frames: (T,) int64, the frames' numbers in the source (PC2 start frame + i x sample rate, the
+        numbers in OBJ-sequence file names, MDD/glTF time x 24: the CSV's source_frame column)
     """
 
     __slots__ = ("faces", "positions", "fps", "source_frames", "path")

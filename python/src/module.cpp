@@ -439,7 +439,7 @@ py::tuple load(const std::string& path, const std::optional<std::string>& cache)
       const std::vector<glm::dvec3> frame = sequence->input_positions(std::size_t(i));
       for (std::size_t v = 0; v < frame.size(); ++v)
         for (int c = 0; c < 3; ++c) p[(std::size_t(i) * frame.size() + v) * 3 + c] = frame[v][c];
-      s[i] = i;
+      s[i] = sequence->source_frame(std::size_t(i));
     }
   }
   return py::make_tuple(faces, positions, sequence->frame_rate(), source_frames);

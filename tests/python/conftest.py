@@ -32,7 +32,7 @@ def run_cli(*args):
     out = subprocess.run([EXECUTABLE, "-q", "visibility", *map(str, args), "-o", "-"], check=True,
                          capture_output=True, text=True).stdout
     rows = list(csv.reader(out.splitlines()))
-    assert rows[0] == ["frame", "vertex", "front", "back"]
+    assert rows[0] == ["frame", "vertex", "front", "back", "source_frame"]
     frame = np.array([int(r[0]) for r in rows[1:]])
     values = np.array([[float(r[2]), float(r[3])] for r in rows[1:]])  # shortest repr: exact doubles
     frames = len(np.unique(frame))

@@ -124,7 +124,7 @@ def bake_steps(context, obj):
         back = np.empty_like(front)
         for k, frame in enumerate(frames):
             try:
-                visibility = engine.compute(positions[k], frame_index=k).sky_visibility
+                visibility = engine.compute(positions[k], frame_index=k, keep_cones=False).sky_visibility
             except ValueError as e:
                 raise BakeError(f"frame {frame}: {e}") from None
             front[k], back[k] = visibility[:, 0], visibility[:, 1]
