@@ -109,7 +109,7 @@ settings.ground, settings.ground_height = True, GROUND
 
 # A cancelled bake (the generator closed early, as Esc does) writes nothing and restores the frame.
 scene.frame_set(5)
-steps = bake.bake_steps(bpy.context, cloth)
+steps = bake.bake_steps(scene, cloth)
 next(steps)
 next(steps)
 steps.close()
@@ -117,7 +117,7 @@ expect(scene.frame_current == 5, "a cancelled bake did not restore the frame")
 expect(playback.CACHE_PROPERTY not in cloth, "a cancelled bake named a cache")
 expect(not os.path.exists(os.path.join(args.work, "scene_pleat")), "a cancelled bake wrote a cache")
 
-result = bpy.ops.pleat.bake_sky_visibility()
+result = bpy.ops.pleat.bake_sky_visibility("INVOKE_DEFAULT")  # as the panel's button; no window: at once
 expect(result == {"FINISHED"}, f"the bake returned {result}")
 expect(scene.frame_current == 5, "the bake did not restore the frame")
 cache_file = os.path.join(args.work, "scene_pleat", "Grid.npz")
@@ -190,5 +190,7 @@ occluded = min(float(np.min(back)) for front, back in baked.values())
 expect(occluded < 0.9, f"nothing occludes the underside of the cloth (min back A {occluded})")
 print(f"blender bake: {len(baked)} frames x {len(cloth.data.vertices)} vertices; largest difference from the "
       f"CLI {worst}; failures: {len(failures)}")
+pleat_bake.unregister()
+expect(playback._on_frame_change not in bpy.app.handlers.frame_change_pre, "unregister left the handler")
 if failures:
     sys.exit(1)

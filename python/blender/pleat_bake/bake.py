@@ -69,12 +69,12 @@ def check(context):
     return obj
 
 
-def bake_steps(context, obj):
-    """Generator of (fraction done, status text): the whole bake, one frame per step. Leaves the scene at
-    the frame it started from, also when closed early (cancelled) or failing."""
+def bake_steps(scene, obj):
+    """Generator of (fraction done, status text): the whole bake of obj over scene's frame range, one frame
+    per step. Leaves the scene at the frame it started from, also when closed early (cancelled) or failing.
+    Reads bpy.context at each step (a modal operator's steps run in different callbacks)."""
     import pleat  # here, so that the add-on registers (and says what is missing) without the module
 
-    scene = context.scene
     settings = scene.pleat
     frames = list(range(scene.frame_start, scene.frame_end + 1))
     occluder_objects = [o for o in (settings.occluders.all_objects if settings.occluders else [])
@@ -87,7 +87,7 @@ def bake_steps(context, obj):
         occluders = [(None, []) for _ in occluder_objects]
         for k, frame in enumerate(frames):
             scene.frame_set(frame)
-            depsgraph = context.evaluated_depsgraph_get()
+            depsgraph = bpy.context.evaluated_depsgraph_get()
             triangles, p = world_mesh(obj, depsgraph)
             if faces is None:
                 faces = triangles
@@ -158,7 +158,7 @@ class PLEAT_OT_bake(bpy.types.Operator):
     def _start(self, context):
         try:
             obj = check(context)
-            self._steps = bake_steps(context, obj)
+            self._steps = bake_steps(context.scene, obj)
             self._fraction, self._last = 0.0, ""
             return True
         except BakeError as e:
@@ -196,6 +196,8 @@ class PLEAT_OT_bake(bpy.types.Operator):
         return {"CANCELLED"} if self._failed else {"FINISHED"}
 
     def invoke(self, context, event):
+        if context.window is None:  # no window to run modally in (blender -b): all at once
+            return self.execute(context)
         self._failed = False
         if not self._start(context):
             return {"CANCELLED"}
@@ -212,7 +214,7 @@ class PLEAT_OT_bake(bpy.types.Operator):
         context.workspace.status_text_set(None)
 
     def modal(self, context, event):
-        if event.type == "ESC":
+        if event.type == "ESC" and event.value == "PRESS":
             self._steps.close()  # restores the frame; nothing was written
             self._end(context)
             self.report({"WARNING"}, "pleat: bake cancelled, nothing written")
