@@ -150,6 +150,9 @@ TEST(ShadedGlb, TheInputLayoutIsTheArtistsMeshWithItsUvsAndNormals) {
       std::any_of(rows.begin(), rows.end(), [](const VisibilityRow& r) { return r.front < r.back - 0.05; }));
   EXPECT_TRUE(model.materials.at(0).doubleSided);
   expect_valid(dir / "s.glb");
+  const auto view = test::run_pleat("view " + (dir / "s.glb").string() + " -o " + (dir / "view").string());
+  EXPECT_EQ(view.exit_code, 2);
+  EXPECT_NE(view.output.find("--glb-layout sides"), std::string::npos) << view.output;
 
   // Read back: the glb's own vertices (seam copies weld again), its UVs, the source frames.
   const MeshSequence back = load_sequence(dir / "s.glb");

@@ -6,7 +6,8 @@
 # the playback writes at each frame must equal the front/back columns of `pleat visibility` run on the same
 # frames exported as a numbered OBJ sequence (numbered by scene frame, so the CSV's source_frame column
 # names them) with the sphere as --occluder. Also: the physics cache survives playback, a cancelled bake
-# writes nothing and leaves the frame as it was, and an unbaked cloth is refused with a message.
+# writes nothing and leaves the frame as it was, and an unbaked cloth or a modifier that changes the vertices
+# is refused with a message.
 
 import argparse
 import csv
@@ -116,6 +117,16 @@ steps.close()
 expect(scene.frame_current == 5, "a cancelled bake did not restore the frame")
 expect(playback.CACHE_PROPERTY not in cloth, "a cancelled bake named a cache")
 expect(not os.path.exists(os.path.join(args.work, "scene_pleat")), "a cancelled bake wrote a cache")
+
+# A modifier that changes the vertices (the results go on the mesh's own) is refused.
+subdivision = cloth.modifiers.new("Subdivision", "SUBSURF")
+try:
+    bpy.ops.pleat.bake_sky_visibility()
+    expect(False, "a bake through a subdivision modifier was accepted")
+except RuntimeError as e:
+    expect("modifiers make" in str(e), f"subdivided: unexpected message {e}")
+cloth.modifiers.remove(subdivision)
+expect(scene.frame_current == 5, "a refused bake did not restore the frame")
 
 result = bpy.ops.pleat.bake_sky_visibility("INVOKE_DEFAULT")  # as the panel's button; no window: at once
 expect(result == {"FINISHED"}, f"the bake returned {result}")

@@ -5,7 +5,8 @@
 # The contract (tests/blender/bake_test.py checks it against `pleat visibility`):
 # - Baking reads the active object's evaluated mesh (modifiers, caches) and the evaluated meshes of the chosen
 #   collection's objects (occluders) at every frame of the scene's range, in world space, triangulated by
-#   Blender's loop triangles; the vertex count and triangles must stay the same over the range.
+#   Blender's loop triangles; the vertex count and triangles must stay the same over the range, and the
+#   object's evaluated mesh must have its own mesh's vertices (in order), which get the results.
 # - The result goes to a cache file beside the .blend (cache.py), named on the object (custom property
 #   `pleat_cache`); nothing is written when the bake fails or is cancelled.
 # - At every frame change the object's mesh gets the frame's values (playback.py): float point attributes

@@ -93,6 +93,10 @@ def bake_steps(scene, obj):
                 faces = triangles
                 if len(faces) == 0:
                     raise BakeError(f"{obj.name}: the evaluated mesh has no faces at frame {frame}")
+                if len(p) != len(obj.data.vertices):
+                    raise BakeError(f"{obj.name}: its modifiers make {len(p)} vertices of the mesh's "
+                                    f"{len(obj.data.vertices)}; the results go on the mesh's own vertices, so "
+                                    "the modifiers must keep them (disable subdivision and the like while baking)")
             elif len(p) != len(positions[0]) or not np.array_equal(triangles, faces):
                 raise BakeError(f"{obj.name}: the evaluated mesh changes its vertices or faces at frame "
                                 f"{frame} (pleat needs the same connectivity over the frame range)")
