@@ -175,7 +175,8 @@ with open(os.path.join(args.work, "sphere.obj"), "w") as out:
     out.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in triangles)
 csv_path = os.path.join(args.work, "visibility.csv")
 run = subprocess.run([args.pleat, "visibility", os.path.join(frames_dir, "cloth_%04d.obj"), "--occluder",
-                      os.path.join(args.work, "sphere.obj"), "--ground", f"z={GROUND!r}", "--engine", "kinetic",
+                      os.path.join(args.work, "sphere.obj"), "--ground", f"z={GROUND!r}",
+                      "--engine", "kinetic",
                       "-o", csv_path, "-q"], capture_output=True, text=True)
 if run.returncode != 0:
     print("FAILED: pleat visibility:", run.stdout, run.stderr)
@@ -196,7 +197,8 @@ for frame, (front, back) in baked.items():
         expect(len(theirs) == len(mine), f"frame {frame}: vertex counts differ")
         if len(theirs) == len(mine):
             worst = max(worst, float(np.max(np.abs(mine - theirs))))
-            expect(np.array_equal(mine, theirs), f"frame {frame}, side {side}: the add-on differs from the CLI")
+            expect(np.array_equal(mine, theirs),
+                   f"frame {frame}, side {side}: the add-on differs from the CLI")
 occluded = min(float(np.min(back)) for front, back in baked.values())
 expect(occluded < 0.9, f"nothing occludes the underside of the cloth (min back A {occluded})")
 print(f"blender bake: {len(baked)} frames x {len(cloth.data.vertices)} vertices; largest difference from the "

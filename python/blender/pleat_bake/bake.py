@@ -61,8 +61,9 @@ def check(context):
         raise BakeError("select the cloth: the active object must be a mesh")
     unbaked = unbaked_caches(obj)
     if unbaked:
-        raise BakeError(f"{obj.name}: bake the physics cache first ({', '.join(unbaked)}: Physics ▸ Cache ▸ "
-                        "Bake); playing the visibility back re-evaluates the mesh, which clears an unbaked cache")
+        raise BakeError(f"{obj.name}: bake the physics cache first ({', '.join(unbaked)}: Physics ▸ Cache "
+                        "▸ Bake); playing the visibility back re-evaluates the mesh, which clears an unbaked "
+                        "cache")
     scene = context.scene
     if scene.frame_end < scene.frame_start:
         raise BakeError("the scene's frame range is empty")
@@ -95,8 +96,9 @@ def bake_steps(scene, obj):
                     raise BakeError(f"{obj.name}: the evaluated mesh has no faces at frame {frame}")
                 if len(p) != len(obj.data.vertices):
                     raise BakeError(f"{obj.name}: its modifiers make {len(p)} vertices of the mesh's "
-                                    f"{len(obj.data.vertices)}; the results go on the mesh's own vertices, so "
-                                    "the modifiers must keep them (disable subdivision and the like while baking)")
+                                    f"{len(obj.data.vertices)}; the results go on the mesh's own vertices, "
+                                    "so the modifiers must keep them (disable subdivision and the like "
+                                    "while baking)")
             elif len(p) != len(positions[0]) or not np.array_equal(triangles, faces):
                 raise BakeError(f"{obj.name}: the evaluated mesh changes its vertices or faces at frame "
                                 f"{frame} (pleat needs the same connectivity over the frame range)")
@@ -142,7 +144,8 @@ def bake_steps(scene, obj):
             obj.data.materials.append(playback.material_template())
         else:
             playback.material_template()
-        yield 1.0, f"pleat: wrote {path}" + ("" if beside_blend else " (save the .blend to keep it beside it)")
+        keep = "" if beside_blend else " (save the .blend to keep it beside it)"
+        yield 1.0, f"pleat: wrote {path}{keep}"
     finally:
         playback.suspended = False
         scene.frame_set(start_frame, subframe=start_subframe)
