@@ -241,6 +241,13 @@ py::object optional_or(const py::object& value, const py::object& fallback) {
   return value.is_none() ? fallback : value;
 }
 
+/// Where one frame's results go: the data of a FrameResult's arrays.
+struct Outputs {
+  double* sky;
+  double* bent;
+  double* solid;
+};
+
 /// The Python Engine: the cloth (faces, its frames), its scene and plan, and a pleat::Engine over them.
 class PyEngine {
  public:
@@ -292,7 +299,7 @@ class PyEngine {
       std::vector<Scene::LoadedOccluder> loaded;
       for (std::size_t i = 1; i < m_meshes.size(); ++i)
         loaded.push_back({m_meshes[i].name, make_sequence(m_meshes[i])});
-      m_scene = std::make_unique<Scene>(*m_cloth, std::move(loaded), grounds);
+      m_scene = std::make_unique<Scene>(Scene::with_loaded(*m_cloth, std::move(loaded), grounds));
       m_engine = std::make_unique<Engine>(m_scene->topology(), plan_options.make(*m_cloth), params);
     });
     m_welded_of_input = std::make_shared<const std::vector<Index>>(m_cloth->welded_of_input());
@@ -311,6 +318,8 @@ class PyEngine {
       throw py::index_error("frame_index " + std::to_string(frame_index) + " out of range (" +
                             std::to_string(m_cloth->num_frames()) + " frames given to Engine)");
     FrameResult result = allocate_result();
+    const Outputs out{result.sky_visibility.mutable_data(), result.bent_normals.mutable_data(),
+                      result.solid_angles.mutable_data()};  // with the GIL
     std::shared_ptr<Cones> cones;
     {
       py::gil_scoped_release release;
@@ -320,7 +329,7 @@ class PyEngine {
         frame.positions = welded_positions(view);
         const FrameVisibility& vis =
             m_engine->compute(m_scene->with_occluders(std::size_t(frame_index), frame));
-        write_result(vis, result);
+        write_result(vis, out);
         if (keep_cones) cones = std::make_shared<Cones>(vis.cones);
       });
     }
@@ -367,11 +376,11 @@ class PyEngine {
     return result;
   }
 
-  // Writes into arrays allocated with the GIL (their data pointers only).
-  void write_result(const FrameVisibility& vis, FrameResult& result) const {
-    double* sky = result.sky_visibility.mutable_data();
-    double* bent = result.bent_normals.mutable_data();
-    double* solid = result.solid_angles.mutable_data();
+  // Writes through the data pointers of a FrameResult's arrays (taken with the GIL).
+  void write_result(const FrameVisibility& vis, const Outputs& out) const {
+    double* sky = out.sky;
+    double* bent = out.bent;
+    double* solid = out.solid;
     const std::vector<Index>& welded = *m_welded_of_input;
     for (std::size_t v = 0; v < welded.size(); ++v)
       for (int s = 0; s < 2; ++s) {
@@ -469,7 +478,18 @@ PYBIND11_MODULE(_pleat, m) {
            "The cone of `vertex` on `side` (0 or 'front', 1 or 'back'): a list of its pieces, each an (n, 3) "
            "array of unit edge directions, counter-clockwise about the side's normal.");
 
-  py::class_<PyEngine>(m, "Engine")
+  py::class_<PyEngine>(m, "Engine",
+                       R"(The cones of a cloth, frame by frame, over fixed faces and a fixed plan.
+
+Engine(faces, positions, *, engine="kinetic", orientations=None, spacing=None, spacing_edges=None, planes=None,
+       adaptive=False, max_missing=0.05, cone_storage="interpolated-on-fan", paper=False, plan=None,
+       occluders=(), ground=None, threads=None, max_edit_fraction=0.5)
+
+faces: (F, 3) integers; positions: (T, V, 3) or (V, 3) float64/float32, every frame the engine will be asked
+for: the plan is made from them as `pleat visibility` makes it (orientations and spacing from the first frame,
+planes over the box of all), and vertices that coincide in all of them are welded. The options are those of
+`pleat visibility` (None: its default); occluders: a sequence of (faces, positions) pairs, positions (V, 3)
+static or (T, V, 3) animated, or of pleat.load results; ground: "y=0"; threads: None or 0 for all cores.)")
       .def(py::init<py::object, py::object, const std::string&, py::object, py::object, py::object,
                     py::object, bool, double, const std::string&, bool, py::object, py::object, py::object,
                     py::object, double>(),
@@ -481,7 +501,10 @@ PYBIND11_MODULE(_pleat, m) {
            py::arg("ground") = py::none(), py::arg("threads") = py::none(),
            py::arg("max_edit_fraction") = 0.5)
       .def("compute", &PyEngine::compute, py::arg("positions"), py::kw_only(), py::arg("frame_index") = 0,
-           py::arg("keep_cones") = true)
+           py::arg("keep_cones") = true,
+           "compute(positions, *, frame_index=0, keep_cones=True) -> FrameResult: the frame whose (V, 3) "
+           "positions are given; frame_index (< the frames given to Engine) picks the animated occluders' "
+           "positions. keep_cones=False leaves out the cones (FrameResult.cone), which cost memory.")
       .def("_sky_visibility_of_frames", &PyEngine::sky_visibility_of_frames)
       .def_property_readonly("num_vertices", &PyEngine::num_vertices)
       .def_property_readonly("num_frames", &PyEngine::num_frames)
