@@ -237,8 +237,16 @@ struct FrameResult {
   }
 };
 
-py::object optional_or(const py::object& value, const py::object& fallback) {
-  return value.is_none() ? fallback : value;
+/// An option's value, `fallback` for None; TypeError naming the option for a value of another type.
+template <typename T>
+T option(const py::object& value, T fallback, const char* name, const char* expected) {
+  if (value.is_none()) return fallback;
+  try {
+    return value.cast<T>();
+  } catch (const py::cast_error&) {
+    throw py::type_error(std::string(name) + ": expected " + expected + ", got " +
+                         std::string(py::str(py::type::handle_of(value).attr("__name__"))));
+  }
 }
 
 /// Where one frame's results go: the data of a FrameResult's arrays.
@@ -260,11 +268,11 @@ class PyEngine {
     if (!(max_edit_fraction >= 0)) bad("max_edit_fraction: must be >= 0");
     params.policy.max_edit_fraction = max_edit_fraction;
     PlanOptions plan_options;
-    plan_options.orientations = optional_or(orientations, py::int_(plan_options.orientations)).cast<int>();
-    plan_options.spacing = optional_or(spacing, py::float_(0.0)).cast<double>();
-    plan_options.spacing_edges = optional_or(spacing_edges, py::float_(0.0)).cast<double>();
+    plan_options.orientations = option(orientations, plan_options.orientations, "orientations", "an int");
+    plan_options.spacing = option(spacing, 0.0, "spacing", "a number");
+    plan_options.spacing_edges = option(spacing_edges, 0.0, "spacing_edges", "a number");
     if (!spacing_edges.is_none() && !(plan_options.spacing_edges > 0)) bad("spacing_edges: must be > 0");
-    plan_options.planes_per_orientation = optional_or(planes, py::int_(0)).cast<int>();
+    plan_options.planes_per_orientation = option(planes, 0, "planes", "an int");
     plan_options.adaptive = adaptive;
     plan_options.max_missing = max_missing;
     plan_options.storage = cone_storage;
@@ -272,8 +280,9 @@ class PyEngine {
     if (!plan.is_none()) plan_options.plan_file = py::str(plan).cast<std::string>();  // str or PathLike
     plan_options.check();
     std::vector<GroundPlane> grounds;
-    if (!ground.is_none()) grounds.push_back(parse_ground_plane(ground.cast<std::string>()));
-    const int thread_count = optional_or(threads, py::int_(0)).cast<int>();
+    if (!ground.is_none())
+      grounds.push_back(parse_ground_plane(option(ground, std::string(), "ground", "a str like 'y=0'")));
+    const int thread_count = option(threads, 0, "threads", "an int");
     if (thread_count < 0) bad("threads: must be >= 0 (0 or None: all cores)");
     m_arena =
         std::make_unique<tbb::task_arena>(thread_count > 0 ? thread_count : int(tbb::task_arena::automatic));
