@@ -498,7 +498,9 @@ faces: (F, 3) integers; positions: (T, V, 3) or (V, 3) float64/float32, every fr
 for: the plan is made from them as `pleat visibility` makes it (orientations and spacing from the first frame,
 planes over the box of all), and vertices that coincide in all of them are welded. The options are those of
 `pleat visibility` (None: its default); occluders: a sequence of (faces, positions) pairs, positions (V, 3)
-static or (T, V, 3) animated, or of pleat.load results; ground: "y=0"; threads: None or 0 for all cores.)")
+static or (T, V, 3) animated, or of pleat.load results; ground: "y=0"; threads: None or 0 for all cores.
+C-contiguous float64/float32 positions are read in place, not copied: leave them unchanged while the engine
+lives (animated occluders are read from them frame by frame).)")
       .def(py::init<py::object, py::object, const std::string&, py::object, py::object, py::object,
                     py::object, bool, double, const std::string&, bool, py::object, py::object, py::object,
                     py::object, double>(),
