@@ -1,6 +1,6 @@
 """Builds the Python module pleat for `pip install --no-build-isolation .` (metadata: pyproject.toml): the
 package python/pleat/ and its compiled core pleat._pleat, built by the project's CMake (target pleat_python,
-python/CMakeLists.txt) without the tests and benchmarks. CMAKE_ARGS adds configure options."""
+python/CMakeLists.txt) in build-python/, without the tests and benchmarks. CMAKE_ARGS adds configure options."""
 import os
 import pathlib
 import shlex
@@ -16,7 +16,7 @@ ROOT = pathlib.Path(__file__).resolve().parent
 
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
-        build = pathlib.Path(self.build_temp).resolve() / "cmake"
+        build = ROOT / "build-python"  # kept between installs; beside build/, so ccache serves both
         configure = ["cmake", "-S", str(ROOT), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release",
                      "-DPLEAT_BUILD_TESTS=OFF", "-DPLEAT_BUILD_BENCH=OFF", "-DPLEAT_BUILD_PYTHON=ON",
                      f"-DPython3_EXECUTABLE={sys.executable}"]

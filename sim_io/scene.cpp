@@ -51,11 +51,19 @@ std::vector<Scene::LoadedOccluder> load_occluders(const std::vector<OccluderSpec
 
 Scene::Scene(const MeshSequence& cloth, const std::vector<OccluderSpec>& occluders,
              const std::vector<GroundPlane>& grounds)
-    : Scene(cloth, load_occluders(occluders), grounds) {}
-
-Scene::Scene(const MeshSequence& cloth, std::vector<LoadedOccluder> occluders,
-             const std::vector<GroundPlane>& grounds)
     : Scene(cloth) {
+  add(load_occluders(occluders), grounds);
+}
+
+Scene Scene::with_loaded(const MeshSequence& cloth, std::vector<LoadedOccluder> occluders,
+                         const std::vector<GroundPlane>& grounds) {
+  Scene scene(cloth);
+  scene.add(std::move(occluders), grounds);
+  return scene;
+}
+
+void Scene::add(std::vector<LoadedOccluder> occluders, const std::vector<GroundPlane>& grounds) {
+  const MeshSequence& cloth = *m_cloth;
   const std::size_t frames = cloth.num_frames();
   for (LoadedOccluder& loaded : occluders) {
     MeshSequence& mesh = loaded.mesh;

@@ -49,8 +49,8 @@ class Scene {
   };
   /// The same with occluders already loaded: the same checks (frame count and rate), naming each by its
   /// name.
-  Scene(const MeshSequence& cloth, std::vector<LoadedOccluder> occluders,
-        const std::vector<GroundPlane>& grounds);
+  static Scene with_loaded(const MeshSequence& cloth, std::vector<LoadedOccluder> occluders,
+                           const std::vector<GroundPlane>& grounds);
 
   /// The cloth's topology, then every occluder's triangles over its vertices, numbered after the cloth's.
   const MeshTopology& topology() const { return m_topology; }
@@ -61,6 +61,7 @@ class Scene {
   std::size_t num_occluders() const { return m_occluders.size() + m_grounds.size(); }
 
  private:
+  void add(std::vector<LoadedOccluder> occluders, const std::vector<GroundPlane>& grounds);
   struct Occluder {
     MeshSequence mesh;
     std::vector<glm::dvec3> still;  ///< the positions of an occluder of one frame (else empty)

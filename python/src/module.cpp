@@ -237,9 +237,24 @@ struct FrameResult {
   }
 };
 
-py::object optional_or(const py::object& value, const py::object& fallback) {
-  return value.is_none() ? fallback : value;
+/// An option's value, `fallback` for None; TypeError naming the option for a value of another type.
+template <typename T>
+T option(const py::object& value, T fallback, const char* name, const char* expected) {
+  if (value.is_none()) return fallback;
+  try {
+    return value.cast<T>();
+  } catch (const py::cast_error&) {
+    throw py::type_error(std::string(name) + ": expected " + expected + ", got " +
+                         std::string(py::str(py::type::handle_of(value).attr("__name__"))));
+  }
 }
+
+/// Where one frame's results go: the data of a FrameResult's arrays.
+struct Outputs {
+  double* sky;
+  double* bent;
+  double* solid;
+};
 
 /// The Python Engine: the cloth (faces, its frames), its scene and plan, and a pleat::Engine over them.
 class PyEngine {
@@ -253,11 +268,11 @@ class PyEngine {
     if (!(max_edit_fraction >= 0)) bad("max_edit_fraction: must be >= 0");
     params.policy.max_edit_fraction = max_edit_fraction;
     PlanOptions plan_options;
-    plan_options.orientations = optional_or(orientations, py::int_(plan_options.orientations)).cast<int>();
-    plan_options.spacing = optional_or(spacing, py::float_(0.0)).cast<double>();
-    plan_options.spacing_edges = optional_or(spacing_edges, py::float_(0.0)).cast<double>();
+    plan_options.orientations = option(orientations, plan_options.orientations, "orientations", "an int");
+    plan_options.spacing = option(spacing, 0.0, "spacing", "a number");
+    plan_options.spacing_edges = option(spacing_edges, 0.0, "spacing_edges", "a number");
     if (!spacing_edges.is_none() && !(plan_options.spacing_edges > 0)) bad("spacing_edges: must be > 0");
-    plan_options.planes_per_orientation = optional_or(planes, py::int_(0)).cast<int>();
+    plan_options.planes_per_orientation = option(planes, 0, "planes", "an int");
     plan_options.adaptive = adaptive;
     plan_options.max_missing = max_missing;
     plan_options.storage = cone_storage;
@@ -265,8 +280,9 @@ class PyEngine {
     if (!plan.is_none()) plan_options.plan_file = py::str(plan).cast<std::string>();  // str or PathLike
     plan_options.check();
     std::vector<GroundPlane> grounds;
-    if (!ground.is_none()) grounds.push_back(parse_ground_plane(ground.cast<std::string>()));
-    const int thread_count = optional_or(threads, py::int_(0)).cast<int>();
+    if (!ground.is_none())
+      grounds.push_back(parse_ground_plane(option(ground, std::string(), "ground", "a str like 'y=0'")));
+    const int thread_count = option(threads, 0, "threads", "an int");
     if (thread_count < 0) bad("threads: must be >= 0 (0 or None: all cores)");
     m_arena =
         std::make_unique<tbb::task_arena>(thread_count > 0 ? thread_count : int(tbb::task_arena::automatic));
@@ -292,7 +308,7 @@ class PyEngine {
       std::vector<Scene::LoadedOccluder> loaded;
       for (std::size_t i = 1; i < m_meshes.size(); ++i)
         loaded.push_back({m_meshes[i].name, make_sequence(m_meshes[i])});
-      m_scene = std::make_unique<Scene>(*m_cloth, std::move(loaded), grounds);
+      m_scene = std::make_unique<Scene>(Scene::with_loaded(*m_cloth, std::move(loaded), grounds));
       m_engine = std::make_unique<Engine>(m_scene->topology(), plan_options.make(*m_cloth), params);
     });
     m_welded_of_input = std::make_shared<const std::vector<Index>>(m_cloth->welded_of_input());
@@ -311,6 +327,8 @@ class PyEngine {
       throw py::index_error("frame_index " + std::to_string(frame_index) + " out of range (" +
                             std::to_string(m_cloth->num_frames()) + " frames given to Engine)");
     FrameResult result = allocate_result();
+    const Outputs out{result.sky_visibility.mutable_data(), result.bent_normals.mutable_data(),
+                      result.solid_angles.mutable_data()};  // with the GIL
     std::shared_ptr<Cones> cones;
     {
       py::gil_scoped_release release;
@@ -320,7 +338,7 @@ class PyEngine {
         frame.positions = welded_positions(view);
         const FrameVisibility& vis =
             m_engine->compute(m_scene->with_occluders(std::size_t(frame_index), frame));
-        write_result(vis, result);
+        write_result(vis, out);
         if (keep_cones) cones = std::make_shared<Cones>(vis.cones);
       });
     }
@@ -367,11 +385,11 @@ class PyEngine {
     return result;
   }
 
-  // Writes into arrays allocated with the GIL (their data pointers only).
-  void write_result(const FrameVisibility& vis, FrameResult& result) const {
-    double* sky = result.sky_visibility.mutable_data();
-    double* bent = result.bent_normals.mutable_data();
-    double* solid = result.solid_angles.mutable_data();
+  // Writes through the data pointers of a FrameResult's arrays (taken with the GIL).
+  void write_result(const FrameVisibility& vis, const Outputs& out) const {
+    double* sky = out.sky;
+    double* bent = out.bent;
+    double* solid = out.solid;
     const std::vector<Index>& welded = *m_welded_of_input;
     for (std::size_t v = 0; v < welded.size(); ++v)
       for (int s = 0; s < 2; ++s) {
@@ -469,7 +487,20 @@ PYBIND11_MODULE(_pleat, m) {
            "The cone of `vertex` on `side` (0 or 'front', 1 or 'back'): a list of its pieces, each an (n, 3) "
            "array of unit edge directions, counter-clockwise about the side's normal.");
 
-  py::class_<PyEngine>(m, "Engine")
+  py::class_<PyEngine>(m, "Engine",
+                       R"(The cones of a cloth, frame by frame, over fixed faces and a fixed plan.
+
+Engine(faces, positions, *, engine="kinetic", orientations=None, spacing=None, spacing_edges=None, planes=None,
+       adaptive=False, max_missing=0.05, cone_storage="interpolated-on-fan", paper=False, plan=None,
+       occluders=(), ground=None, threads=None, max_edit_fraction=0.5)
+
+faces: (F, 3) integers; positions: (T, V, 3) or (V, 3) float64/float32, every frame the engine will be asked
+for: the plan is made from them as `pleat visibility` makes it (orientations and spacing from the first frame,
+planes over the box of all), and vertices that coincide in all of them are welded. The options are those of
+`pleat visibility` (None: its default); occluders: a sequence of (faces, positions) pairs, positions (V, 3)
+static or (T, V, 3) animated, or of pleat.load results; ground: "y=0"; threads: None or 0 for all cores.
+C-contiguous float64/float32 positions are read in place, not copied: leave them unchanged while the engine
+lives (animated occluders are read from them frame by frame).)")
       .def(py::init<py::object, py::object, const std::string&, py::object, py::object, py::object,
                     py::object, bool, double, const std::string&, bool, py::object, py::object, py::object,
                     py::object, double>(),
@@ -481,7 +512,10 @@ PYBIND11_MODULE(_pleat, m) {
            py::arg("ground") = py::none(), py::arg("threads") = py::none(),
            py::arg("max_edit_fraction") = 0.5)
       .def("compute", &PyEngine::compute, py::arg("positions"), py::kw_only(), py::arg("frame_index") = 0,
-           py::arg("keep_cones") = true)
+           py::arg("keep_cones") = true,
+           "compute(positions, *, frame_index=0, keep_cones=True) -> FrameResult: the frame whose (V, 3) "
+           "positions are given; frame_index (< the frames given to Engine) picks the animated occluders' "
+           "positions. keep_cones=False leaves out the cones (FrameResult.cone), which cost memory.")
       .def("_sky_visibility_of_frames", &PyEngine::sky_visibility_of_frames)
       .def_property_readonly("num_vertices", &PyEngine::num_vertices)
       .def_property_readonly("num_frames", &PyEngine::num_frames)

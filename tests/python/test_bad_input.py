@@ -121,6 +121,11 @@ def test_bad_compute_and_options():
             pleat.Engine(faces, positions, **options)
     with pytest.raises(TypeError):
         pleat.Engine(faces, positions, orientation=6)  # a misspelt option is not ignored
+    for options, message in [(dict(orientations="6"), "orientations: expected an int, got str"),
+                             (dict(ground=0), "ground: expected a str like 'y=0', got int"),
+                             (dict(threads=1.5), "threads: expected an int, got float")]:
+        with pytest.raises(TypeError, match=message):
+            pleat.Engine(faces, positions, **options)
 
 
 def test_bad_files(tmp_path):

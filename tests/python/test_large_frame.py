@@ -20,7 +20,7 @@ def wave():
     return faces, np.ascontiguousarray(positions)
 
 
-OPTIONS = dict(orientations=6, planes=3, engine="static")  # few planes: the test is of the arrays
+OPTIONS = dict(orientations=1, planes=1, engine="static")  # one plane: the test is of the arrays
 
 
 def traced_peak(call):
@@ -61,3 +61,23 @@ def test_engine_results_own_their_memory(wave):
     assert peak < sum(a.nbytes for a in arrays) + positions.nbytes // 4
     with pytest.raises(ValueError, match="keep_cones=False"):
         frame.cone(0, 0)
+
+
+def test_gil_released_while_computing(wave):
+    """Another Python thread keeps running while the engine is made and a frame computed: no long pause."""
+    import threading
+    import time
+
+    faces, positions = wave
+    done = threading.Event()
+    worker = threading.Thread(target=lambda: (pleat.sky_visibility(faces, positions, **OPTIONS), done.set()))
+    start = last = time.perf_counter()
+    longest_pause = 0.0
+    worker.start()
+    while not done.is_set() and worker.is_alive():
+        now = time.perf_counter()
+        longest_pause, last = max(longest_pause, now - last), now
+    worker.join()
+    total = last - start
+    assert done.is_set() and total > 0.5
+    assert longest_pause < total / 3, (longest_pause, total)
