@@ -1,7 +1,6 @@
 #include "cli/cli_options.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <stdexcept>
 
 #include "cli/global_options.hpp"
@@ -92,7 +91,7 @@ void add_frames_option(CLI::App& command, std::string& frames) {
   command.add_option(
       "--frames", frames,
       "frames A:B (first A, up to but excluding B; either may be omitted; negative counts from "
-      "the end) or N");
+      "the end) or N, as 0-based indices in the sequence (not source frame numbers)");
 }
 
 void ChunkOptions::add_to(CLI::App& command) {
@@ -209,54 +208,12 @@ void PlanOptions::add_to(CLI::App& command) {
 }
 
 SlicingPlan PlanOptions::make(const MeshSequence& sequence) const {
-  const MeshTopology& topology = sequence.topology();
-  SlicingPlan plan;
-  if (!plan_file.empty()) {
-    plan = read_plan_file(plan_file);
-    if (plan.spacing > 0) cover_with_planes(plan, sequence.bounds());
-  } else {
-    // Measured on the sequence's first frame and covering all of its frames: never on the requested ones.
-    const Frame frame = sequence.frame(0);
-    const Bounds& cover = sequence.bounds();
-    const int count = paper ? 6 : orientations;
-    if (paper && !adaptive && spacing == 0 && spacing_edges == 0 && planes_per_orientation == 0) {
-      plan = make_paper_plan(topology, frame, &cover);
-    } else {
-      DiffusePlanParams diffuse{count, spacing, planes_per_orientation};
-      if (spacing_edges > 0) diffuse.spacing_in_edges = spacing_edges;
-      plan = adaptive ? make_adaptive_plan(topology, frame, {count, max_missing})
-                      : make_diffuse_plan(topology, frame, diffuse, &cover);
-      plan.storage = paper ? ConeStorage::NearerEndpoint : cone_storage_from_name(storage);
-    }
-  }
+  SlicingPlan plan = pleat::PlanOptions::make(sequence);
   if (!save_plan.empty()) {
     create_parent_directory(save_plan);
     write_plan_file(save_plan, plan);
   }
   return plan;
-}
-
-std::string PlanOptions::describe() const {
-  if (!plan_file.empty()) return "plan " + plan_file;
-  const int count = paper ? 6 : orientations;
-  const std::string stored = std::string(", ") + (paper ? "nearer-endpoint" : storage) + " storage";
-  if (adaptive)
-    return std::to_string(count) + " orientations, adaptive (max missing " + std::to_string(max_missing) +
-           ")" + stored;
-  if (planes_per_orientation > 0)
-    return std::to_string(count) + " orientations x " + std::to_string(planes_per_orientation) + " planes" +
-           stored;
-  auto edges = [](double k) {
-    char text[64];
-    std::snprintf(text, sizeof text, "= %g of the average edge length", k);
-    return std::string(text);
-  };
-  return std::to_string(count) + " orientations, spacing " +
-         (spacing > 0         ? std::to_string(spacing)
-          : spacing_edges > 0 ? edges(spacing_edges)
-          : paper             ? std::string("= the average edge length")
-                              : edges(DiffusePlanParams{}.spacing_in_edges)) +
-         stored;
 }
 
 }  // namespace pleat::cli

@@ -12,6 +12,7 @@
 
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/scene.hpp"
+#include "sim_io/sequence_plan.hpp"
 #include "static_core/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
 
@@ -75,27 +76,13 @@ struct SceneOptions {
   std::string describe() const;
 };
 
-/// How the slicing planes are placed (docs/method.md §2). The plan is made once for the whole sequence, never
-/// from the requested frames: orientations and spacing from the sequence's first frame, the world-anchored
-/// lattice of planes over the box of all its frames (MeshSequence::bounds), so a frame's result is the same
-/// from any range, chunk or rank count. --plan FILE pins a plan saved by --save-plan FILE.
-struct PlanOptions {
-  int orientations = DiffusePlanParams{}.orientations;
-  double spacing = 0.0;
-  double spacing_edges = 0.0;  ///< > 0: spacing in average edge lengths of the planned frame
-  int planes_per_orientation = 0;
-  bool adaptive = false;
-  double max_missing = 0.05;
-  std::string storage = "aimed-on-fan";
-  bool paper = false;
-  std::string plan_file;  ///< --plan: read the plan from this file instead
+/// The plan options (sim_io/sequence_plan.hpp) as command-line options, and --save-plan FILE.
+struct PlanOptions : pleat::PlanOptions {
   std::string save_plan;  ///< --save-plan: also write the plan made to this file
 
   void add_to(CLI::App& command);
-  /// The plan for `sequence` (from --plan, or made from its first frame and bounds); writes --save-plan.
-  /// Throws InputError for a bad plan file.
+  /// The plan for `sequence`; writes --save-plan.
   SlicingPlan make(const MeshSequence& sequence) const;
-  std::string describe() const;
 };
 
 }  // namespace pleat::cli

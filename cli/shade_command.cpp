@@ -46,6 +46,7 @@ namespace {
 struct ShadeOptions {
   InputOptions in;
   std::string output;
+  std::string glb_layout = "sides";
   std::vector<std::string> light_specs;
   std::string lights_file;
   std::string relight_file;
@@ -207,8 +208,10 @@ void run_shade(const ShadeOptions& options) {
     if (!World::root()) return;
     create_parent_directory(output);
     for (const auto& path : outputs)
-      writers.push_back(std::make_unique<ShadedGlbWriter>(path, sequence, frame_ids, fps,
-                                                          /*with_visibility=*/true, frame_bounds));
+      writers.push_back(std::make_unique<ShadedGlbWriter>(
+          path, sequence, frame_ids, fps,
+          /*with_visibility=*/true, frame_bounds,
+          options.glb_layout == "input" ? GlbLayout::Input : GlbLayout::Sides));
   });
 
   const bool render = !options.render_dir.empty();
@@ -262,8 +265,10 @@ void run_shade(const ShadeOptions& options) {
       const FrameVisibility& visibility = cache ? from_cache : engine->compute(world_frame);
       const auto t1 = std::chrono::steady_clock::now();
       for (Side side : kBothSides) side_visibility(visibility, side, sides[int(side)]);
-      // Frame numbers, not positions in the range: the same frames are rendered however the shot is split.
-      const bool render_this = render && (f % static_cast<std::size_t>(options.render_every) == 0);
+      // Source frame numbers, not positions in the range: the same frames are rendered however the shot is
+      // split, under the names the artist's scene gives them.
+      const std::int64_t number = sequence.source_frame(f);
+      const bool render_this = render && number % options.render_every == 0;
       const Frame& drawn_frame = draw_occluders ? world_frame : frame;
       if (render_this) {
         if (!scene)
@@ -290,7 +295,7 @@ void run_shade(const ShadeOptions& options) {
         bytes.put(seconds).put_array(front).put_array(back);
         if (render_this) {
           char name[64];
-          std::snprintf(name, sizeof name, "frame_%04zu.png", f);
+          std::snprintf(name, sizeof name, "frame_%04lld.png", static_cast<long long>(number));
           if (options.turntable > 0 && frame_ids.size() == 1) {
             render_turntable(render_dirs[s], "turntable", drawn, drawn_frame, with_occluders(front),
                              with_occluders(back), *camera, options.turntable, options.width, options.height);
@@ -358,6 +363,12 @@ void register_shade_command(CLI::App& app) {
   cmd->add_option("-o,--output", options->output,
                   "output .glb (with --relight: OUT_<setup>.glb per setup); - for standard output")
       ->required();
+  cmd->add_option("--glb-layout", options->glb_layout,
+                  "sides: per frame the welded mesh with a front and a back primitive (what `pleat view` "
+                  "shows); input: per frame your mesh as given (its vertex order, UVs and normals), front "
+                  "colour in COLOR_0, back in COLOR_1")
+      ->check(CLI::IsMember({"sides", "input"}))
+      ->capture_default_str();
   add_light_option(*cmd, options->light_specs, "Default: sky:1");
   cmd->add_option(
       "--lights", options->lights_file,
@@ -382,7 +393,7 @@ void register_shade_command(CLI::App& app) {
   add_frames_option(*cmd, options->frames);
   cmd->add_option("--render", options->render_dir,
                   "also write PNG images of the shaded frames into DIR (with --relight: DIR/<setup>/), as "
-                  "frame_NNNN.png");
+                  "frame_NNNN.png, NNNN the source frame number (PC2 scene frame, OBJ-sequence file number)");
   cmd->add_option("--width", options->width, "image width")
       ->capture_default_str()
       ->check(CLI::Range(16, 16384));
@@ -394,7 +405,7 @@ void register_shade_command(CLI::App& app) {
   cmd->add_option("--up", options->up, "world up for the auto-framed camera (Blender data: 0,0,1)")
       ->capture_default_str();
   cmd->add_option("--render-every", options->render_every,
-                  "render the frames whose number is a multiple of N")
+                  "render the frames whose source frame number is a multiple of N")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--hide-occluders", options->hide_occluders,

@@ -59,6 +59,10 @@ void check_glb(const std::string& file, const std::string& glb) {
       attributes =
           mesh["primitives"][0].contains("attributes") ? &mesh["primitives"][0]["attributes"] : nullptr;
   }
+  if (attributes && attributes->contains("_SKY_VISIBILITY_FRONT"))
+    throw InputError(file, "mesh 0",
+                     "is the input layout (`pleat shade --glb-layout input`); `pleat view` plays the default "
+                     "layout: write it with --glb-layout sides");
   if (!attributes || !attributes->contains("_SKY_VISIBILITY") || !attributes->contains("_BENT_CONE"))
     throw InputError(
         file, "mesh 0",

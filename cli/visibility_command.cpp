@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "cli/distributed.hpp"
 #include "cli/global_options.hpp"
+#include "kinetic/engine.hpp"
 #include "kinetic/kinetic_visibility.hpp"
 #include "shading/cone_cache.hpp"
 #include "sim_io/atomic_file.hpp"
@@ -65,39 +66,6 @@ nlohmann::json kinetic_json(const KineticFrameStats& k) {
       {"structure", k.structure_seconds}, {"cones_2d", k.cone_seconds}, {"assembly", k.assembly_seconds}};
   return out;
 }
-
-/// One engine behind one call per frame: the static engine recomputes, the kinetic one advances.
-class Engine {
- public:
-  Engine(const std::string& kind, const MeshTopology& topology, const SlicingPlan& plan, bool parallel,
-         const kinetic::KineticPolicy& policy)
-      : m_policy(policy) {
-    if (kind == "static")
-      m_static.emplace(topology, plan, VisibilityParams{parallel});
-    else
-      m_plan = plan, m_topology = &topology, m_parallel = parallel;
-  }
-  const FrameVisibility& next(const Frame& frame) {
-    if (m_static) return m_static->compute(frame);
-    if (!m_kinetic) {
-      KineticParams params;  // invariant checks: on in Debug builds only
-      params.parallel = m_parallel;
-      params.policy = m_policy;
-      m_kinetic.emplace(*m_topology, m_plan, frame, params);
-      return m_kinetic->current();
-    }
-    return m_kinetic->advance(frame);
-  }
-  const KineticFrameStats* kinetic_stats() const { return m_kinetic ? &m_kinetic->last_stats() : nullptr; }
-
- private:
-  std::optional<StaticVisibility> m_static;
-  std::optional<KineticVisibility> m_kinetic;
-  SlicingPlan m_plan;
-  const MeshTopology* m_topology = nullptr;
-  bool m_parallel = true;
-  kinetic::KineticPolicy m_policy;
-};
 
 void run(const VisibilityOptions& options) {
   together([&] {
@@ -181,13 +149,14 @@ void run(const VisibilityOptions& options) {
   params.parallel = !options.serial;
   // One chunk: a fresh engine (the kinetic one starts with a static build), every frame's result as bytes.
   const auto compute = [&](std::size_t chunk_first, std::size_t chunk_last, const EmitFrame& emit) {
-    Engine engine(options.engine, scene.topology(), plan, params.parallel, options.policy);
+    Engine engine(scene.topology(), plan,
+                  {engine_kind_from_name(options.engine), params.parallel, options.policy});
     std::vector<double> front(topology.num_vertices), back(topology.num_vertices);
     for (std::size_t f = chunk_first; f < chunk_last; ++f) {
       const Frame frame = sequence.frame(f);  // the cloth's (the cone cache's fingerprint is of it)
       const auto start = std::chrono::steady_clock::now();
       const FrameVisibility& vis =
-          engine.next(scene.num_occluders() ? scene.with_occluders(f, frame) : frame);
+          engine.compute(scene.num_occluders() ? scene.with_occluders(f, frame) : frame);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       for (Index v = 0; v < topology.num_vertices; ++v) {
         front[v] = vis.measure(Side::Front, v).sky_visibility;
@@ -220,7 +189,7 @@ void run(const VisibilityOptions& options) {
     const auto front = bytes.get_array<double>();
     const auto back = bytes.get_array<double>();
     crossing_frames += bytes.get<std::uint64_t>() > 0;
-    csv->add_frame(f, front, back);
+    csv->add_frame(f, sequence.source_frame(f), front, back);
     stats["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
     timings["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
     timings["frames"].back()["payload_bytes"] = payload.size();
@@ -260,7 +229,7 @@ void register_visibility_command(CLI::App& app) {
       app.add_subcommand("visibility", "per-vertex sky visibility A (front, back) of every frame, as CSV");
   options->in.add_to(*cmd);
   cmd->add_option("-o,--output", options->output,
-                  "the visibility CSV (frame,vertex,front,back); - for standard output")
+                  "the visibility CSV (frame,vertex,front,back,source_frame); - for standard output")
       ->required();
   cmd->add_option("--engine", options->engine,
                   "kinetic (default: slices kept alive and repaired between frames) or static (full "

@@ -10,7 +10,10 @@ packages=(cmake make g++ pkg-config
           libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev python3-matplotlib
           clang libfuzzer-14-dev clang-format  # scripts/check_sanitized.sh and the format check
           openmpi-bin libopenmpi-dev  # mpirun -np N pleat visibility|shade (cli/distributed.hpp)
-          libjs-three chromium)  # pleat view's three.js, and the browser its test runs headless
+          pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
+          python3-setuptools python3-pip python3-venv  # pip install --no-build-isolation . (pyproject.toml)
+          libjs-three chromium  # pleat view's three.js, and the browser its test runs headless
+          blender)  # the add-on's test (tests/blender/bake_test.py) runs Blender headless
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

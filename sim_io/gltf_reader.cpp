@@ -8,10 +8,12 @@
 #include <cmath>
 #include <cstring>
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -236,7 +238,35 @@ struct MeshLayout {
   std::size_t num_targets = 0;
   std::size_t num_vertices = 0;
   std::vector<Triangle> triangles;
+  // TEXCOORD_0 and NORMAL per vertex (of the slots' primitives), each emptied when a slot lacks it.
+  std::vector<glm::vec2> texcoords;
+  std::vector<glm::vec3> normals;
+  bool has_texcoords = true, has_normals = true;
 };
+
+// Appends the `n` values of a primitive's optional attribute `name` to `out`, or clears `out` and `has`
+// when the primitive lacks it (a surface attribute is kept only where every primitive gives it).
+template <int N>
+void read_surface_attribute(const Model& m, const tinygltf::Primitive& prim, const char* name, int type,
+                            std::size_t n, const std::string& file, std::vector<glm::vec<N, float>>& out,
+                            bool& has) {
+  const auto found = prim.attributes.find(name);
+  if (!has || found == prim.attributes.end()) {
+    has = false;
+    out.clear();
+    return;
+  }
+  const AccessorView values = float_accessor(m, found->second, type, N == 2, file, name);
+  if (values.count != n)
+    throw InputError(file, at_accessor(found->second),
+                     std::string(name) + " has " + std::to_string(values.count) + " values for " +
+                         std::to_string(n) + " positions");
+  for (std::size_t i = 0; i < n; ++i) {
+    glm::vec<N, float> v;
+    for (int c = 0; c < N; ++c) v[c] = read_float(values, i, c);
+    out.push_back(v);
+  }
+}
 
 bool is_pleat_back_side(const tinygltf::Primitive& p) {
   if (!p.extras.IsObject() || !p.extras.Has("pleat_side")) return false;
@@ -297,6 +327,10 @@ MeshLayout layout_of_mesh(const Model& m, int mesh_index, const std::string& fil
         targets.push_back(accessor);
       }
       layout.target_accessors.push_back(std::move(targets));
+      read_surface_attribute<2>(m, prim, "TEXCOORD_0", TINYGLTF_TYPE_VEC2, positions.count, file,
+                                layout.texcoords, layout.has_texcoords);
+      read_surface_attribute<3>(m, prim, "NORMAL", TINYGLTF_TYPE_VEC3, positions.count, file, layout.normals,
+                                layout.has_normals);
       layout.num_vertices += positions.count;
       if (layout.num_vertices > std::numeric_limits<Index>::max())
         throw InputError(file, place, "too many vertices");
@@ -437,15 +471,19 @@ struct Part {
 class GltfSource : public FrameSource {
  public:
   GltfSource(std::string file, Model model, std::vector<MeshLayout> layouts,
-             std::vector<std::vector<Part>> frames, std::vector<double> times)
+             std::vector<std::vector<Part>> frames, std::vector<double> times, double scene_fps)
       : m_file(std::move(file)),
         m_model(std::move(model)),
         m_layouts(std::move(layouts)),
         m_frames(std::move(frames)),
-        m_times(std::move(times)) {}
+        m_times(std::move(times)),
+        m_scene_fps(scene_fps) {}
 
   std::size_t num_frames() const override { return m_frames.size(); }
   double frame_time(std::size_t i) const override { return m_times.at(i); }
+  std::int64_t source_frame(std::size_t i) const override {
+    return std::llround(m_times.at(i) * m_scene_fps);
+  }
   std::vector<glm::dvec3> read_frame(std::size_t i) const override {
     std::vector<glm::dvec3> out;
     for (const Part& part : m_frames.at(i)) {
@@ -487,6 +525,7 @@ class GltfSource : public FrameSource {
   std::vector<MeshLayout> m_layouts;
   std::vector<std::vector<Part>> m_frames;
   std::vector<double> m_times;
+  double m_scene_fps;
 };
 
 std::vector<double> default_weights(const Model& m, const tinygltf::Node& node, std::size_t num_targets) {
@@ -676,21 +715,40 @@ MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps, cons
   std::vector<std::vector<Part>>& frames = found.frames;
   std::vector<double>& times = found.times;
 
-  // Connectivity: the parts of the first frame, concatenated (every frame has the same parts' shapes).
+  // Connectivity: the parts of the first frame, concatenated (every frame has the same parts' shapes), and
+  // their UVs and normals (in world space, like the positions) per corner.
   std::vector<Triangle> triangles;
   std::size_t num_vertices = 0;
+  SurfaceAttributes surface;
+  bool has_texcoords = true, has_normals = true;
   for (const Part& part : frames.front()) {
-    for (const Triangle& t : layouts[part.layout].triangles)
+    const MeshLayout& layout = layouts[part.layout];
+    has_texcoords = has_texcoords && layout.has_texcoords;
+    has_normals = has_normals && layout.has_normals;
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(part.world)));
+    for (const Triangle& t : layout.triangles) {
       triangles.push_back(
           {Index(t[0] + num_vertices), Index(t[1] + num_vertices), Index(t[2] + num_vertices)});
-    num_vertices += layouts[part.layout].num_vertices;
+      for (Index v : t) {
+        if (has_texcoords) surface.texcoords.push_back(layout.texcoords[v]);
+        if (has_normals) {
+          const glm::dvec3 n = normal_matrix * glm::dvec3(layout.normals[v]);
+          const double length = glm::length(n);
+          surface.normals.push_back(glm::vec3(length > 0.0 ? n / length : n));
+        }
+      }
+    }
+    num_vertices += layout.num_vertices;
   }
+  if (!has_texcoords) surface.texcoords.clear();
+  if (!has_normals) surface.normals.clear();
   if (num_vertices == 0) throw InputError(file, "", "empty mesh: no vertices");
   if (num_vertices > std::numeric_limits<Index>::max()) throw InputError(file, "", "too many vertices");
   if (triangles.empty()) throw InputError(file, "", "empty mesh: no triangles");
   auto source = std::make_unique<GltfSource>(file, std::move(model), std::move(layouts), std::move(frames),
-                                             std::move(times));
-  return MeshSequence(file, std::move(triangles), Index(num_vertices), std::move(source), scan);
+                                             std::move(times), scene_fps);
+  return MeshSequence(file, std::move(triangles), Index(num_vertices), std::move(source), scan,
+                      std::move(surface));
 }
 
 }  // namespace pleat

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstring>
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -31,29 +33,87 @@ void put_floats(std::ostream& out, const std::vector<float>& values) {
   out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(float)));
 }
 
-std::string frame_name(std::size_t frame) {
-  std::string digits = std::to_string(frame);
+std::string frame_name(std::int64_t source_frame) {
+  std::string digits = std::to_string(source_frame);
   if (digits.size() < 4) digits.insert(0, 4 - digits.size(), '0');
   return "frame_" + digits;
 }
 
-// Keyframes of flipbook node j out of n: visible (scale 1) from time j/fps to (j+1)/fps.
-void flipbook_keys(std::size_t j, std::size_t n, double fps, std::vector<float>& times,
-                   std::vector<float>& scales) {
+// Keyframes of flipbook node j: visible (scale 1) from times[j] to times[j + 1]; the last frame stays
+// until the clip ends, 1 / fps after its time. `frame_times` increase strictly.
+void flipbook_keys(std::size_t j, const std::vector<double>& frame_times, double fps,
+                   std::vector<float>& times, std::vector<float>& scales) {
   times.clear();
   scales.clear();
   const auto key = [&](double t, float s) {
     times.push_back(float(t));
     scales.insert(scales.end(), {s, s, s});
   };
+  const std::size_t n = frame_times.size();
+  const double end = j + 1 < n ? frame_times[j + 1] : frame_times[j] + 1.0 / fps;
   if (j == 0) {
-    key(0.0, 1.0f);
-    key(1.0 / fps, 0.0f);
+    key(frame_times[0], 1.0f);
+    key(end, 0.0f);
   } else {
-    key(0.0, 0.0f);
-    key(double(j) / fps, 1.0f);
-    key(double(j + 1) / fps, j + 1 == n ? 1.0f : 0.0f);  // the last frame stays until the clip ends
+    key(frame_times[0], 0.0f);
+    key(frame_times[j], 1.0f);
+    key(end, j + 1 == n ? 1.0f : 0.0f);
   }
+}
+
+// The input layout's vertices: the input's, in its order, then a copy of a vertex for each further
+// (UV, normal) pair its corners give (seams, hard edges). Fills the triangles over them and each vertex's
+// welded vertex, input vertex, UV and normal.
+struct InputVertices {
+  std::vector<Index> welded, input;
+  std::vector<glm::vec2> texcoords;
+  std::vector<glm::vec3> normals;
+  std::vector<Triangle> triangles;
+};
+
+InputVertices input_vertices(const MeshSequence& sequence) {
+  const SurfaceAttributes& surface = sequence.surface();
+  const bool uv = !surface.texcoords.empty(), normal = !surface.normals.empty();
+  const Index n = sequence.num_input_vertices();
+  InputVertices out;
+  out.input.resize(n);
+  for (Index v = 0; v < n; ++v) out.input[v] = v;
+  out.texcoords.resize(uv ? n : 0);
+  out.normals.resize(normal ? n : 0);
+  using Key = std::array<std::uint32_t, 6>;  // input vertex, then the bits of u, v, nx, ny, nz
+  const auto key_of = [](Index v, glm::vec2 t, glm::vec3 m) {
+    const auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f); };
+    return Key{v, bits(t.x), bits(t.y), bits(m.x), bits(m.y), bits(m.z)};
+  };
+  std::vector<char> assigned(n, 0);
+  std::map<Key, Index> copies;
+  const std::vector<Triangle>& triangles = sequence.input_triangles();
+  out.triangles.resize(triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Index v = triangles[t][k];
+      const glm::vec2 c_uv = uv ? surface.texcoords[3 * t + k] : glm::vec2(0.0f);
+      const glm::vec3 c_n = normal ? surface.normals[3 * t + k] : glm::vec3(0.0f);
+      Index g = v;
+      if (!assigned[v]) {
+        assigned[v] = 1;
+        if (uv) out.texcoords[v] = c_uv;
+        if (normal) out.normals[v] = c_n;
+      } else if (key_of(v, uv ? out.texcoords[v] : c_uv, normal ? out.normals[v] : c_n) !=
+                 key_of(v, c_uv, c_n)) {
+        const auto [it, added] = copies.try_emplace(key_of(v, c_uv, c_n), Index(out.input.size()));
+        if (added) {
+          out.input.push_back(v);
+          if (uv) out.texcoords.push_back(c_uv);
+          if (normal) out.normals.push_back(c_n);
+        }
+        g = it->second;
+      }
+      out.triangles[t][k] = g;
+    }
+  out.welded.resize(out.input.size());
+  for (std::size_t g = 0; g < out.input.size(); ++g) out.welded[g] = sequence.welded_of_input()[out.input[g]];
+  return out;
 }
 
 }  // namespace
@@ -70,12 +130,13 @@ PositionBounds position_bounds(const Frame& frame) {
 }
 
 ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
-                                 std::vector<std::size_t> frames, double fps, bool with_visibility)
-    : ShadedGlbWriter(path, sequence, std::move(frames), fps, with_visibility, {}) {}
+                                 std::vector<std::size_t> frames, double fps, bool with_visibility,
+                                 GlbLayout layout)
+    : ShadedGlbWriter(path, sequence, std::move(frames), fps, with_visibility, {}, layout) {}
 
 ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
                                  std::vector<std::size_t> frames, double fps, bool with_visibility,
-                                 const std::vector<PositionBounds>& bounds)
+                                 const std::vector<PositionBounds>& bounds, GlbLayout layout)
     : m_sequence(sequence), m_frames(std::move(frames)), m_with_visibility(with_visibility), m_file(path) {
   if (!bounds.empty() && bounds.size() != m_frames.size())
     throw std::invalid_argument("ShadedGlbWriter: one bounds per frame");
@@ -86,8 +147,31 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
     if (f >= sequence.num_frames()) throw std::invalid_argument("ShadedGlbWriter: frame index out of range");
   const MeshTopology& topology = sequence.topology();
   if (topology.triangles.empty()) throw std::invalid_argument("ShadedGlbWriter: the mesh has no triangles");
-  const std::uint64_t V = topology.num_vertices, T = topology.triangles.size(), F = m_frames.size();
-  const std::uint64_t index_bytes = 12 * T;
+  const bool input_layout = layout == GlbLayout::Input;
+  InputVertices input;
+  if (input_layout) {
+    input = input_vertices(sequence);
+    m_welded_of_vertex = input.welded;
+    // glTF wants unit normals and finite UVs: normals are normalized, and an attribute with a value that
+    // cannot be is left out.
+    for (glm::vec3& n : input.normals) {
+      const float length = glm::length(n);
+      if (!(length > 0.0f) || !std::isfinite(length)) {
+        input.normals.clear();
+        break;
+      }
+      n /= length;
+    }
+    if (!std::all_of(input.texcoords.begin(), input.texcoords.end(),
+                     [](glm::vec2 t) { return std::isfinite(t.x) && std::isfinite(t.y); }))
+      input.texcoords.clear();
+  }
+  const std::vector<Triangle>& triangles = input_layout ? input.triangles : topology.triangles;
+  const std::uint64_t V = input_layout ? input.welded.size() : topology.num_vertices, T = triangles.size(),
+                      F = m_frames.size();
+  const std::uint64_t index_bytes = 12 * T, index_blocks = input_layout ? 1 : 2;
+  const std::uint64_t texcoord_bytes = 8 * input.texcoords.size(), normal_bytes = 12 * input.normals.size();
+  const std::uint64_t frames_offset = index_blocks * index_bytes + texcoord_bytes + normal_bytes;
   // Per frame: positions and both sides' colours (VEC3), then with visibility both sides' A (SCALAR) and
   // bent cones (VEC4); one buffer view per element type and frame.
   const std::uint64_t vec3_bytes = 36 * V, scalar_bytes = with_visibility ? 8 * V : 0,
@@ -97,19 +181,45 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
 
   json accessors = json::array(), buffer_views = json::array(), meshes = json::array(), nodes = json::array();
   buffer_views.push_back(
-      {{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 2 * index_bytes}, {"target", 34963}});
-  accessors.push_back(
-      {{"bufferView", 0}, {"byteOffset", 0}, {"componentType", 5125}, {"count", 3 * T}, {"type", "SCALAR"}});
-  accessors.push_back({{"bufferView", 0},
-                       {"byteOffset", index_bytes},
-                       {"componentType", 5125},
-                       {"count", 3 * T},
-                       {"type", "SCALAR"}});
+      {{"buffer", 0}, {"byteOffset", 0}, {"byteLength", index_blocks * index_bytes}, {"target", 34963}});
+  for (std::uint64_t block = 0; block < index_blocks; ++block)
+    accessors.push_back({{"bufferView", 0},
+                         {"byteOffset", block * index_bytes},
+                         {"componentType", 5125},
+                         {"count", 3 * T},
+                         {"type", "SCALAR"}});
+  json surface = json::object();  // the input layout's per-vertex attributes shared by every frame
+  if (texcoord_bytes > 0) {
+    buffer_views.push_back({{"buffer", 0},
+                            {"byteOffset", index_blocks * index_bytes},
+                            {"byteLength", texcoord_bytes},
+                            {"byteStride", 8},
+                            {"target", 34962}});
+    surface["TEXCOORD_0"] = accessors.size();
+    accessors.push_back({{"bufferView", buffer_views.size() - 1},
+                         {"byteOffset", 0},
+                         {"componentType", 5126},
+                         {"count", V},
+                         {"type", "VEC2"}});
+  }
+  if (normal_bytes > 0) {
+    buffer_views.push_back({{"buffer", 0},
+                            {"byteOffset", index_blocks * index_bytes + texcoord_bytes},
+                            {"byteLength", normal_bytes},
+                            {"byteStride", 12},
+                            {"target", 34962}});
+    surface["NORMAL"] = accessors.size();
+    accessors.push_back({{"bufferView", buffer_views.size() - 1},
+                         {"byteOffset", 0},
+                         {"componentType", 5126},
+                         {"count", V},
+                         {"type", "VEC3"}});
+  }
   json children = json::array();
   for (std::size_t j = 0; j < F; ++j) {
     // Exact float bounds of the positions as they will be stored.
     const auto [lo, hi] = bounds.empty() ? position_bounds(sequence.frame(m_frames[j])) : bounds[j];
-    const std::uint64_t offset = 2 * index_bytes + j * frame_bytes;
+    const std::uint64_t offset = frames_offset + j * frame_bytes;
     const std::size_t vec3_view = buffer_views.size();
     buffer_views.push_back({{"buffer", 0},
                             {"byteOffset", offset},
@@ -132,6 +242,10 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
                            {"type", "VEC3"}});
     std::array<json, 2> sides{json::object({{"POSITION", position}, {"COLOR_0", position + 1}}),
                               json::object({{"POSITION", position}, {"COLOR_0", position + 2}})};
+    if (input_layout) {  // one primitive: both sides' attributes, the back's colour in COLOR_1
+      sides[0]["COLOR_1"] = position + 2;
+      sides[0].update(surface);
+    }
     if (with_visibility) {
       const std::size_t scalar_view = buffer_views.size();
       buffer_views.push_back({{"buffer", 0},
@@ -145,13 +259,16 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
                               {"byteStride", 16},
                               {"target", 34962}});
       for (std::uint64_t side = 0; side < 2; ++side) {
-        sides[side]["_SKY_VISIBILITY"] = accessors.size();
+        // The input layout names each side's attributes in its one primitive.
+        json& attributes = input_layout ? sides[0] : sides[side];
+        const std::string suffix = !input_layout ? "" : side == 0 ? "_FRONT" : "_BACK";
+        attributes["_SKY_VISIBILITY" + suffix] = accessors.size();
         accessors.push_back({{"bufferView", scalar_view},
                              {"byteOffset", side * 4 * V},
                              {"componentType", 5126},
                              {"count", V},
                              {"type", "SCALAR"}});
-        sides[side]["_BENT_CONE"] = accessors.size();
+        attributes["_BENT_CONE" + suffix] = accessors.size();
         accessors.push_back({{"bufferView", scalar_view + 1},
                              {"byteOffset", side * 16 * V},
                              {"componentType", 5126},
@@ -165,9 +282,21 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
                  {"material", 0},
                  {"mode", 4},
                  {"extras", {{"pleat_side", "back"}}}};
-    meshes.push_back({{"name", frame_name(m_frames[j])}, {"primitives", {front, back}}});
+    json mesh = {{"name", frame_name(sequence.source_frame(m_frames[j]))}};
+    if (input_layout) {
+      mesh["primitives"] = {front};
+      if (input.input.size() > sequence.num_input_vertices())
+        mesh["extras"] = {
+            {"pleat_seam_copies",
+             std::vector<Index>(input.input.begin() + sequence.num_input_vertices(), input.input.end())}};
+    } else {
+      mesh["primitives"] = {front, back};
+    }
+    meshes.push_back(std::move(mesh));
     const double visible = j == 0 ? 1.0 : 0.0;
-    nodes.push_back({{"name", frame_name(m_frames[j])}, {"mesh", j}, {"scale", {visible, visible, visible}}});
+    nodes.push_back({{"name", frame_name(sequence.source_frame(m_frames[j]))},
+                     {"mesh", j},
+                     {"scale", {visible, visible, visible}}});
     children.push_back(j + 1);
   }
   json all_nodes = json::array();
@@ -179,7 +308,10 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
 
   json document = {
       {"asset",
-       {{"version", "2.0"}, {"generator", "pleat (flipbook: one node per frame, STEP scale visibility)"}}},
+       {{"version", "2.0"},
+        {"generator", input_layout
+                          ? "pleat (flipbook of the input mesh: one node per frame, STEP scale visibility)"
+                          : "pleat (flipbook: one node per frame, STEP scale visibility)"}}},
       {"extensionsUsed", {"KHR_materials_unlit"}},
       {"scene", 0},
       {"scenes", {{{"nodes", {0}}}}},
@@ -189,17 +321,20 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
        {{{"name", "pleat_shaded"},
          {"pbrMetallicRoughness",
           {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
+         {"doubleSided", input_layout},
          {"extensions", {{"KHR_materials_unlit", json::object()}}}}}},
   };
 
   // Animation: per node a STEP scale sampler; its keys go after the frames in the binary chunk.
-  std::uint64_t tail_offset = 2 * index_bytes + F * frame_bytes;
+  std::uint64_t tail_offset = frames_offset + F * frame_bytes;
   const std::size_t tail_view = buffer_views.size();
   if (F > 1) {
     json samplers = json::array(), channels = json::array();
+    std::vector<double> frame_times;
+    for (std::size_t f : m_frames) frame_times.push_back(sequence.frame_time(f));
     std::vector<float> times, scales;
     for (std::size_t j = 0; j < F; ++j) {
-      flipbook_keys(j, F, fps, times, scales);
+      flipbook_keys(j, frame_times, fps, times, scales);
       const std::size_t input = accessors.size();
       const std::uint64_t at = m_tail.size();
       accessors.push_back({{"bufferView", tail_view},
@@ -249,11 +384,19 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
   put_u32(out, kChunkBin);
   std::vector<std::uint32_t> indices;
   indices.reserve(3 * T);
-  for (const Triangle& t : topology.triangles) indices.insert(indices.end(), {t[0], t[1], t[2]});
+  for (const Triangle& t : triangles) indices.insert(indices.end(), {t[0], t[1], t[2]});
   out.write(reinterpret_cast<const char*>(indices.data()), std::streamsize(indices.size() * 4));
-  indices.clear();
-  for (const Triangle& t : topology.triangles) indices.insert(indices.end(), {t[0], t[2], t[1]});
-  out.write(reinterpret_cast<const char*>(indices.data()), std::streamsize(indices.size() * 4));
+  if (!input_layout) {
+    indices.clear();
+    for (const Triangle& t : triangles) indices.insert(indices.end(), {t[0], t[2], t[1]});
+    out.write(reinterpret_cast<const char*>(indices.data()), std::streamsize(indices.size() * 4));
+  }
+  std::vector<float> values;
+  for (const glm::vec2& t : input.texcoords) values.insert(values.end(), {t.x, t.y});
+  put_floats(out, values);
+  values.clear();
+  for (const glm::vec3& n : input.normals) values.insert(values.end(), {n.x, n.y, n.z});
+  put_floats(out, values);
 }
 
 ShadedGlbWriter::~ShadedGlbWriter() = default;
@@ -290,22 +433,37 @@ void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& positions,
         throw std::invalid_argument("ShadedGlbWriter::add_frame: one visibility per welded vertex and side");
   if (positions.size() != V)
     throw std::invalid_argument("ShadedGlbWriter::add_frame: one position per welded vertex");
+  // The file's vertices: the welded ones (sides layout) or m_welded_of_vertex's (input layout).
+  const std::size_t count = m_welded_of_vertex.empty() ? V : m_welded_of_vertex.size();
+  const auto welded = [&](std::size_t g) { return m_welded_of_vertex.empty() ? g : m_welded_of_vertex[g]; };
   std::vector<float> values;
-  values.reserve(4 * std::size_t(V));
-  for (const glm::vec3& p : positions) values.insert(values.end(), {p.x, p.y, p.z});
+  values.reserve(4 * count);
+  for (std::size_t g = 0; g < count; ++g) {
+    const glm::vec3& p = positions[welded(g)];
+    values.insert(values.end(), {p.x, p.y, p.z});
+  }
   std::ostream& out = m_file.stream();
   put_floats(out, values);
   for (const auto* colours : {&front_srgb, &back_srgb}) {
     values.clear();
-    for (const glm::vec3& c : *colours)
+    for (std::size_t g = 0; g < count; ++g) {
+      const glm::vec3& c = (*colours)[welded(g)];
       values.insert(values.end(), {srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b)});
+    }
     put_floats(out, values);
   }
   if (m_with_visibility) {
-    for (const SideVisibility* side : {&front, &back}) put_floats(out, side->sky_visibility);
     for (const SideVisibility* side : {&front, &back}) {
       values.clear();
-      for (const glm::vec4& b : side->bent_cone) values.insert(values.end(), {b.x, b.y, b.z, b.w});
+      for (std::size_t g = 0; g < count; ++g) values.push_back(side->sky_visibility[welded(g)]);
+      put_floats(out, values);
+    }
+    for (const SideVisibility* side : {&front, &back}) {
+      values.clear();
+      for (std::size_t g = 0; g < count; ++g) {
+        const glm::vec4& b = side->bent_cone[welded(g)];
+        values.insert(values.end(), {b.x, b.y, b.z, b.w});
+      }
       put_floats(out, values);
     }
   }

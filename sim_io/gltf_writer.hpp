@@ -41,6 +41,19 @@ struct SideVisibility {
       bent_cone;  ///< unit bent normal (xyz), cosine of the equal-solid-angle half-angle (w)
 };
 
+/// What a shaded glb's frame meshes are made of (docs/method.md §12).
+enum class GlbLayout {
+  /// The welded vertices, a front primitive and a back primitive (reversed triangles) with their side's
+  /// COLOR_0, _SKY_VISIBILITY and _BENT_CONE, under a single-sided material: what `pleat view` reads.
+  Sides,
+  /// The artist's mesh: the input's vertices in its order and its triangles in one primitive, its UVs
+  /// (TEXCOORD_0) and normals (NORMAL, as given) where it has them, front colour in COLOR_0 and back in
+  /// COLOR_1, _SKY_VISIBILITY_FRONT/_BACK and _BENT_CONE_FRONT/_BACK, a double-sided material. Where the
+  /// input's corners give one vertex several UVs or normals, copies of it follow the input's vertices
+  /// (mesh extras `pleat_seam_copies` lists the input vertex of each).
+  Input,
+};
+
 /// Exact float bounds of a frame's positions as a glb stores them (its POSITION accessor's min and max).
 struct PositionBounds {
   glm::vec3 lo, hi;
@@ -49,17 +62,19 @@ PositionBounds position_bounds(const Frame& frame);
 
 /// Streams a shaded flipbook .glb: the constructor reads the chosen frames' positions once (for the
 /// accessor bounds) and writes the JSON; add_frame() then appends one frame's data in order; finish() commits
-/// the file atomically. Destroyed before finish(), nothing is left on disk. Frame j plays at time j / fps.
+/// the file atomically. Destroyed before finish(), nothing is left on disk. Frame j plays from its time
+/// (MeshSequence::frame_time) to the next frame's; the last one for 1 / fps.
 class ShadedGlbWriter {
  public:
   /// `with_visibility`: every add_frame() brings both sides' visibility, written as vertex attributes.
   ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
-                  std::vector<std::size_t> frames, double fps, bool with_visibility = false);
+                  std::vector<std::size_t> frames, double fps, bool with_visibility = false,
+                  GlbLayout layout = GlbLayout::Sides);
   /// The same with each frame's position_bounds() given (frame j: bounds[j]), so the constructor reads no
   /// frame: for a writer whose frames' positions come from elsewhere (other processes, cli/distributed.hpp).
   ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
                   std::vector<std::size_t> frames, double fps, bool with_visibility,
-                  const std::vector<PositionBounds>& bounds);
+                  const std::vector<PositionBounds>& bounds, GlbLayout layout = GlbLayout::Sides);
   ~ShadedGlbWriter();
   ShadedGlbWriter(const ShadedGlbWriter&) = delete;
   ShadedGlbWriter& operator=(const ShadedGlbWriter&) = delete;
@@ -79,6 +94,7 @@ class ShadedGlbWriter {
   const MeshSequence& m_sequence;
   std::vector<std::size_t> m_frames;
   bool m_with_visibility = false;
+  std::vector<Index> m_welded_of_vertex;  // the input layout's vertices' welded vertices; empty: the welded
   std::size_t m_next = 0;
   std::size_t m_tail_bytes = 0;  // animation data written by finish()
   std::vector<unsigned char> m_tail;

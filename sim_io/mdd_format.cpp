@@ -17,11 +17,14 @@ std::string at_byte(std::uint64_t offset) { return "byte " + std::to_string(offs
 
 class MddSource : public FrameSource {
  public:
-  MddSource(std::filesystem::path path, MddHeader header)
-      : m_path(std::move(path)), m_header(std::move(header)) {}
+  MddSource(std::filesystem::path path, MddHeader header, double scene_fps)
+      : m_path(std::move(path)), m_header(std::move(header)), m_scene_fps(scene_fps) {}
 
   std::size_t num_frames() const override { return std::size_t(m_header.num_frames); }
   double frame_time(std::size_t i) const override { return m_header.times.at(i); }
+  std::int64_t source_frame(std::size_t i) const override {
+    return std::llround(m_header.times.at(i) * m_scene_fps);
+  }
   std::vector<glm::dvec3> read_frame(std::size_t i) const override {
     const auto points = std::uint64_t(m_header.num_points);
     const std::uint64_t offset = 8 + 4 * std::uint64_t(m_header.num_frames) + std::uint64_t(i) * points * 12;
@@ -31,6 +34,7 @@ class MddSource : public FrameSource {
  private:
   std::filesystem::path m_path;
   MddHeader m_header;
+  double m_scene_fps;
 };
 
 }  // namespace
@@ -79,8 +83,10 @@ MddHeader read_mdd_header(const std::filesystem::path& path) {
   return header;
 }
 
-std::unique_ptr<FrameSource> open_mdd(const std::filesystem::path& path) {
-  return std::make_unique<MddSource>(path, read_mdd_header(path));
+std::unique_ptr<FrameSource> open_mdd(const std::filesystem::path& path, double scene_fps) {
+  if (!(scene_fps > 0.0) || !std::isfinite(scene_fps))
+    throw std::invalid_argument("open_mdd: scene_fps must be positive");
+  return std::make_unique<MddSource>(path, read_mdd_header(path), scene_fps);
 }
 
 void write_mdd(const std::filesystem::path& path, const std::vector<std::vector<glm::dvec3>>& frames,

@@ -28,8 +28,8 @@ struct MddHeader {
 MddHeader read_mdd_header(const std::filesystem::path& path);
 
 /// A FrameSource over an MDD file. read_frame(i) throws InputError naming the file, the frame and the
-/// vertex of a NaN/Inf coordinate.
-std::unique_ptr<FrameSource> open_mdd(const std::filesystem::path& path);
+/// vertex of a NaN/Inf coordinate. Frame i's source frame number is its time x scene_fps, rounded.
+std::unique_ptr<FrameSource> open_mdd(const std::filesystem::path& path, double scene_fps = kDefaultSceneFps);
 
 /// Writes frames (each the same number of points) with their times (seconds), atomically. Throws
 /// std::invalid_argument on empty or ragged frames or a times/frames size mismatch.

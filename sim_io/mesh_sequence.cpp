@@ -84,17 +84,24 @@ struct MeshSequence::Impl {
   std::vector<Index> welded_of_input;
   std::vector<Index> input_of_welded;  // one representative input vertex per welded vertex
   std::size_t removed_faces = 0;
+  SurfaceAttributes surface;
   std::vector<double> times;
+  std::vector<std::int64_t> source_frames;
   Bounds bounds;
   std::unique_ptr<FrameSource> source;
 };
 
 MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangles, Index num_input_vertices,
-                           std::unique_ptr<FrameSource> frames, const LoadScan& scan) {
+                           std::unique_ptr<FrameSource> frames, const LoadScan& scan,
+                           SurfaceAttributes surface) {
   auto impl = std::make_shared<Impl>();
   impl->name = std::move(name);
   const std::string& n = impl->name;
   if (!frames) throw std::invalid_argument("MeshSequence: no frame source");
+  for (std::size_t size : {surface.texcoords.size(), surface.normals.size()})
+    if (size != 0 && size != 3 * input_triangles.size())
+      throw std::invalid_argument("MeshSequence: surface attributes need one value per triangle corner");
+  impl->surface = std::move(surface);
   if (num_input_vertices == 0) throw InputError(n, "", "empty mesh: no vertices");
   if (input_triangles.empty()) throw InputError(n, "", "empty mesh: no faces");
   for (std::size_t f = 0; f < input_triangles.size(); ++f)
@@ -106,9 +113,11 @@ MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangl
   const std::size_t num_frames = frames->num_frames();
   if (num_frames == 0) throw InputError(n, "", "no frames");
   impl->times.resize(num_frames);
+  impl->source_frames.resize(num_frames);
   for (std::size_t i = 0; i < num_frames; ++i) {
     impl->times[i] = frames->frame_time(i);
     if (!std::isfinite(impl->times[i])) throw InputError(n, frame_place(i), "frame time is not finite");
+    impl->source_frames[i] = frames->source_frame(i);
     if (i > 0 && !(impl->times[i] > impl->times[i - 1]))
       throw InputError(n, frame_place(i), "frame times must increase strictly");
   }
@@ -210,6 +219,7 @@ MeshSequence::MeshSequence(std::string name, MeshTopology topology, std::vector<
     if (i > 0 && !(frames[i].time > frames[i - 1].time))
       throw std::invalid_argument("MeshSequence: frame times must increase strictly");
     impl->times.push_back(frames[i].time);
+    impl->source_frames.push_back(std::int64_t(i));
     impl->bounds.add(cloth_bounds(topology, frames[i]));
     positions.push_back(std::move(frames[i].positions));
   }
@@ -235,6 +245,7 @@ double MeshSequence::frame_rate() const {
 
 const Bounds& MeshSequence::bounds() const { return m_impl->bounds; }
 double MeshSequence::frame_time(std::size_t i) const { return m_impl->times.at(i); }
+std::int64_t MeshSequence::source_frame(std::size_t i) const { return m_impl->source_frames.at(i); }
 double MeshSequence::duration() const { return m_impl->times.back() - m_impl->times.front(); }
 
 std::vector<glm::dvec3> MeshSequence::input_positions(std::size_t i) const {
@@ -261,6 +272,7 @@ std::size_t MeshSequence::welded_duplicates() const {
 }
 const std::vector<Triangle>& MeshSequence::input_triangles() const { return m_impl->input_triangles; }
 std::size_t MeshSequence::removed_faces() const { return m_impl->removed_faces; }
+const SurfaceAttributes& MeshSequence::surface() const { return m_impl->surface; }
 
 MeshSequence load_sequence(const std::filesystem::path& input, const std::filesystem::path& cache) {
   return load_sequence(input, cache, LoadOptions{});
@@ -294,11 +306,12 @@ MeshSequence load_sequence(const std::filesystem::path& input, const std::filesy
 
   ObjMesh mesh = read_obj(input);
   const auto num_vertices = Index(mesh.positions.size());
+  SurfaceAttributes surface = surface_of(mesh);
   if (cache.empty()) {
     std::vector<std::vector<glm::dvec3>> frames;
     frames.push_back(std::move(mesh.positions));
     return MeshSequence(name, std::move(mesh.triangles), num_vertices,
-                        make_memory_source(std::move(frames), {0.0}), options.scan);
+                        make_memory_source(std::move(frames), {0.0}), options.scan, std::move(surface));
   }
   const std::string cache_extension = lower_extension(cache);
   std::unique_ptr<FrameSource> source;
@@ -311,7 +324,7 @@ MeshSequence load_sequence(const std::filesystem::path& input, const std::filesy
   } else if (cache_extension == ".mdd") {
     cache_points = read_mdd_header(cache).num_points;
     count_place = "byte 4";
-    source = open_mdd(cache);
+    source = open_mdd(cache, options.scene_fps);
   } else {
     throw InputError(cache.string(), "", "unknown cache format (expected .pc2 or .mdd)");
   }
@@ -321,7 +334,7 @@ MeshSequence load_sequence(const std::filesystem::path& input, const std::filesy
                          name + " has " + std::to_string(num_vertices) + " vertices");
   // Name the sequence after the cache: frame-level errors (NaN, truncation) are about its bytes.
   return MeshSequence(cache.string(), std::move(mesh.triangles), num_vertices, std::move(source),
-                      options.scan);
+                      options.scan, std::move(surface));
 }
 
 }  // namespace pleat

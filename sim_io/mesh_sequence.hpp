@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <functional>
+#include <glm/vec2.hpp>
 #include <memory>
 #include <string>
 #include <utility>
@@ -25,6 +27,9 @@ class FrameSource {
   virtual ~FrameSource() = default;
   virtual std::size_t num_frames() const = 0;
   virtual double frame_time(std::size_t i) const = 0;  ///< seconds
+  /// The number the source gives frame i (docs/method.md §12: the PC2 scene frame, the number in an OBJ
+  /// sequence's file name, a time x scene fps); by default the index.
+  virtual std::int64_t source_frame(std::size_t i) const { return std::int64_t(i); }
   /// Positions of frame i in input order; throws InputError naming the file and the frame on bad data.
   virtual std::vector<glm::dvec3> read_frame(std::size_t i) const = 0;
 };
@@ -51,6 +56,14 @@ struct LoadScan {
   std::function<void(Bounds& bounds)> merge_bounds;
 };
 
+/// What the input says about its surface besides positions, per corner of MeshSequence::input_triangles()
+/// (3 per triangle, in order), for outputs on the artist's mesh (gltf_writer.hpp, the input layout). Each is
+/// empty where the input does not give it at every corner.
+struct SurfaceAttributes {
+  std::vector<glm::vec2> texcoords;  ///< OBJ vt, glTF TEXCOORD_0; glTF's convention (v down from the top)
+  std::vector<glm::vec3> normals;    ///< OBJ vn, glTF NORMAL, as given (of the input's own pose)
+};
+
 class MeshSequence {
  public:
   /// Welds input vertices whose positions coincide exactly in every frame (glTF exporters split them at UV
@@ -58,8 +71,10 @@ class MeshSequence {
   /// coordinates through the source) and that times are finite and strictly increasing. O(V) memory,
   /// O(V) expected time per frame. Throws InputError naming `name` and the frame.
   /// `scan` shares that pass between processes (LoadScan).
+  /// `surface`: per corner of input_triangles, or empty (std::invalid_argument on another size).
   MeshSequence(std::string name, std::vector<Triangle> input_triangles, Index num_input_vertices,
-               std::unique_ptr<FrameSource> frames, const LoadScan& scan = {});
+               std::unique_ptr<FrameSource> frames, const LoadScan& scan = {},
+               SurfaceAttributes surface = {});
   /// An in-memory sequence (generators, tests): no welding.
   MeshSequence(std::string name, MeshTopology topology, std::vector<Frame> frames);
 
@@ -78,6 +93,9 @@ class MeshSequence {
   const Bounds& bounds() const;
   double frame_time(std::size_t i) const;  ///< seconds, strictly increasing
   double duration() const;                 ///< last frame time - first frame time
+  /// The frame's number in the source (FrameSource::source_frame): what the CSV's source_frame column,
+  /// render file names and glb times say; frame(i) is still addressed by its 0-based index i.
+  std::int64_t source_frame(std::size_t i) const;
   /// Positions of frame i in the input's vertex order (before welding).
   std::vector<glm::dvec3> input_positions(std::size_t i) const;
   /// The input's triangles over input vertices (after polygon triangulation, before welding).
@@ -86,6 +104,8 @@ class MeshSequence {
   /// earlier triangle on the same three welded vertices in either winding (e.g. the reversed back-side
   /// copies of a double-sided export). topology().triangles keeps the others in input order.
   std::size_t removed_faces() const;
+  /// The input's UVs and normals per corner of input_triangles() (SurfaceAttributes).
+  const SurfaceAttributes& surface() const;
 
  private:
   struct Impl;

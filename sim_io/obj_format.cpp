@@ -1,5 +1,6 @@
 #include "sim_io/obj_format.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -59,14 +60,78 @@ void append_double(std::string& out, double v) {
 
 }  // namespace
 
+namespace {
+
+// An index into one of the OBJ's lists (v, vt or vn) as a face corner gives it: 1-based, or negative counting
+// back from the last element defined so far. Positive indices may refer to elements defined later in the
+// file; `max_positive` remembers the largest one (and its line) to check once all are known.
+struct IndexList {
+  const char* what;    // "vertex", "texture coordinate", "normal"
+  const char* plural;  // "vertices", ...
+  std::int64_t max_positive = 0;
+  std::size_t max_positive_line = 0;
+
+  std::int64_t resolve(std::string_view text, std::int64_t count, const std::string& file, std::size_t line,
+                       std::string_view token) {
+    std::int64_t index = 0;
+    if (!parse_index(text, index))
+      throw InputError(file, at_line(line), "face corner '" + std::string(token) + "' is not an index");
+    if (index == 0)
+      throw InputError(file, at_line(line), std::string(what) + " index 0 (OBJ indices start at 1)");
+    if (index < 0) {
+      if (-index > count)
+        throw InputError(file, at_line(line),
+                         "relative " + std::string(what) + " index " + std::to_string(index) +
+                             " out of range (" + std::to_string(count) + " " + plural + " so far)");
+      return count + index;
+    }
+    if (index > max_positive) {
+      max_positive = index;
+      max_positive_line = line;
+    }
+    return index - 1;
+  }
+  void check(std::size_t count, const std::string& file) const {
+    if (max_positive > std::int64_t(count))
+      throw InputError(file, at_line(max_positive_line),
+                       std::string(what) + " index " + std::to_string(max_positive) + " out of range (" +
+                           std::to_string(count) + " " + plural + ")");
+  }
+};
+
+// Reads `count` numbers after a keyword into `out`; the place names `what`.
+template <int N>
+void read_numbers(Tokens& tokens, int required, double* out, const char* what, const std::string& file,
+                  std::size_t line) {
+  for (int k = 0; k < N; ++k) {
+    std::string_view token;
+    if (!tokens.next(token)) {
+      if (k < required)
+        throw InputError(file, at_line(line),
+                         std::string(what) + " has fewer than " + std::to_string(required) + " coordinates");
+      out[k] = 0.0;
+      continue;
+    }
+    if (!parse_double(token, out[k]))
+      throw InputError(file, at_line(line),
+                       std::string(what) + " coordinate '" + std::string(token) + "' is not a number");
+    if (!std::isfinite(out[k]))
+      throw InputError(file, at_line(line), std::string(what) + " has a non-finite coordinate");
+  }
+}
+
+}  // namespace
+
 ObjMesh read_obj(const std::filesystem::path& path) {
   const std::string file = path.string();
   const std::string text = read_whole_file(path);
   ObjMesh mesh;
-  // Positive indices may refer to vertices defined later in the file; check them once all are known.
-  std::int64_t max_positive_index = 0;
-  std::size_t max_positive_line = 0;
-  std::vector<std::int64_t> corners;
+  IndexList vertex_index{"vertex", "vertices"}, texcoord_index{"texture coordinate", "texture coordinates"},
+      normal_index{"normal", "normals"};
+  struct Corner {
+    std::int64_t v, t, n;  // t, n: -1 when the corner names none
+  };
+  std::vector<Corner> corners;
 
   std::size_t line_number = 0;
   std::size_t begin = 0;
@@ -96,49 +161,71 @@ ObjMesh read_obj(const std::filesystem::path& path) {
               "vertex " + std::to_string(mesh.positions.size()) + " has a non-finite coordinate");
       }
       mesh.positions.push_back(p);  // extra values (w, or r g b vertex colours) are ignored
+    } else if (keyword == "vt") {
+      double uv[2];
+      read_numbers<2>(tokens, 1, uv, "texture coordinate", file, line_number);  // a w is ignored
+      mesh.texcoords.emplace_back(uv[0], uv[1]);
+    } else if (keyword == "vn") {
+      double n[3];
+      read_numbers<3>(tokens, 3, n, "normal", file, line_number);
+      mesh.normals.emplace_back(n[0], n[1], n[2]);
     } else if (keyword == "f") {
       corners.clear();
       std::string_view token;
       while (tokens.next(token)) {
-        const std::string_view index_text = token.substr(0, token.find('/'));
-        std::int64_t index = 0;
-        if (!parse_index(index_text, index))
-          throw InputError(file, at_line(line_number),
-                           "face corner '" + std::string(token) + "' is not an index");
-        const auto count = std::int64_t(mesh.positions.size());
-        if (index == 0)
-          throw InputError(file, at_line(line_number), "vertex index 0 (OBJ indices start at 1)");
-        if (index < 0) {
-          if (-index > count)
-            throw InputError(file, at_line(line_number),
-                             "relative vertex index " + std::to_string(index) + " out of range (" +
-                                 std::to_string(count) + " vertices so far)");
-          corners.push_back(count + index);
-        } else {
-          if (index > max_positive_index) {
-            max_positive_index = index;
-            max_positive_line = line_number;
-          }
-          corners.push_back(index - 1);
+        const std::size_t slash = token.find('/');
+        Corner c{vertex_index.resolve(token.substr(0, slash), std::int64_t(mesh.positions.size()), file,
+                                      line_number, token),
+                 -1, -1};
+        if (slash != std::string_view::npos) {
+          const std::string_view rest = token.substr(slash + 1);
+          const std::size_t second = rest.find('/');
+          const std::string_view t = rest.substr(0, second);
+          if (!t.empty())
+            c.t = texcoord_index.resolve(t, std::int64_t(mesh.texcoords.size()), file, line_number, token);
+          if (second != std::string_view::npos && second + 1 < rest.size())
+            c.n = normal_index.resolve(rest.substr(second + 1), std::int64_t(mesh.normals.size()), file,
+                                       line_number, token);
         }
+        corners.push_back(c);
       }
       if (corners.size() < 3)
         throw InputError(file, at_line(line_number),
                          "face has " + std::to_string(corners.size()) + " corners, needs 3");
-      for (std::size_t k = 1; k + 1 < corners.size(); ++k)
-        mesh.triangles.push_back({Index(corners[0]), Index(corners[k]), Index(corners[k + 1])});
+      for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
+        mesh.triangles.push_back({Index(corners[0].v), Index(corners[k].v), Index(corners[k + 1].v)});
+        for (const Corner* c : {&corners[0], &corners[k], &corners[k + 1]}) {
+          mesh.corner_texcoords.push_back(c->t);
+          mesh.corner_normals.push_back(c->n);
+        }
+      }
       ++mesh.num_polygons;
     }
   }
-  if (max_positive_index > std::int64_t(mesh.positions.size()))
-    throw InputError(file, at_line(max_positive_line),
-                     "vertex index " + std::to_string(max_positive_index) + " out of range (" +
-                         std::to_string(mesh.positions.size()) + " vertices)");
+  vertex_index.check(mesh.positions.size(), file);
+  texcoord_index.check(mesh.texcoords.size(), file);
+  normal_index.check(mesh.normals.size(), file);
   if (mesh.positions.size() > std::size_t(UINT32_MAX))
     throw InputError(file, "", "too many vertices for 32-bit indices");
   if (mesh.positions.empty()) throw InputError(file, "", "empty mesh: no vertices");
   if (mesh.triangles.empty()) throw InputError(file, "", "empty mesh: no faces");
   return mesh;
+}
+
+SurfaceAttributes surface_of(const ObjMesh& mesh) {
+  SurfaceAttributes surface;
+  const auto all_given = [](const std::vector<std::int64_t>& corners) {
+    return !corners.empty() &&
+           std::all_of(corners.begin(), corners.end(), [](std::int64_t i) { return i >= 0; });
+  };
+  if (all_given(mesh.corner_texcoords))
+    for (std::int64_t t : mesh.corner_texcoords) {
+      const glm::dvec2 uv = mesh.texcoords[std::size_t(t)];
+      surface.texcoords.emplace_back(float(uv.x), float(1.0 - uv.y));  // OBJ's v runs up, glTF's down
+    }
+  if (all_given(mesh.corner_normals))
+    for (std::int64_t n : mesh.corner_normals) surface.normals.emplace_back(mesh.normals[std::size_t(n)]);
+  return surface;
 }
 
 void write_obj(const std::filesystem::path& path, const MeshTopology& topology,

@@ -1,18 +1,21 @@
-// Wavefront OBJ: reads `v` and `f` statements (polygons fan-triangulated; `vt`/`vn` ignored) and writes
-// a triangle mesh with shortest round-tripping decimal coordinates.
+// Wavefront OBJ: reads `v`, `vt`, `vn` and `f` statements (polygons fan-triangulated) and writes a
+// triangle mesh with shortest round-tripping decimal coordinates.
 //
 // Reading is one pass over the lines, O(size of file). Face corners may be `i`, `i/t`, `i//n` or `i/t/n`;
-// negative indices count back from the last vertex defined so far (OBJ's relative form). Every other
-// statement (o, g, s, usemtl, mtllib, vt, vn, l, p, ...) is skipped. Bad input throws InputError naming the
+// negative indices count back from the last element defined so far (OBJ's relative form). Every other
+// statement (o, g, s, usemtl, mtllib, l, p, ...) is skipped. Bad input throws InputError naming the
 // file and the line: non-numeric or non-finite coordinates, index 0 or out of range, a face with fewer than
-// three corners, an empty mesh (no vertices or no faces).
+// three corners, an empty mesh (no vertices or no faces); the same for vt/vn values and indices.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <vector>
 
+#include "sim_io/mesh_sequence.hpp"
 #include "static_core/mesh.hpp"
 
 namespace pleat {
@@ -21,12 +24,21 @@ namespace pleat {
 struct ObjMesh {
   std::vector<glm::dvec3> positions;
   std::vector<Triangle> triangles;
-  std::size_t num_polygons = 0;  ///< `f` statements before triangulation
+  std::size_t num_polygons = 0;       ///< `f` statements before triangulation
+  std::vector<glm::dvec2> texcoords;  ///< `vt` (u, v) in file order
+  std::vector<glm::dvec3> normals;    ///< `vn` in file order
+  /// Per triangle corner (3 per triangle, in order): the 0-based index into texcoords / normals, or -1 where
+  /// the corner names none.
+  std::vector<std::int64_t> corner_texcoords, corner_normals;
 };
 
 /// Reads `path`. Throws InputError (file, "line N") on malformed input, InputError (file) when the file is
 /// missing or unreadable or holds no vertex or no face.
 ObjMesh read_obj(const std::filesystem::path& path);
+
+/// The mesh's UVs and normals per triangle corner (texcoords flipped to glTF's v-down convention); each
+/// empty unless every corner names one.
+SurfaceAttributes surface_of(const ObjMesh& mesh);
 
 /// Writes `v` lines (shortest decimal form that reads back to the same double) and 1-based `f` lines,
 /// atomically (temporary file + rename). Throws std::invalid_argument when positions.size() differs from

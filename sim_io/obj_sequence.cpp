@@ -100,17 +100,44 @@ bool natural_less(const std::string& a, const std::string& b) {
   return a.size() - i < b.size() - j;
 }
 
+// The last run of digits in each file's name without extension (frame_0012.obj: 12), when every name has
+// one and they increase strictly; otherwise the files' indices.
+std::vector<std::int64_t> numbers_in_names(const std::vector<std::filesystem::path>& files) {
+  std::vector<std::int64_t> numbers;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const std::string stem = files[i].stem().string();
+    const auto last = stem.find_last_of("0123456789");
+    std::int64_t n = 0;
+    bool found = false;
+    if (last != std::string::npos) {
+      const auto first = stem.find_last_not_of("0123456789", last);
+      const std::size_t begin = first == std::string::npos ? 0 : first + 1;
+      const auto [stop, error] = std::from_chars(stem.data() + begin, stem.data() + last + 1, n);
+      found = error == std::errc() && stop == stem.data() + last + 1;
+    }
+    if (!found || (!numbers.empty() && n <= numbers.back())) {
+      numbers.resize(files.size());
+      for (std::size_t k = 0; k < files.size(); ++k) numbers[k] = std::int64_t(k);
+      return numbers;
+    }
+    numbers.push_back(n);
+  }
+  return numbers;
+}
+
 class ObjSequenceSource : public FrameSource {
  public:
   ObjSequenceSource(std::vector<std::filesystem::path> files, std::vector<Triangle> triangles,
                     std::size_t num_vertices, double scene_fps)
       : m_files(std::move(files)),
+        m_numbers(numbers_in_names(m_files)),
         m_triangles(std::move(triangles)),
         m_num_vertices(num_vertices),
         m_scene_fps(scene_fps) {}
 
   std::size_t num_frames() const override { return m_files.size(); }
-  double frame_time(std::size_t i) const override { return double(i) / m_scene_fps; }
+  std::int64_t source_frame(std::size_t i) const override { return m_numbers.at(i); }
+  double frame_time(std::size_t i) const override { return double(m_numbers.at(i)) / m_scene_fps; }
   std::vector<glm::dvec3> read_frame(std::size_t i) const override {
     ObjMesh mesh = read_obj(m_files.at(i));
     const std::string file = m_files[i].string();
@@ -135,6 +162,7 @@ class ObjSequenceSource : public FrameSource {
 
  private:
   std::vector<std::filesystem::path> m_files;
+  std::vector<std::int64_t> m_numbers;
   std::vector<Triangle> m_triangles;
   std::size_t m_num_vertices;
   double m_scene_fps;
@@ -213,9 +241,10 @@ MeshSequence load_obj_sequence(const std::string& name, const std::vector<std::f
   ObjMesh first = read_obj(files.front());
   const auto num_vertices = Index(first.positions.size());
   std::vector<Triangle> triangles = first.triangles;
+  SurfaceAttributes surface = surface_of(first);
   auto source =
       std::make_unique<ObjSequenceSource>(files, std::move(first.triangles), num_vertices, scene_fps);
-  return MeshSequence(name, std::move(triangles), num_vertices, std::move(source), scan);
+  return MeshSequence(name, std::move(triangles), num_vertices, std::move(source), scan, std::move(surface));
 }
 
 void write_obj_sequence(const std::string& pattern, const MeshSequence& sequence, int first_number) {

@@ -3,8 +3,10 @@
 // present in the pattern's directory, in numeric order, without gaps) or by a directory (its .obj files in
 // name order, runs of digits compared as numbers so f_2 comes before f_10).
 //
-// Frame i sits at time i / scene_fps. Opening reads the first file (for the connectivity); read_frame(i)
-// parses file i and checks its connectivity against the first, so a long sequence streams.
+// Frame i's source frame number is the last run of digits in its file's name (frame_0012.obj: 12) when every
+// file's name has one and they increase strictly, else i; it sits at time number / scene_fps. Opening reads
+// the first file (for the connectivity); read_frame(i) parses file i and checks its connectivity against the
+// first, so a long sequence streams.
 #pragma once
 
 #include <filesystem>

@@ -27,6 +27,9 @@ class Pc2Source : public FrameSource {
       : m_path(std::move(path)), m_header(header), m_scene_fps(scene_fps) {}
 
   std::size_t num_frames() const override { return std::size_t(m_header.num_samples); }
+  std::int64_t source_frame(std::size_t i) const override {
+    return std::llround(double(m_header.start_frame) + double(i) * double(m_header.sample_rate));
+  }
   double frame_time(std::size_t i) const override {
     return (double(m_header.start_frame) + double(i) * double(m_header.sample_rate)) / m_scene_fps;
   }

@@ -6,7 +6,8 @@
 // (sampleRate is the number of scene frames between samples, as Blender and 3ds Max write it), and pleat
 // converts scene frames to seconds with a scene rate (default kDefaultSceneFps = 24, Blender's default):
 //   time(i) = (startFrame + i * sampleRate) / scene_fps.
-// So a cache with sampleRate 1 plays at scene_fps frames per second.
+// So a cache with sampleRate 1 plays at scene_fps frames per second. Sample i's source frame number is
+// startFrame + i * sampleRate rounded to the nearest integer.
 //
 // The reader validates the header and the file size when opened (O(1)), and reads one sample at a time
 // on demand (O(numPoints) per frame), so long caches stream.

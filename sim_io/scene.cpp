@@ -38,13 +38,36 @@ GroundPlane parse_ground_plane(std::string_view text) {
 
 Scene::Scene(const MeshSequence& cloth) : m_cloth(&cloth), m_topology(cloth.topology()) {}
 
+namespace {
+
+std::vector<Scene::LoadedOccluder> load_occluders(const std::vector<OccluderSpec>& specs) {
+  std::vector<Scene::LoadedOccluder> loaded;
+  for (const OccluderSpec& spec : specs)
+    loaded.push_back({spec.cache.empty() ? spec.path : spec.cache, load_sequence(spec.path, spec.cache)});
+  return loaded;
+}
+
+}  // namespace
+
 Scene::Scene(const MeshSequence& cloth, const std::vector<OccluderSpec>& occluders,
              const std::vector<GroundPlane>& grounds)
     : Scene(cloth) {
+  add(load_occluders(occluders), grounds);
+}
+
+Scene Scene::with_loaded(const MeshSequence& cloth, std::vector<LoadedOccluder> occluders,
+                         const std::vector<GroundPlane>& grounds) {
+  Scene scene(cloth);
+  scene.add(std::move(occluders), grounds);
+  return scene;
+}
+
+void Scene::add(std::vector<LoadedOccluder> occluders, const std::vector<GroundPlane>& grounds) {
+  const MeshSequence& cloth = *m_cloth;
   const std::size_t frames = cloth.num_frames();
-  for (const OccluderSpec& spec : occluders) {
-    MeshSequence mesh = load_sequence(spec.path, spec.cache);
-    const std::string name = spec.cache.empty() ? spec.path : spec.cache;
+  for (LoadedOccluder& loaded : occluders) {
+    MeshSequence& mesh = loaded.mesh;
+    const std::string& name = loaded.name;
     if (mesh.num_frames() != 1 && mesh.num_frames() != frames)
       throw InputError(name, "",
                        "the occluder has " + std::to_string(mesh.num_frames()) + " frames, the cloth " +

@@ -42,6 +42,15 @@ class Scene {
   /// occluder's file on anything unreadable or mismatched. `cloth` must outlive the scene.
   Scene(const MeshSequence& cloth, const std::vector<OccluderSpec>& occluders,
         const std::vector<GroundPlane>& grounds);
+  /// An occluder already loaded (or made in memory), and the name its errors give.
+  struct LoadedOccluder {
+    std::string name;
+    MeshSequence mesh;
+  };
+  /// The same with occluders already loaded: the same checks (frame count and rate), naming each by its
+  /// name.
+  static Scene with_loaded(const MeshSequence& cloth, std::vector<LoadedOccluder> occluders,
+                           const std::vector<GroundPlane>& grounds);
 
   /// The cloth's topology, then every occluder's triangles over its vertices, numbered after the cloth's.
   const MeshTopology& topology() const { return m_topology; }
@@ -52,6 +61,7 @@ class Scene {
   std::size_t num_occluders() const { return m_occluders.size() + m_grounds.size(); }
 
  private:
+  void add(std::vector<LoadedOccluder> occluders, const std::vector<GroundPlane>& grounds);
   struct Occluder {
     MeshSequence mesh;
     std::vector<glm::dvec3> still;  ///< the positions of an occluder of one frame (else empty)

@@ -20,7 +20,8 @@ void append_number(std::string& out, double v) {
   out.append(buffer, end);
 }
 
-void append_number(std::string& out, std::size_t v) {
+template <class Integer>
+void append_integer(std::string& out, Integer v) {
   char buffer[32];
   const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, v);
   out.append(buffer, end);
@@ -32,25 +33,29 @@ VisibilityCsvWriter::VisibilityCsvWriter(const std::filesystem::path& path,
                                          std::vector<Index> welded_of_input)
     : m_welded_of_input(std::move(welded_of_input)), m_file(path) {
   for (Index w : m_welded_of_input) m_num_welded = std::max(m_num_welded, Index(w + 1));
-  m_file.stream() << "frame,vertex,front,back\n";
+  m_file.stream() << "frame,vertex,front,back,source_frame\n";
 }
 
-void VisibilityCsvWriter::add_frame(std::size_t frame, const std::vector<double>& front,
-                                    const std::vector<double>& back) {
+void VisibilityCsvWriter::add_frame(std::size_t frame, std::int64_t source_frame,
+                                    const std::vector<double>& front, const std::vector<double>& back) {
   if (front.size() < m_num_welded || back.size() < m_num_welded)
     throw std::invalid_argument("VisibilityCsvWriter::add_frame: one value per welded vertex and side");
+  std::string source;  // the rows' last field and the line's end
+  append_integer(source, source_frame);
+  source += '\n';
   std::string chunk;
   chunk.reserve(64 * 1024);
   for (std::size_t v = 0; v < m_welded_of_input.size(); ++v) {
     const Index w = m_welded_of_input[v];
-    append_number(chunk, frame);
+    append_integer(chunk, frame);
     chunk += ',';
-    append_number(chunk, v);
+    append_integer(chunk, v);
     chunk += ',';
     append_number(chunk, front[w]);
     chunk += ',';
     append_number(chunk, back[w]);
-    chunk += '\n';
+    chunk += ',';
+    chunk += source;
     if (chunk.size() > 60 * 1024) {
       m_file.stream().write(chunk.data(), std::streamsize(chunk.size()));
       chunk.clear();
@@ -74,22 +79,22 @@ std::vector<VisibilityRow> read_visibility_csv(const std::filesystem::path& path
     ++line;
     if (!row.empty() && row.back() == '\r') row.remove_suffix(1);
     if (line == 1) {
-      if (row != "frame,vertex,front,back")
-        throw InputError(file, "line 1", "expected the header frame,vertex,front,back");
+      if (row != "frame,vertex,front,back,source_frame")
+        throw InputError(file, "line 1", "expected the header frame,vertex,front,back,source_frame");
       continue;
     }
     if (row.empty()) continue;
-    std::string_view fields[4];
+    std::string_view fields[5];
     std::size_t count = 0, start = 0;
     for (std::size_t i = 0; i <= row.size(); ++i) {
       if (i == row.size() || row[i] == ',') {
-        if (count < 4) fields[count] = row.substr(start, i - start);
+        if (count < 5) fields[count] = row.substr(start, i - start);
         ++count;
         start = i + 1;
       }
     }
     const std::string place = "line " + std::to_string(line);
-    if (count != 4) throw InputError(file, place, "expected 4 fields, found " + std::to_string(count));
+    if (count != 5) throw InputError(file, place, "expected 5 fields, found " + std::to_string(count));
     VisibilityRow r;
     const auto parse = [&](std::string_view f, auto& value) {
       const auto [p, ec] = std::from_chars(f.data(), f.data() + f.size(), value);
@@ -100,11 +105,13 @@ std::vector<VisibilityRow> read_visibility_csv(const std::filesystem::path& path
     parse(fields[1], r.vertex);
     parse(fields[2], r.front);
     parse(fields[3], r.back);
+    parse(fields[4], r.source_frame);
     if (!std::isfinite(r.front) || !std::isfinite(r.back))
       throw InputError(file, place, "non-finite visibility");
     rows.push_back(r);
   }
-  if (line == 0) throw InputError(file, "", "empty file (expected the header frame,vertex,front,back)");
+  if (line == 0)
+    throw InputError(file, "", "empty file (expected the header frame,vertex,front,back,source_frame)");
   return rows;
 }
 

@@ -1,6 +1,7 @@
 // The visibility CSV (docs/method.md §12, the contract outside checks read): the header
-// `frame,vertex,front,back`, then one row per frame and INPUT vertex (0-based, input order), front/back =
-// A_front / A_back (docs/method.md §1).
+// `frame,vertex,front,back,source_frame`, then one row per frame and INPUT vertex (0-based, input order),
+// front/back = A_front / A_back (docs/method.md §1), source_frame = the frame's number in the input
+// (MeshSequence::source_frame: the PC2 scene frame, the number in an OBJ sequence's file name, ...).
 //
 // Values are written in the shortest decimal form that reads back to the same double (std::to_chars), so a
 // CSV round-trips exactly. Results computed on welded vertices are mapped back to input vertices through
@@ -9,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <vector>
 
@@ -21,8 +23,10 @@ class VisibilityCsvWriter {
  public:
   /// `welded_of_input` maps each input vertex to its welded vertex (MeshSequence::welded_of_input()).
   VisibilityCsvWriter(const std::filesystem::path& path, std::vector<Index> welded_of_input);
-  /// Appends the rows of one frame; front/back hold one value per welded vertex.
-  void add_frame(std::size_t frame, const std::vector<double>& front, const std::vector<double>& back);
+  /// Appends the rows of one frame (its index and its source frame number); front/back hold one value per
+  /// welded vertex.
+  void add_frame(std::size_t frame, std::int64_t source_frame, const std::vector<double>& front,
+                 const std::vector<double>& back);
   /// Renames the file into place (throws std::runtime_error on I/O failure).
   void commit();
 
@@ -37,6 +41,7 @@ struct VisibilityRow {
   std::size_t vertex = 0;
   double front = 0.0;
   double back = 0.0;
+  std::int64_t source_frame = 0;
 };
 
 /// Reads a visibility CSV (for tests and comparisons). Throws InputError(path, "line N") on a wrong header,

@@ -45,7 +45,7 @@ TEST(Occluders, ASheetOverTheGroundSeesTheSkyAboveAndNothingBelow) {
   auto sheet = test::flat_sheet(15, 12, 0.1);
   for (auto& p : sheet.frame.positions) p.z = 0.3;  // 0.3 above the ground z = 0; front (+z) faces up
   const MeshSequence cloth = sequence_of(sheet);
-  const Scene alone(cloth), grounded(cloth, {}, {parse_ground_plane("z=0")});
+  const Scene alone(cloth), grounded(cloth, std::vector<OccluderSpec>{}, {parse_ground_plane("z=0")});
   EXPECT_EQ(grounded.topology().num_occluder_vertices, 4u);
   EXPECT_EQ(grounded.topology().num_receivers(), cloth.topology().num_vertices);
   const FrameVisibility free = cones_in(alone, cloth), held = cones_in(grounded, cloth);
@@ -169,7 +169,7 @@ TEST(Occluders, ClothLyingOnOrThroughTheGroundIsCountedNotFatal) {
       sheet.frame.positions[v].z =
           height + (v % 3 == 0 ? 0.05 : 0.0);  // some above the ground, some at height
     const MeshSequence cloth = sequence_of(sheet);
-    const Scene scene(cloth, {}, {parse_ground_plane("z=0")});
+    const Scene scene(cloth, std::vector<OccluderSpec>{}, {parse_ground_plane("z=0")});
     const FrameVisibility vis = cones_in(scene, cloth);
     for (Side side : kBothSides)
       for (Index v = 0; v < cloth.topology().num_vertices; ++v) {

@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include "shading/cone_cache.hpp"
 #include "sim_io/mesh_sequence.hpp"
+#include "sim_io/pc2_format.hpp"
+#include "sim_io/visibility_csv.hpp"
+#include "sim_io_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace pleat {
@@ -29,6 +33,15 @@ std::vector<float> floats(const tinygltf::Model& model, int index, int component
       out.push_back(x);
     }
   return out;
+}
+
+/// The Khronos glTF-Validator reports no error on `path`.
+void expect_valid(const std::filesystem::path& path) {
+  const std::string command = "node " + std::string(PLEAT_SOURCE_DIR) + "/tests/tools/validate_gltf.mjs " +
+                              PLEAT_GLTF_VALIDATOR_DIR + " " + path.string() + " 2>&1";
+  const test::CommandResult result = test::run_command(command);
+  EXPECT_EQ(result.exit_code, 0) << result.output << "(the validator is installed by scripts/setup.sh)";
+  EXPECT_NE(result.output.find(": 0 errors"), std::string::npos) << result.output;
 }
 
 TEST(ShadedGlb, CarriesTheConesAsVertexAttributesAndValidates) {
@@ -73,17 +86,88 @@ TEST(ShadedGlb, CarriesTheConesAsVertexAttributesAndValidates) {
   }
   EXPECT_GT(partly_visible, 50u);  // a folded cloth: the attributes carry real cones
 
-  const std::string command = "node " + std::string(PLEAT_SOURCE_DIR) + "/tests/tools/validate_gltf.mjs " +
-                              PLEAT_GLTF_VALIDATOR_DIR + " " + (dir / "s.glb").string() + " 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  char buffer[4096];
-  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0)
-      << output << "(the validator is installed by scripts/setup.sh)";
-  EXPECT_NE(output.find(": 0 errors"), std::string::npos) << output;
+  expect_valid(dir / "s.glb");
+}
+
+/// The input layout: per frame the artist's mesh (input order, its UVs and normals, seam copies after), both
+/// sides' colours and visibility in one primitive, frames at their source times; it validates, and a glb
+/// read back gives its UVs again.
+TEST(ShadedGlb, TheInputLayoutIsTheArtistsMeshWithItsUvsAndNormals) {
+  test::TempDir dir;
+  // Two quads; the second one's UVs are elsewhere in the texture, so vertices 1 and 2 sit on a seam.
+  test::write_bytes(dir / "q.obj",
+                    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+                    "vt 0 0\nvt 0.25 0\nvt 0.25 0.5\nvt 0 0.5\nvt 0.5 0\nvt 0.75 0\nvt 0.75 0.5\nvt 0.5 0.5\n"
+                    "vn 0 0 2\nf 1/1/1 2/2/1 3/3/1 4/4/1\nf 2/5/1 5/6/1 6/7/1 3/8/1\n");
+  std::vector<std::vector<glm::dvec3>> frames;
+  for (int k = 0; k < 3; ++k)  // the second quad folds up over the first
+    frames.push_back(
+        {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1 - 0.4 * k, 0, 0.9 * k}, {1 - 0.4 * k, 1, 0.9 * k}});
+  write_pc2(dir / "q.pc2", frames, 5.0, 1.0);
+  const std::string input = (dir / "q.obj").string() + " --cache " + (dir / "q.pc2").string();
+  ASSERT_EQ(test::run_pleat("visibility " + input + " -o " + (dir / "v.csv").string()).exit_code, 0);
+  const auto s =
+      test::run_pleat("shade " + input + " -q -o " + (dir / "s.glb").string() + " --glb-layout input");
+  ASSERT_EQ(s.exit_code, 0) << s.output;
+
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, (dir / "s.glb").string())) << err;
+  ASSERT_EQ(model.meshes.size(), 3u);
+  const std::vector<std::size_t> input_of = {0, 1, 2, 3, 4, 5, 1, 2};  // vertices 1, 2 copied at the seam
+  const auto rows = read_visibility_csv(dir / "v.csv");
+  for (std::size_t j = 0; j < 3; ++j) {
+    const tinygltf::Mesh& mesh = model.meshes[j];
+    EXPECT_EQ(mesh.name, "frame_000" + std::to_string(5 + j));
+    ASSERT_EQ(mesh.primitives.size(), 1u);
+    const auto& attributes = mesh.primitives[0].attributes;
+    std::vector<std::string> names;
+    for (const auto& [name, accessor] : attributes) names.push_back(name);
+    EXPECT_EQ(names, (std::vector<std::string>{"COLOR_0", "COLOR_1", "NORMAL", "POSITION", "TEXCOORD_0",
+                                               "_BENT_CONE_BACK", "_BENT_CONE_FRONT", "_SKY_VISIBILITY_BACK",
+                                               "_SKY_VISIBILITY_FRONT"}));
+    const std::vector<float> positions = floats(model, attributes.at("POSITION"), 3);
+    const std::vector<float> uv = floats(model, attributes.at("TEXCOORD_0"), 2);
+    const std::vector<float> normals = floats(model, attributes.at("NORMAL"), 3);
+    const std::vector<float> front = floats(model, attributes.at("_SKY_VISIBILITY_FRONT"), 1);
+    const std::vector<float> back = floats(model, attributes.at("_SKY_VISIBILITY_BACK"), 1);
+    ASSERT_EQ(positions.size(), 3 * input_of.size());
+    for (std::size_t g = 0; g < input_of.size(); ++g) {
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(positions[3 * g + c], float(frames[j][input_of[g]][c]));
+      EXPECT_EQ(glm::vec3(normals[3 * g], normals[3 * g + 1], normals[3 * g + 2]), glm::vec3(0, 0, 1));
+      const VisibilityRow& row = rows[6 * j + input_of[g]];
+      EXPECT_EQ(front[g], float(row.front));
+      EXPECT_EQ(back[g], float(row.back));
+    }
+    // UVs as given, v flipped: vertex 1 has (0.25, 0) in the first quad and its copy (0.5, 0) in the second.
+    EXPECT_EQ(glm::vec2(uv[2], uv[3]), glm::vec2(0.25f, 1.0f));
+    EXPECT_EQ(glm::vec2(uv[12], uv[13]), glm::vec2(0.5f, 1.0f));
+    EXPECT_TRUE(mesh.extras.Has("pleat_seam_copies"));
+  }
+  // Folded: the sides see different skies (the colours and attributes differ by side).
+  EXPECT_TRUE(
+      std::any_of(rows.begin(), rows.end(), [](const VisibilityRow& r) { return r.front < r.back - 0.05; }));
+  EXPECT_TRUE(model.materials.at(0).doubleSided);
+  expect_valid(dir / "s.glb");
+  const auto view = test::run_pleat("view " + (dir / "s.glb").string() + " -o " + (dir / "view").string());
+  EXPECT_EQ(view.exit_code, 2);
+  EXPECT_NE(view.output.find("--glb-layout sides"), std::string::npos) << view.output;
+
+  // Read back: the glb's own vertices (seam copies weld again), its UVs, the source frames.
+  const MeshSequence back = load_sequence(dir / "s.glb");
+  EXPECT_EQ(back.num_input_vertices(), 8u);
+  EXPECT_EQ(back.welded_duplicates(), 2u);
+  EXPECT_EQ(back.source_frame(2), 7);
+  ASSERT_EQ(back.surface().texcoords.size(), 12u);
+  EXPECT_EQ(back.surface().texcoords[6], glm::vec2(0.5f, 1.0f));  // the second quad's first corner: the copy
+  const auto again = test::run_pleat("shade " + (dir / "s.glb").string() + " -q -o " +
+                                     (dir / "t.glb").string() + " --glb-layout input");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  tinygltf::Model second;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&second, &err, &warn, (dir / "t.glb").string())) << err;
+  EXPECT_EQ(floats(second, second.meshes[0].primitives[0].attributes.at("TEXCOORD_0"), 2),
+            floats(model, model.meshes[0].primitives[0].attributes.at("TEXCOORD_0"), 2));
 }
 
 }  // namespace

@@ -46,6 +46,33 @@ TEST(SimIoObj, CornerFormsAndRelativeIndices) {
   EXPECT_EQ(mesh.triangles[1], (Triangle{0, 2, 1}));
 }
 
+TEST(SimIoObj, UvsAndNormalsPerCornerBecomeTheSurface) {
+  TempDir dir;
+  // A quad and a triangle; vertex 1 has two UVs (a seam). The last face names its corners relatively.
+  test::write_bytes(dir / "a.obj",
+                    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n"
+                    "vt 0 0\nvt 0.5 0\nvt 0.5 1\nvt 0 1\nvt 0.75 0.25 0\nvn 0 0 2\nvn 0 0 1\n"
+                    "f 1/1/1 2/2/1 3/3/2 4/4/2\nf -4/-1/-1 -1/-4/-1 -3/-3/-1\n");
+  const ObjMesh mesh = read_obj(dir / "a.obj");
+  ASSERT_EQ(mesh.triangles.size(), 3u);
+  EXPECT_EQ(mesh.corner_texcoords, (std::vector<std::int64_t>{0, 1, 2, 0, 2, 3, 4, 1, 2}));
+  EXPECT_EQ(mesh.corner_normals, (std::vector<std::int64_t>{0, 0, 1, 0, 1, 1, 1, 1, 1}));
+  const SurfaceAttributes surface = surface_of(mesh);
+  ASSERT_EQ(surface.texcoords.size(), 9u);
+  EXPECT_EQ(surface.texcoords[6], glm::vec2(0.75f, 0.75f));  // glTF's v runs down: 1 - 0.25
+  EXPECT_EQ(surface.normals[0], glm::vec3(0, 0, 2));         // as given
+  // A corner without a UV: no UVs at all (but the normals stay).
+  test::write_bytes(dir / "b.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2//1 3/1/1\n");
+  const SurfaceAttributes partial = surface_of(read_obj(dir / "b.obj"));
+  EXPECT_TRUE(partial.texcoords.empty());
+  EXPECT_EQ(partial.normals.size(), 3u);
+  // The golden file: normals at every corner, UVs at some.
+  const SurfaceAttributes golden =
+      surface_of(read_obj(test::source_dir() / "tests/golden/quad_pentagon.obj"));
+  EXPECT_TRUE(golden.texcoords.empty());
+  EXPECT_EQ(golden.normals, std::vector<glm::vec3>(15, glm::vec3(0, 0, 1)));
+}
+
 void expect_input_error(const std::filesystem::path& file, const std::string& content,
                         const std::string& place, const std::string& words) {
   test::write_bytes(file, content);
@@ -68,6 +95,12 @@ TEST(SimIoObj, BadInputNamesFileAndLine) {
   expect_input_error(f, "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n", "line 2", "non-finite");
   expect_input_error(f, "v 0 0 0\nv 1 inf 0\n", "line 2", "non-finite");
   expect_input_error(f, "v 0 0 x\n", "line 1", "not a number");
+  expect_input_error(f, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n", "line 5",
+                     "texture coordinate index 2 out of range");
+  expect_input_error(f, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//-2 3//1\nvn 0 0 1\n", "line 4",
+                     "relative normal index -2 out of range");
+  expect_input_error(f, "vt 0 nan\n", "line 1", "non-finite");
+  expect_input_error(f, "vn 0 1\n", "line 1", "fewer than 3");
   expect_input_error(f, "v 0 0\n", "line 1", "fewer than 3");
   expect_input_error(f, "v 0 0 0\nv 1 0 0\nf 1 2\n", "line 3", "corners");
   expect_input_error(f, "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "", "empty mesh");

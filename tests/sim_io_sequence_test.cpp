@@ -203,7 +203,7 @@ TEST(SimIoAtomicFile, UnfinishedStreamingWritersLeaveNothing) {
   TempDir dir;
   {
     VisibilityCsvWriter csv(dir / "v.csv", {0, 1});
-    csv.add_frame(0, {0.5, 0.5}, {1.0, 1.0});
+    csv.add_frame(0, 0, {0.5, 0.5}, {1.0, 1.0});
   }  // destroyed without commit
   {
     AtomicFile file(dir / "x.bin");
@@ -314,11 +314,11 @@ TEST(SimIoVisibilityCsv, RowsPerInputVertexInInputOrderRoundTrip) {
   const std::vector<Index> welded_of_input = {0, 1, 2, 1, 3, 2};
   VisibilityCsvWriter csv(dir / "v.csv", welded_of_input);
   const std::vector<double> front = {0.1, 1.0 / 3.0, 1.0, 0.0}, back = {0.9, 2.0 / 3.0, 1e-300, 0.5};
-  csv.add_frame(0, front, back);
-  csv.add_frame(7, back, front);
+  csv.add_frame(0, 0, front, back);
+  csv.add_frame(7, 7, back, front);
   csv.commit();
   const std::string text = test::slurp(dir / "v.csv");
-  EXPECT_EQ(text.substr(0, text.find('\n')), "frame,vertex,front,back");
+  EXPECT_EQ(text.substr(0, text.find('\n')), "frame,vertex,front,back,source_frame");
   const auto rows = read_visibility_csv(dir / "v.csv");
   ASSERT_EQ(rows.size(), 12u);
   for (std::size_t r = 0; r < 6; ++r) {
@@ -329,7 +329,7 @@ TEST(SimIoVisibilityCsv, RowsPerInputVertexInInputOrderRoundTrip) {
     EXPECT_EQ(rows[6 + r].frame, 7u);
     EXPECT_EQ(rows[6 + r].front, back[welded_of_input[r]]);
   }
-  test::write_bytes(dir / "bad.csv", "frame,vertex,front,back\n0,0,0.5,0.5\n0,1,zz,0.5\n");
+  test::write_bytes(dir / "bad.csv", "frame,vertex,front,back,source_frame\n0,0,0.5,0.5,0\n0,1,zz,0.5,0\n");
   try {
     read_visibility_csv(dir / "bad.csv");
     FAIL();

@@ -1,0 +1,115 @@
+# Blender add-on: bakes pleat's sky visibility onto the active object over the scene's frame range and plays
+# it back on the artist's own mesh (README "In Blender"). Debian's Blender 3.4 with its system Python 3.11;
+# the computation goes through the `pleat` Python module, which must be importable by that Python.
+#
+# The contract (tests/blender/bake_test.py checks it against `pleat visibility`):
+# - Baking reads the active object's evaluated mesh (modifiers, caches) and the evaluated meshes of the chosen
+#   collection's objects (occluders) at every frame of the scene's range, in world space, triangulated by
+#   Blender's loop triangles; the vertex count and triangles must stay the same over the range, and the
+#   object's evaluated mesh must have its own mesh's vertices (in order), which get the results.
+# - The result goes to a cache file beside the .blend (cache.py), named on the object (custom property
+#   `pleat_cache`); nothing is written when the bake fails or is cancelled.
+# - At every frame change the object's mesh gets the frame's values (playback.py): float point attributes
+#   `pleat_front` and `pleat_back` (A of each side, docs/method.md §1) and a colour attribute
+#   `pleat_sky_color` (front A as grey). Outside the baked range the nearest baked frame's values hold.
+
+bl_info = {
+    "name": "pleat: bake sky visibility",
+    "author": "pleat",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "Properties ▸ Object ▸ pleat; 3D View ▸ Sidebar ▸ pleat",
+    "description": "Bakes per-vertex sky visibility of folded cloth (front and back) with pleat",
+    "category": "Animation",
+}
+
+import bpy
+
+from . import bake, playback
+
+
+class PleatSettings(bpy.types.PropertyGroup):
+    occluders: bpy.props.PointerProperty(
+        type=bpy.types.Collection, name="Occluders",
+        description="Objects that block the cloth's sky (bodies, colliders); evaluated every frame")
+    engine: bpy.props.EnumProperty(
+        name="Engine", default="kinetic",
+        items=[("kinetic", "Kinetic", "Follow the cloth from frame to frame (faster on animation)"),
+               ("static", "Static", "Compute every frame from scratch")])
+    orientations: bpy.props.IntProperty(
+        name="Orientations", default=0, min=0,
+        description="Plane orientations of the slicing plan (0: pleat's default)")
+    spacing: bpy.props.FloatProperty(
+        name="Spacing", default=0.0, min=0.0, unit="LENGTH",
+        description="Distance between parallel planes (0: pleat's default, half the average edge length)")
+    paper: bpy.props.BoolProperty(
+        name="Paper's plan", default=False,
+        description="Place planes as the paper does (recursive median split on the first frame)")
+    plan: bpy.props.StringProperty(
+        name="Plan file", subtype="FILE_PATH", default="",
+        description="A plan saved by `pleat visibility --save-plan` (replaces the placement options)")
+    ground: bpy.props.BoolProperty(
+        name="Ground", default=False, description="An infinite ground plane z = height blocks the sky")
+    ground_height: bpy.props.FloatProperty(name="Height", default=0.0, unit="LENGTH")
+
+
+class PLEAT_PT_panel:
+    bl_label = "pleat sky visibility"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.pleat
+        layout.prop(settings, "occluders")
+        layout.prop(settings, "engine")
+        column = layout.column(align=True)
+        column.prop(settings, "plan")
+        sub = column.column(align=True)
+        sub.enabled = not settings.plan
+        sub.prop(settings, "orientations")
+        sub.prop(settings, "spacing")
+        sub.prop(settings, "paper")
+        row = layout.row(align=True)
+        row.prop(settings, "ground")
+        sub = row.row()
+        sub.enabled = settings.ground
+        sub.prop(settings, "ground_height")
+        layout.operator(bake.PLEAT_OT_bake.bl_idname, icon="RENDER_ANIMATION")
+        obj = context.active_object
+        if obj is not None and playback.CACHE_PROPERTY in obj:
+            layout.label(text="Baked: " + obj[playback.CACHE_PROPERTY], icon="CHECKMARK")
+            layout.operator(playback.PLEAT_OT_material.bl_idname, icon="MATERIAL")
+
+
+class PLEAT_PT_object(PLEAT_PT_panel, bpy.types.Panel):
+    bl_idname = "PLEAT_PT_object"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "object"
+
+    @classmethod
+    def poll(cls, context):
+        return context.active_object is not None and context.active_object.type == "MESH"
+
+
+class PLEAT_PT_sidebar(PLEAT_PT_panel, bpy.types.Panel):
+    bl_idname = "PLEAT_PT_sidebar"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "pleat"
+
+
+classes = (PleatSettings, bake.PLEAT_OT_bake, playback.PLEAT_OT_material, PLEAT_PT_object, PLEAT_PT_sidebar)
+
+
+def register():
+    for c in classes:
+        bpy.utils.register_class(c)
+    bpy.types.Scene.pleat = bpy.props.PointerProperty(type=PleatSettings)
+    playback.register()
+
+
+def unregister():
+    playback.unregister()
+    del bpy.types.Scene.pleat
+    for c in reversed(classes):
+        bpy.utils.unregister_class(c)

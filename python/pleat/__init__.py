@@ -1,0 +1,54 @@
+"""pleat: per-vertex visibility cones and sky visibility of animated cloth (A. J. Stewart, "Computing
+visibility from folded surfaces", 1999), with numpy arrays in and out.
+
+    import pleat
+    cloth = pleat.load("data/drape/drape.obj", cache="data/drape/drape.pc2")
+    sky = pleat.sky_visibility(cloth.faces, cloth.positions, ground="y=0")  # (T, V, 2): front, back
+
+The options are those of `pleat visibility` (underscores for dashes): engine ("kinetic" or "static"; the
+same results), orientations, spacing, spacing_edges, planes, adaptive, max_missing, cone_storage, paper,
+plan (a file written by --save-plan), occluders, ground ("y=0"), threads (like --threads; None: all cores),
+max_edit_fraction. Results are in the caller's vertex order and equal, bit for bit, the command line's on the
+same frames and options. Bad arrays raise ValueError (InputError, a ValueError, for what the library rejects:
+non-finite coordinates, ...); bad files raise InputError naming the file and the place.
+"""
+import os
+
+from ._pleat import Engine, FrameResult, InputError, __version__, _load
+
+__all__ = ["Engine", "FrameResult", "InputError", "LoadedMesh", "load", "sky_visibility", "__version__"]
+
+
+class LoadedMesh:
+    """A cloth as pleat reads it from a file, in the file's vertex order (before welding).
+
+    faces: (F, 3) int64, triangles (polygons are triangulated as the command line does)
+    positions: (T, V, 3) float64, every frame
+    fps: frames per second (0.0 for a single frame)
+    source_frames: (T,) int64, the frames' numbers in the source (PC2 start frame + i x sample rate, the
+        numbers in OBJ-sequence file names, MDD/glTF time x 24: the CSV's source_frame column)
+    """
+
+    __slots__ = ("faces", "positions", "fps", "source_frames", "path")
+
+    def __init__(self, faces, positions, fps, source_frames, path):
+        self.faces, self.positions, self.fps, self.source_frames, self.path = (
+            faces, positions, fps, source_frames, path)
+
+    def __repr__(self):
+        t, v, _ = self.positions.shape
+        return f"<pleat.LoadedMesh {self.path!r}: {t} frames x {v} vertices, {len(self.faces)} faces>"
+
+
+def load(path, cache=None):
+    """Reads any input `pleat visibility` reads: .obj (with a .pc2/.mdd `cache`), a numbered OBJ sequence
+    (printf pattern or directory), .gltf/.glb. Raises InputError naming the file and the place."""
+    path = os.fspath(path)
+    faces, positions, fps, source_frames = _load(path, None if cache is None else os.fspath(cache))
+    return LoadedMesh(faces, positions, fps, source_frames, path)
+
+
+def sky_visibility(faces, positions, **options):
+    """Sky visibility A (front, back) of every frame: (T, V, 2) float64 for (T, V, 3) positions, (V, 2) for
+    (V, 3). Equal to the front,back columns of `pleat visibility` on the same frames and options."""
+    return Engine(faces, positions, **options)._sky_visibility_of_frames()
