@@ -507,10 +507,9 @@ lives (animated occluders are read from them frame by frame).)")
            py::arg("faces"), py::arg("positions"), py::kw_only(), py::arg("engine") = "kinetic",
            py::arg("orientations") = py::none(), py::arg("spacing") = py::none(),
            py::arg("spacing_edges") = py::none(), py::arg("planes") = py::none(), py::arg("adaptive") = false,
-           py::arg("max_missing") = 0.05, py::arg("cone_storage") = "aimed-on-fan",
-           py::arg("paper") = false, py::arg("plan") = py::none(), py::arg("occluders") = py::tuple(),
-           py::arg("ground") = py::none(), py::arg("threads") = py::none(),
-           py::arg("max_edit_fraction") = 0.5)
+           py::arg("max_missing") = 0.05, py::arg("cone_storage") = "aimed-on-fan", py::arg("paper") = false,
+           py::arg("plan") = py::none(), py::arg("occluders") = py::tuple(), py::arg("ground") = py::none(),
+           py::arg("threads") = py::none(), py::arg("max_edit_fraction") = 0.5)
       .def("compute", &PyEngine::compute, py::arg("positions"), py::kw_only(), py::arg("frame_index") = 0,
            py::arg("keep_cones") = true,
            "compute(positions, *, frame_index=0, keep_cones=True) -> FrameResult: the frame whose (V, 3) "
