@@ -57,6 +57,7 @@
 #include "bench/bench_args.hpp"
 #include "kinetic/kinetic_slice.hpp"
 #include "sim_io/cloth_generators.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/shortest_path_tree.hpp"

@@ -46,6 +46,7 @@
 #include "shading/embree_scene.hpp"
 #include "shading/ray_visibility.hpp"
 #include "sim_io/cloth_generators.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/cone_assembly.hpp"
 #include "static_core/mesh_slicer.hpp"

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "shading/cone_cache.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "test_support.hpp"
 
