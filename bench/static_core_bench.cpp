@@ -49,9 +49,9 @@
 #include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/cone_assembly.hpp"
+#include "static_core/internal/slice_cones.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 #include "static_core/mesh_slicer.hpp"
-#include "static_core/slice_cones.hpp"
-#include "static_core/slice_triangulation.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
 
