@@ -57,9 +57,9 @@
 #include "shading/ray_visibility.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "static_core/cone_assembly.hpp"
+#include "static_core/internal/slice_cones.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 #include "static_core/mesh_slicer.hpp"
-#include "static_core/slice_cones.hpp"
-#include "static_core/slice_triangulation.hpp"
 #include "static_core/visibility.hpp"
 
 namespace pleat::bench {
@@ -254,7 +254,7 @@ std::vector<bool> own_in_every_orientation(const MeshTopology& topology, const F
 
 int run(int argc, char** argv) {
   fs::path out_dir = "bench/results";
-  const fs::path data = fs::path(__FILE__).parent_path().parent_path() / "data";
+  const fs::path data = fs::path(PLEAT_BENCH_SOURCE_DIR) / "data";
   std::vector<std::string> sequences;
   int reference_rays = 4096;
   std::vector<int> oracle_orientations{6, 12, 24};

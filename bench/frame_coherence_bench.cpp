@@ -34,7 +34,7 @@
 //   --random-rays K          rays of the new-directions-each-frame row (default 16; 0: none)
 //   --reference-rays K       default 4096
 //   --reference-sample N     the reference estimates every k-th vertex, k = ceil(vertices / N) (default 4000)
-//   --data DIR               the repository's data/ (default: found from this source file's path)
+//   --data DIR               the repository's data/ (default: the data/ of the source tree it was built from)
 //   --cloth-alone            real sequences without their colliders (default: in the scene they were
 //                            simulated in, data/README.md; every method, the reference included, sees it)
 //   --kinetic-timeout S      seconds without progress before the cone engines' process is declared hung

@@ -1,6 +1,6 @@
-// Micro-benchmarks of the kinetic layer's hot parts on real data (kinetic/kinetic_slice.hpp, docs/method.md
-// §11): what one frame certificate, one rebuilt slice vertex, one repaired edit and one funnel-tree corner
-// cost, so that the kinetic engine's frame time can be read off its parts.
+// Micro-benchmarks of the kinetic layer's hot parts on real data (kinetic/internal/kinetic_slice.hpp,
+// docs/method.md §11): what one frame certificate, one rebuilt slice vertex, one repaired edit and one
+// funnel-tree corner cost, so that the kinetic engine's frame time can be read off its parts.
 //
 // Input: two consecutive frames k, k+1 of a sequence and the CLI's default plan on frame k
 // (make_diffuse_plan). "drape" is the bundled Blender simulation (data/drape/drape.obj + drape.pc2, 3,111
@@ -36,7 +36,7 @@
 //
 // Flags of ours (before Google Benchmark's own):
 //   --pleat_sequences=drape,curtain   which inputs
-//   --pleat_data=DIR                  the repository's data/ (default: found from this source file's path)
+//   --pleat_data=DIR                  data/ (default: that of the source tree it was built from)
 // Run: build/bench/kinetic_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 // Results: bench/results/kinetic_micro.md.
 #include <benchmark/benchmark.h>
@@ -55,12 +55,13 @@
 #include <vector>
 
 #include "bench/bench_args.hpp"
-#include "kinetic/kinetic_slice.hpp"
+#include "kinetic/internal/kinetic_slice.hpp"
 #include "sim_io/cloth_generators.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
+#include "static_core/internal/shortest_path_tree.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 #include "static_core/mesh_slicer.hpp"
-#include "static_core/shortest_path_tree.hpp"
-#include "static_core/slice_triangulation.hpp"
 #include "static_core/slicing_plan.hpp"
 
 namespace pleat {
@@ -75,7 +76,7 @@ using kinetic::KineticSlice;
 
 struct Options {
   std::vector<std::string> sequences{"drape", "curtain"};
-  fs::path data = fs::path(__FILE__).parent_path().parent_path() / "data";
+  fs::path data = fs::path(PLEAT_BENCH_SOURCE_DIR) / "data";
 };
 Options g_options;
 

@@ -21,6 +21,7 @@
 #include "kinetic/kinetic_visibility.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/ray_visibility.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/scene.hpp"
 #include "static_core/visibility.hpp"
 

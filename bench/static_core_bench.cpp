@@ -23,7 +23,7 @@
 //                                    sample, the most folded; "" for none): the pile and layered regression
 //                                    benchmarks of the static-core issue (no real sequence above 2x the
 //                                    drape's µs per slice vertex; compare the rows' s_per_slice_vertex)
-//   --pleat_data=DIR                 the repository's data/ (default: found from this source file's path)
+//   --pleat_data=DIR                 data/ (default: that of the source tree it was built from)
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
@@ -46,11 +46,12 @@
 #include "shading/embree_scene.hpp"
 #include "shading/ray_visibility.hpp"
 #include "sim_io/cloth_generators.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/cone_assembly.hpp"
+#include "static_core/internal/slice_cones.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 #include "static_core/mesh_slicer.hpp"
-#include "static_core/slice_cones.hpp"
-#include "static_core/slice_triangulation.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
 

@@ -23,6 +23,7 @@
 #include "cli/global_options.hpp"
 #include "cli/progress.hpp"
 #include "sim_io/atomic_file.hpp"
+#include "sim_io/load_sequence.hpp"
 
 namespace pleat::cli {
 
@@ -175,13 +176,7 @@ void agree(std::exception_ptr error) {
 
 // ---- Fingerprints and loading ----
 
-Fingerprint& Fingerprint::add(const void* data, std::size_t size) {
-  const auto* bytes = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < size; ++i) m_hash = (m_hash ^ bytes[i]) * 0x100000001b3ull;
-  return *this;
-}
-
-std::uint64_t SharedSequence::topology_fingerprint() const {
+std::uint64_t SharedSequence::welding_fingerprint() const {
   Fingerprint f;
   const MeshTopology& topology = sequence.topology();
   f.add_value(topology.num_vertices).add_value(sequence.num_frames());
@@ -432,7 +427,7 @@ ChunkJob plan_chunks(const SharedSequence& input, std::size_t first, std::size_t
     for (std::size_t f = bounds[c]; f < bounds[c + 1]; ++f) chunk_cost[c] += cost[f - first];
 
   Fingerprint job_key;
-  job_key.add_value(options_key).add_value(input.topology_fingerprint()).add_value(first).add_value(last);
+  job_key.add_value(options_key).add_value(input.welding_fingerprint()).add_value(first).add_value(last);
   job_key.add(bounds.data(), bounds.size() * sizeof(std::size_t));
   for (std::size_t c = 0; c < count; ++c) {
     Fingerprint key;

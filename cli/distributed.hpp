@@ -45,6 +45,7 @@
 
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/slicing_plan.hpp"
+#include "support/fingerprint.hpp"
 
 namespace pleat::cli {
 
@@ -95,21 +96,6 @@ void together(Step&& step) {
   agree(error);
 }
 
-/// 64-bit FNV-1a, for fingerprints (not for security).
-class Fingerprint {
- public:
-  Fingerprint& add(const void* data, std::size_t size);
-  Fingerprint& add(std::string_view text) { return add(text.data(), text.size()); }
-  template <class T>
-  Fingerprint& add_value(const T& value) {
-    return add(&value, sizeof value);
-  }
-  std::uint64_t value() const { return m_hash; }
-
- private:
-  std::uint64_t m_hash = 0xcbf29ce484222325ull;
-};
-
 /// A sequence loaded by every rank, the loading pass shared between them (LoadScan): rank r validates and
 /// welds over the r-th equal share of all frames and fingerprints them; the weld classes are merged with one
 /// MPI_Allreduce and the frame fingerprints gathered, so every rank ends with the same welding and all
@@ -119,7 +105,7 @@ struct SharedSequence {
   std::vector<std::uint64_t> frame_fingerprints;  ///< one per frame of the input
   /// Fingerprint of the welded topology, the map to input vertices and the frame count (the frames have
   /// their own): what every chunk depends on besides its own frames and the plan.
-  std::uint64_t topology_fingerprint() const;
+  std::uint64_t welding_fingerprint() const;
 };
 SharedSequence load_shared(const std::filesystem::path& input, const std::filesystem::path& cache);
 

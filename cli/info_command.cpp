@@ -12,6 +12,7 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_report.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/self_intersections.hpp"

@@ -19,8 +19,8 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/global_options.hpp"
-#include "sim_io/byte_order.hpp"
 #include "static_core/input_error.hpp"
+#include "support/byte_order.hpp"
 
 namespace pleat::cli {
 

@@ -1,4 +1,4 @@
-#include "kinetic/kept_triangulation.hpp"
+#include "kinetic/internal/kept_triangulation.hpp"
 
 #include "static_core/assert.hpp"
 

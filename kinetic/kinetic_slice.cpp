@@ -1,4 +1,4 @@
-#include "kinetic/kinetic_slice.hpp"
+#include "kinetic/internal/kinetic_slice.hpp"
 
 #include <algorithm>
 #include <chrono>

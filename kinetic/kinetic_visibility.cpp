@@ -5,9 +5,9 @@
 
 #include <chrono>
 
-#include "kinetic/kinetic_slice.hpp"
+#include "kinetic/internal/kinetic_slice.hpp"
 #include "static_core/assert.hpp"
-#include "static_core/frame_assembly.hpp"
+#include "static_core/internal/frame_assembly.hpp"
 #include "static_core/mesh_validation.hpp"
 
 namespace pleat {

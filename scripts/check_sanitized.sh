@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The hardening checks CI runs after the test suite:
-#  1. the whole test suite in a Debug build under AddressSanitizer + UndefinedBehaviorSanitizer (kinetic
-#     invariant checks on, as in every Debug build; 40 cases per property instead of 200) in build-sanitize/;
-#  2. every libFuzzer harness of tests/fuzz/ (clang, sanitizers on) for a short run on its corpus, in build-fuzz/.
+#  1. the whole test suite in a Debug build (at -O1) under AddressSanitizer + UndefinedBehaviorSanitizer (kinetic
+#     invariant checks on, as in every Debug build; 40 cases per property instead of 200): preset sanitize,
+#     build-sanitize/;
+#  2. every libFuzzer harness of tests/fuzz/ (clang, sanitizers on) for a short run on its corpus: preset fuzz,
+#     build-fuzz/.
 # Any sanitizer report, crash, hang or failed test fails the script.
 # Usage: scripts/check_sanitized.sh [seconds per fuzz harness, default 30]
 set -euo pipefail
@@ -10,16 +12,10 @@ cd "$(dirname "$0")/.."
 seconds=${1:-30}
 jobs=$(nproc 2>/dev/null || echo 2)
 
-cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Debug -DPLEAT_SANITIZE=ON -DPLEAT_BUILD_BENCH=OFF \
-      -DPLEAT_PROPERTY_CASES=40 >/dev/null
-cmake --build build-sanitize -j "$jobs"
-(cd build-sanitize &&
- ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
- ctest --output-on-failure -j "$jobs" --timeout 1800)
+scripts/build_preset.sh sanitize
+ctest --preset sanitize -j "$jobs"  # ASAN_OPTIONS, UBSAN_OPTIONS: the preset's
 
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLEAT_FUZZ=ON \
-      -DPLEAT_BUILD_TESTS=OFF -DPLEAT_BUILD_BENCH=OFF >/dev/null
-cmake --build build-fuzz -j "$jobs"
+scripts/build_preset.sh fuzz
 for harness in build-fuzz/tests/fuzz/fuzz_*; do
   name=$(basename "$harness")
   mkdir -p "build-fuzz/corpus/$name"  # new inputs go here; the committed seeds stay as they are

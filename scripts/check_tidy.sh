@@ -8,4 +8,4 @@ cd "$(dirname "$0")/.."
 build=${1:-build}
 [ -f "$build/compile_commands.json" ] || { echo "check_tidy: no $build/compile_commands.json (run scripts/setup.sh)" >&2; exit 2; }
 run-clang-tidy -p "$build" -j "$(nproc 2>/dev/null || echo 2)" -quiet \
-  "$PWD/(cli|sim_io|static_core|kinetic|shading|tests|bench)/.*\.cpp$"
+  "$PWD/(support|cli|sim_io|static_core|kinetic|shading|tests|bench)/.*\.cpp$"

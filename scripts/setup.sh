@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Installs the Debian packages pleat needs (only those missing) and builds pleat in Release under build/.
+# Installs the Debian packages pleat needs (only those missing) and builds pleat in Release under build/
+# (`cmake --preset release && cmake --build --preset release`).
 # Usage: scripts/setup.sh            (as root, or with sudo available)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(cmake make g++ pkg-config
+packages=(cmake ninja-build lld make g++ pkg-config  # the build: CMakePresets.json (Ninja); lld links
           libopenmesh-dev libglm-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
           libtinygltf-dev nlohmann-json3-dev libtbb-dev libembree-dev libstb-dev libcli11-dev
           libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev python3-matplotlib
@@ -41,6 +42,4 @@ if [ ! -f build/npm/node_modules/gltf-validator/package.json ]; then
   npm install --no-save --silent --prefix build/npm gltf-validator@2.0.0-dev.3.10 >/dev/null
 fi
 
-jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j "$jobs"
+scripts/build_preset.sh release

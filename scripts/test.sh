@@ -3,5 +3,4 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-cd build
-ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)" --timeout 900
+ctest --preset release -j "$(nproc 2>/dev/null || echo 2)"

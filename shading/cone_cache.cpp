@@ -9,8 +9,9 @@
 #include <optional>
 
 #include "sim_io/atomic_file.hpp"
-#include "sim_io/byte_order.hpp"
 #include "static_core/input_error.hpp"
+#include "support/byte_order.hpp"
+#include "support/fingerprint.hpp"
 
 namespace pleat {
 
@@ -71,36 +72,22 @@ void append_octahedral(std::string& out, const glm::dvec3& d) {
 
 }  // namespace
 
-namespace {
-
-constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
-
-/// FNV-1a 64 over the `bytes` little-endian bytes of `value`.
-void fnv1a(std::uint64_t& h, std::uint64_t value, int bytes) {
-  for (int k = 0; k < bytes; ++k) {
-    h ^= (value >> (8 * k)) & 0xFFu;
-    h *= 1099511628211ull;
-  }
-}
-
-}  // namespace
-
 const char* cone_encoding_name(ConeEncoding encoding) {
   return encoding == ConeEncoding::Compact ? "compact" : "exact";
 }
 
 std::uint64_t topology_fingerprint(const MeshTopology& topology) {
-  std::uint64_t h = kFnvOffset;
+  Fingerprint f;
   for (const Triangle& t : topology.triangles)
-    for (Index v : t) fnv1a(h, v, 4);
-  return h;
+    for (Index v : t) f.add_le(v, 4);
+  return f.value();
 }
 
 std::uint64_t positions_fingerprint(const Frame& frame) {
-  std::uint64_t h = kFnvOffset;
+  Fingerprint f;
   for (const glm::dvec3& p : frame.positions)
-    for (int k = 0; k < 3; ++k) fnv1a(h, std::bit_cast<std::uint64_t>(p[k]), 8);
-  return h;
+    for (int k = 0; k < 3; ++k) f.add_le(std::bit_cast<std::uint64_t>(p[k]), 8);
+  return f.value();
 }
 
 // ---- Writer ----

@@ -9,8 +9,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "sim_io/srgb.hpp"
 #include "static_core/input_error.hpp"
+#include "support/srgb.hpp"
 
 namespace pleat {
 

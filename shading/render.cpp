@@ -15,8 +15,8 @@
 #include <stdexcept>
 
 #include "sim_io/atomic_file.hpp"
-#include "sim_io/srgb.hpp"
 #include "static_core/mesh_validation.hpp"
+#include "support/srgb.hpp"
 
 namespace pleat {
 

@@ -12,8 +12,8 @@
 #include <string>
 
 #include "shading/cone_lighting.hpp"
-#include "sim_io/srgb.hpp"
 #include "static_core/mesh_validation.hpp"
+#include "support/srgb.hpp"
 
 namespace pleat {
 

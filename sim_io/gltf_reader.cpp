@@ -22,8 +22,8 @@
 #include <stdexcept>
 
 #include "sim_io/input_file.hpp"
-#include "sim_io/srgb.hpp"
 #include "static_core/input_error.hpp"
+#include "support/srgb.hpp"
 
 namespace pleat {
 

@@ -13,7 +13,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sim_io/srgb.hpp"
+#include "support/srgb.hpp"
 
 namespace pleat {
 

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <iterator>
 
-#include "sim_io/byte_order.hpp"
 #include "static_core/input_error.hpp"
+#include "support/byte_order.hpp"
 
 namespace pleat {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "sim_io/byte_order.hpp"
+#include "support/byte_order.hpp"
 
 namespace pleat {
 

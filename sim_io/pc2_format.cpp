@@ -8,9 +8,9 @@
 #include <string>
 
 #include "sim_io/atomic_file.hpp"
-#include "sim_io/byte_order.hpp"
 #include "sim_io/input_file.hpp"
 #include "static_core/input_error.hpp"
+#include "support/byte_order.hpp"
 
 namespace pleat {
 

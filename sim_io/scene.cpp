@@ -4,6 +4,7 @@
 #include <glm/geometric.hpp>
 #include <stdexcept>
 
+#include "sim_io/load_sequence.hpp"
 #include "static_core/input_error.hpp"
 
 namespace pleat {

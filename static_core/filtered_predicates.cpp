@@ -1,4 +1,4 @@
-#include "static_core/filtered_predicates.hpp"
+#include "static_core/internal/filtered_predicates.hpp"
 
 #include <optional>
 

@@ -1,4 +1,4 @@
-#include "static_core/frame_assembly.hpp"
+#include "static_core/internal/frame_assembly.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>

@@ -5,7 +5,7 @@
 #include <glm/geometric.hpp>
 #include <numeric>
 
-#include "static_core/cgal_types.hpp"
+#include "static_core/internal/cgal_types.hpp"
 
 namespace pleat {
 

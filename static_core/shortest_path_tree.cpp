@@ -1,4 +1,4 @@
-#include "static_core/shortest_path_tree.hpp"
+#include "static_core/internal/shortest_path_tree.hpp"
 
 #include "static_core/assert.hpp"
 

@@ -1,4 +1,4 @@
-#include "static_core/slice_cones.hpp"
+#include "static_core/internal/slice_cones.hpp"
 
 #include <CGAL/number_utils.h>
 

@@ -1,4 +1,4 @@
-#include "static_core/slice_triangulation.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 
 #include <CGAL/spatial_sort.h>
 

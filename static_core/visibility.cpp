@@ -6,11 +6,11 @@
 #include <glm/geometric.hpp>
 #include <memory>
 
-#include "static_core/frame_assembly.hpp"
+#include "static_core/internal/frame_assembly.hpp"
+#include "static_core/internal/slice_cones.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/mesh_validation.hpp"
-#include "static_core/slice_cones.hpp"
-#include "static_core/slice_triangulation.hpp"
 
 namespace pleat {
 namespace {

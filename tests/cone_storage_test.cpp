@@ -16,11 +16,11 @@
 #include "oracles/test_meshes.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "static_core/cone_assembly.hpp"
-#include "static_core/frame_assembly.hpp"
+#include "static_core/internal/frame_assembly.hpp"
+#include "static_core/internal/slice_cones.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 #include "static_core/mesh_connectivity.hpp"
 #include "static_core/mesh_slicer.hpp"
-#include "static_core/slice_cones.hpp"
-#include "static_core/slice_triangulation.hpp"
 #include "static_core/visibility.hpp"
 
 namespace pleat {

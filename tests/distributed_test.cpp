@@ -17,6 +17,7 @@
 #include <regex>
 #include <string>
 
+#include "sim_io/load_sequence.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

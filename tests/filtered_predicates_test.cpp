@@ -3,7 +3,7 @@
 // (points a few ulps off a line or a circle, where the filter must hand over), on exactly degenerate input
 // (collinear and cocircular points on a grid, repeated points) and on points of the real cloth's scale far
 // from the origin, where differences are inexact. A filter that decided one sign wrongly fails here.
-#include "static_core/filtered_predicates.hpp"
+#include "static_core/internal/filtered_predicates.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>

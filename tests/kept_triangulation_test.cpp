@@ -5,7 +5,7 @@
 // original's. On random chains (holes, dangling chains, grid-snapped collinear points) and on slices of
 // random folded height fields; a slice that a kinetic slice would not keep (merged points, crossing chains,
 // fewer than two dimensions) is skipped, and a fixed batch checks that enough are kept.
-#include "kinetic/kept_triangulation.hpp"
+#include "kinetic/internal/kept_triangulation.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
@@ -13,7 +13,7 @@
 #include <string>
 
 #include "oracles/random_slices.hpp"
-#include "static_core/slice_triangulation.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 
 namespace pleat {
 namespace {

@@ -17,11 +17,11 @@
 #include <sstream>
 #include <tuple>
 
-#include "kinetic/kinetic_slice.hpp"
+#include "kinetic/internal/kinetic_slice.hpp"
 #include "oracles/funnel_walk_oracle.hpp"
 #include "oracles/test_meshes.hpp"
 #include "sim_io/cloth_generators.hpp"
-#include "static_core/shortest_path_tree.hpp"
+#include "static_core/internal/shortest_path_tree.hpp"
 #include "static_core/visibility.hpp"
 
 namespace pleat {

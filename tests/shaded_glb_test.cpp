@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "shading/cone_cache.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/pc2_format.hpp"
 #include "sim_io/visibility_csv.hpp"

@@ -3,7 +3,7 @@
 // corner, from both ends of every window of every region without holes, on random chains (dangling, nested,
 // snapped to a grid for collinear and duplicate points), on slices of random folded height fields (planes
 // through vertices), and on every slice of the generated cloth kinds, the roll's spiral included.
-#include "static_core/shortest_path_tree.hpp"
+#include "static_core/internal/shortest_path_tree.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>

@@ -10,10 +10,11 @@
 
 #include "sim_io/gltf_reader.hpp"
 #include "sim_io/gltf_writer.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_report.hpp"
-#include "sim_io/srgb.hpp"
 #include "sim_io_fixtures.hpp"
 #include "static_core/input_error.hpp"
+#include "support/srgb.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

@@ -1,6 +1,7 @@
 // MDD point caches (big-endian, times in seconds): round trip, byte layout, bad input.
 #include <gtest/gtest.h>
 
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mdd_format.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io_fixtures.hpp"

@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io/pc2_format.hpp"

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "sim_io/atomic_file.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_report.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/obj_format.hpp"

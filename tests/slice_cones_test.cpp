@@ -1,7 +1,7 @@
 // The funnel-tree 2D cones of static_core against the brute-force angular-sweep oracle, on random chains
 // (holes, dangling chains, several windows, collinear and duplicate points) and on slices of random folded
 // height fields by random planes (some exactly through vertices).
-#include "static_core/slice_cones.hpp"
+#include "static_core/internal/slice_cones.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
@@ -11,7 +11,7 @@
 
 #include "oracles/random_slices.hpp"
 #include "oracles/visibility_2d_oracle.hpp"
-#include "static_core/slice_triangulation.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 
 namespace pleat {
 namespace {

@@ -5,7 +5,7 @@
 // constrained edges. On random chains (holes, dangling chains, grid-snapped collinear and duplicate points)
 // and on slices of random folded height fields (some planes exactly through mesh vertices); and on hand-made
 // cases where a constraint is already an edge, passes through a vertex, or crosses another constraint.
-#include "static_core/slice_triangulation.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 
 #include <CGAL/spatial_sort.h>
 #include <gtest/gtest.h>

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mdd_format.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/obj_format.hpp"

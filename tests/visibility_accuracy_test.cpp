@@ -11,6 +11,7 @@
 #include "oracles/test_meshes.hpp"
 #include "shading/ray_visibility.hpp"
 #include "sim_io/cloth_generators.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/visibility.hpp"
 #include "test_support.hpp"

@@ -30,7 +30,7 @@ std::vector<T> parse_list(const std::string& text, F&& convert) {
 Options parse_options(int argc, char** argv) {
   Options o;
   for (int i = 0; i < argc; ++i) o.command_line += (i ? " " : "") + std::string(argv[i]);
-  o.data = std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "data";
+  o.data = std::filesystem::path(PLEAT_BENCH_SOURCE_DIR) / "data";
   bool explicit_sequences = false, explicit_sizes = false, explicit_upsample = false, explicit_frames = false,
        explicit_rays = false, explicit_reference = false;
   for (int i = 1; i < argc; ++i) {

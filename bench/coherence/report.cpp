@@ -109,7 +109,7 @@ double cpu_of(const MethodRow* r) { return r && r->ok() ? r->cpu_ms_per_frame() 
 }  // namespace
 
 SourceState read_source_state() {
-  const fs::path root = fs::path(__FILE__).parent_path().parent_path().parent_path();
+  const fs::path root = fs::path(PLEAT_BENCH_SOURCE_DIR);
   const std::string git = "git -C '" + root.string() + "' ";
   SourceState s;
   s.commit = shell_output(git + "rev-parse --short HEAD 2>/dev/null");

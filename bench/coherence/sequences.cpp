@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "sim_io/cloth_generators.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 
 namespace pleat::bench {

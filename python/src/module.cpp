@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "kinetic/engine.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/scene.hpp"
 #include "sim_io/sequence_plan.hpp"

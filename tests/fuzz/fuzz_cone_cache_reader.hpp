@@ -8,6 +8,7 @@
 
 #include "fuzz/fuzz_support.hpp"
 #include "shading/cone_cache.hpp"
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/input_error.hpp"
 

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 
+#include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/input_error.hpp"
 

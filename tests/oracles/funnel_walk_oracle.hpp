@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "static_core/slice_triangulation.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 
 namespace pleat::test {
 

@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "static_core/cgal_types.hpp"
+#include "static_core/internal/cgal_types.hpp"
 #include "static_core/mesh_slicer.hpp"
 
 namespace pleat::kinetic {

@@ -16,7 +16,7 @@
 #include <span>
 #include <vector>
 
-#include "static_core/cgal_types.hpp"
+#include "static_core/internal/cgal_types.hpp"
 #include "static_core/mesh_slicer.hpp"
 
 namespace pleat {

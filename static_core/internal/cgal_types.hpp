@@ -19,7 +19,7 @@
 #include <glm/vec2.hpp>
 #include <type_traits>
 
-#include "static_core/filtered_predicates.hpp"
+#include "static_core/internal/filtered_predicates.hpp"
 
 namespace pleat::cgal {
 

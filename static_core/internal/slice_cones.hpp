@@ -23,9 +23,9 @@
 #include <vector>
 
 #include "static_core/angular_set.hpp"
+#include "static_core/internal/shortest_path_tree.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 #include "static_core/mesh_slicer.hpp"
-#include "static_core/shortest_path_tree.hpp"
-#include "static_core/slice_triangulation.hpp"
 
 namespace pleat {
 

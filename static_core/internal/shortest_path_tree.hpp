@@ -31,7 +31,7 @@
 #include <utility>
 #include <vector>
 
-#include "static_core/slice_triangulation.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 
 namespace pleat {
 

@@ -14,10 +14,10 @@
 #include <span>
 #include <vector>
 
+#include "static_core/internal/slice_cones.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 #include "static_core/mesh.hpp"
 #include "static_core/mesh_slicer.hpp"
-#include "static_core/slice_cones.hpp"
-#include "static_core/slice_triangulation.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
 #include "static_core/visibility_cone.hpp"

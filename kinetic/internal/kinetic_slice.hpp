@@ -60,10 +60,10 @@
 #include <utility>
 #include <vector>
 
-#include "kinetic/kept_triangulation.hpp"
+#include "kinetic/internal/kept_triangulation.hpp"
 #include "kinetic/kinetic_visibility.hpp"
-#include "static_core/frame_assembly.hpp"
-#include "static_core/slice_triangulation.hpp"
+#include "static_core/internal/frame_assembly.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
 
 namespace pleat::kinetic {
 
