@@ -5,6 +5,7 @@
 
 #include <chrono>
 
+#include "kinetic/internal/kinetic_inspect.hpp"
 #include "kinetic/internal/kinetic_slice.hpp"
 #include "static_core/assert.hpp"
 #include "static_core/internal/frame_assembly.hpp"
@@ -219,6 +220,8 @@ const FrameVisibility& KineticVisibility::advance(const Frame& next) {
 }
 const KineticFrameStats& KineticVisibility::last_stats() const { return m_impl->stats; }
 const SlicingPlan& KineticVisibility::plan() const { return m_impl->plan; }
-const KineticSlice& KineticVisibility::slice(std::size_t plane) const { return m_impl->slices.at(plane); }
+const KineticSlice& kinetic::KineticInspect::slice(const KineticVisibility& visibility, std::size_t plane) {
+  return visibility.m_impl->slices.at(plane);
+}
 
 }  // namespace pleat

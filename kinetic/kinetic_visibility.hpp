@@ -26,6 +26,7 @@
 namespace pleat {
 namespace kinetic {
 class KineticSlice;
+struct KineticInspect;
 
 /// Why a slice was built from scratch in an interval.
 /// frame_cost: the engine rebuilt every slice of the interval (KineticPolicy::measured_cost).
@@ -161,12 +162,10 @@ class KineticVisibility {
   /// What the last advance() did (zeros after construction).
   const KineticFrameStats& last_stats() const;
   const SlicingPlan& plan() const;
-  /// The kept state of one plane (internal type, for tests and benchmarks).
-  const kinetic::KineticSlice& slice(std::size_t plane) const;
-
-  struct Impl;
 
  private:
+  friend struct kinetic::KineticInspect;  // the kept state, for tests (kinetic/internal/kinetic_inspect.hpp)
+  struct Impl;
   std::unique_ptr<Impl> m_impl;
 };
 

@@ -47,9 +47,10 @@ class StaticVisibility {
   const FrameVisibility& compute(const Frame& frame);
   const SlicingPlan& plan() const;
 
-  struct Impl;
-
  private:
+  friend void compute_visibility(const MeshTopology&, const Frame&, const SlicingPlan&,
+                                 const VisibilityParams&, FrameVisibility&);
+  struct Impl;
   std::unique_ptr<Impl> m_impl;
 };
 

@@ -17,6 +17,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "kinetic/internal/kinetic_inspect.hpp"
 #include "kinetic/internal/kinetic_slice.hpp"
 #include "oracles/funnel_walk_oracle.hpp"
 #include "oracles/test_meshes.hpp"
@@ -111,7 +112,7 @@ std::string compare_slice(const KineticVisibility& kinetic, std::size_t p, const
   compute_plane_cones(topology.num_receivers(), kinetic.plan().storage, frame, st, scratch, fresh);
   const Slice& slice = fresh.slice;
   const SliceCones& cones = fresh.cones;
-  const kinetic::KineticSlice& ks = kinetic.slice(p);
+  const kinetic::KineticSlice& ks = kinetic::KineticInspect::slice(kinetic, p);
   const SliceSignature a = signature(slice, st, cones);
   SliceTriangulation kept;
   ks.rederive_triangulation(kept);
@@ -367,7 +368,7 @@ TEST(KineticVisibility, FlipsMayJoinVerticesJoinedAlready) {
   plan.orientations = {{0, 0, 1}};
   plan.planes = {make_plane({0, 0, 1}, 0.0, 0)};
   const KineticVisibility probe(topology, plan, frames[0]);
-  ASSERT_EQ(probe.slice(0).cones().slice.vertices.size(), 5u);
+  ASSERT_EQ(kinetic::KineticInspect::slice(probe, 0).cones().slice.vertices.size(), 5u);
   KineticFrameStats totals;
   EXPECT_EQ(run_and_compare(topology, frames, plan, true, &totals, {false, {1.0, 8, false}, true}), "");
   EXPECT_GE(totals.certificates_failed, 2u);

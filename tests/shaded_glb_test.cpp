@@ -36,6 +36,18 @@ std::vector<float> floats(const tinygltf::Model& model, int index, int component
   return out;
 }
 
+/// The glb at `path`, read by tinygltf; an empty model (no meshes) with a test failure when it does not read.
+tinygltf::Model read_glb(const std::filesystem::path& path) {
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  if (!loader.LoadBinaryFromFile(&model, &err, &warn, path.string())) {
+    ADD_FAILURE() << path << ": " << err;
+    return {};
+  }
+  return model;
+}
+
 /// The Khronos glTF-Validator reports no error on `path`.
 void expect_valid(const std::filesystem::path& path) {
   const std::string command = "node " + std::string(PLEAT_SOURCE_DIR) + "/tests/tools/validate_gltf.mjs " +
@@ -57,10 +69,7 @@ TEST(ShadedGlb, CarriesTheConesAsVertexAttributesAndValidates) {
                                  " --light sky:1 --cones " + (dir / "c.cones").string());
   ASSERT_EQ(s.exit_code, 0) << s.output;
 
-  tinygltf::TinyGLTF loader;
-  tinygltf::Model model;
-  std::string err, warn;
-  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, (dir / "s.glb").string())) << err;
+  const tinygltf::Model model = read_glb(dir / "s.glb");
   ASSERT_EQ(model.meshes.size(), 3u);
   ConeCacheReader cache(dir / "c.cones");
   const MeshSequence sequence = load_sequence(obj, pc2);
@@ -111,10 +120,7 @@ TEST(ShadedGlb, TheInputLayoutIsTheArtistsMeshWithItsUvsAndNormals) {
       test::run_pleat("shade " + input + " -q -o " + (dir / "s.glb").string() + " --glb-layout input");
   ASSERT_EQ(s.exit_code, 0) << s.output;
 
-  tinygltf::TinyGLTF loader;
-  tinygltf::Model model;
-  std::string err, warn;
-  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, (dir / "s.glb").string())) << err;
+  const tinygltf::Model model = read_glb(dir / "s.glb");
   ASSERT_EQ(model.meshes.size(), 3u);
   const std::vector<std::size_t> input_of = {0, 1, 2, 3, 4, 5, 1, 2};  // vertices 1, 2 copied at the seam
   const auto rows = read_visibility_csv(dir / "v.csv");
@@ -165,8 +171,8 @@ TEST(ShadedGlb, TheInputLayoutIsTheArtistsMeshWithItsUvsAndNormals) {
   const auto again = test::run_pleat("shade " + (dir / "s.glb").string() + " -q -o " +
                                      (dir / "t.glb").string() + " --glb-layout input");
   ASSERT_EQ(again.exit_code, 0) << again.output;
-  tinygltf::Model second;
-  ASSERT_TRUE(loader.LoadBinaryFromFile(&second, &err, &warn, (dir / "t.glb").string())) << err;
+  const tinygltf::Model second = read_glb(dir / "t.glb");
+  ASSERT_EQ(second.meshes.size(), model.meshes.size());
   EXPECT_EQ(floats(second, second.meshes[0].primitives[0].attributes.at("TEXCOORD_0"), 2),
             floats(model, model.meshes[0].primitives[0].attributes.at("TEXCOORD_0"), 2));
 }
