@@ -3,8 +3,8 @@
 #  1. the whole test suite in a Debug build (at -O1) under AddressSanitizer + UndefinedBehaviorSanitizer (kinetic
 #     invariant checks on, as in every Debug build; 40 cases per property instead of 200): preset sanitize,
 #     build-sanitize/;
-#  2. every libFuzzer harness of tests/fuzz/ (clang, sanitizers on) for a short run on its corpus: preset fuzz,
-#     build-fuzz/.
+#  2. every libFuzzer harness of tests/fuzz/ (clang, sanitizers on) for a short run on its corpus, one per core at
+#     a time: preset fuzz, build-fuzz/.
 # Any sanitizer report, crash, hang or failed test fails the script.
 # Usage: scripts/check_sanitized.sh [seconds per fuzz harness, default 30]
 set -euo pipefail
@@ -16,16 +16,32 @@ scripts/build_preset.sh sanitize
 ctest --preset sanitize -j "$jobs"  # ASAN_OPTIONS, UBSAN_OPTIONS: the preset's
 
 scripts/build_preset.sh fuzz
-for harness in build-fuzz/tests/fuzz/fuzz_*; do
+# One harness per core at a time (each is one libFuzzer process); every log is kept in build-fuzz/NAME.log.
+fuzz_one() {
+  local harness=$1 name
   name=$(basename "$harness")
   mkdir -p "build-fuzz/corpus/$name"  # new inputs go here; the committed seeds stay as they are
-  echo "fuzz: $name for ${seconds} s"
-  log="build-fuzz/$name.log"
   if ! "$harness" -max_total_time="$seconds" -timeout=60 -rss_limit_mb=4096 -print_final_stats=1 \
-       "build-fuzz/corpus/$name" "tests/fuzz/corpus/$name" >"$log" 2>&1; then
-    tail -n 60 "$log"
+       "build-fuzz/corpus/$name" "tests/fuzz/corpus/$name" >"build-fuzz/$name.log" 2>&1; then
+    tail -n 60 "build-fuzz/$name.log"
     echo "fuzz: $name found a problem (input saved by libFuzzer as crash-*/timeout-*/oom-*)" >&2
-    exit 1
+    return 1
   fi
-  grep -E "stat::number_of_executed_units" "$log"
+  echo "fuzz: $name $(grep -E "stat::number_of_executed_units" "build-fuzz/$name.log")"
+}
+failed=0
+running=0
+for harness in build-fuzz/tests/fuzz/fuzz_*; do
+  echo "fuzz: $(basename "$harness") for ${seconds} s"
+  fuzz_one "$harness" &
+  running=$((running + 1))
+  if ((running >= jobs)); then
+    wait -n || failed=1
+    running=$((running - 1))
+  fi
 done
+while ((running > 0)); do
+  wait -n || failed=1
+  running=$((running - 1))
+done
+exit "$failed"
