@@ -19,9 +19,44 @@ std::runtime_error write_error(const std::filesystem::path& path, const std::str
   return std::runtime_error(path.string() + ": cannot write: " + what);
 }
 
-// Creates a unique temporary file next to `path` (mode 0666 less the umask, like any new output) and
-// returns its name; the file exists, empty.
-std::filesystem::path make_temporary_sibling(const std::filesystem::path& path) {
+// The live temporary files, for remove_uncommitted_files() from a signal handler: fixed slots of plain
+// characters (no allocation there); a temporary whose path does not fit is simply not listed. A slot is
+// free, being written (the handler skips it) or live.
+enum SlotState : int { kFree, kWriting, kLive };
+struct TemporarySlot {
+  std::atomic<int> state{kFree};
+  char path[4096];
+};
+TemporarySlot g_temporaries[64];
+
+int register_temporary(const std::filesystem::path& path) {
+  const std::string& text = path.native();
+  if (text.size() >= sizeof g_temporaries[0].path) return -1;
+  for (int i = 0; i < 64; ++i) {
+    int expected = kFree;
+    if (!g_temporaries[i].state.compare_exchange_strong(expected, kWriting)) continue;
+    std::memcpy(g_temporaries[i].path, text.c_str(), text.size() + 1);
+    g_temporaries[i].state.store(kLive);
+    return i;
+  }
+  return -1;
+}
+
+void unregister_temporary(int slot) {
+  if (slot >= 0) g_temporaries[slot].state.store(kFree);
+}
+
+struct Temporary {
+  std::filesystem::path path;
+  int slot = -1;
+};
+
+// Creates a unique temporary file next to `path` (mode 0666 less the umask, like any new output), listed for
+// remove_uncommitted_files(); the file exists, empty. The name is listed *before* the file is created, so
+// that a signal at any moment finds every file this process created (a signal between listing and creating
+// unlinks a name that does not exist yet, or, on a collision, a stale temporary of an earlier process of the
+// same pid: the name holds the pid).
+Temporary make_temporary_sibling(const std::filesystem::path& path) {
   static std::atomic<unsigned> counter{0};
   const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
   for (int attempt = 0; attempt < 100; ++attempt) {
@@ -31,41 +66,19 @@ std::filesystem::path make_temporary_sibling(const std::filesystem::path& path) 
     name += std::to_string(::getpid());
     name += '.';
     name += std::to_string(counter++);
-    std::filesystem::path candidate = dir / name;
-    const int fd = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    Temporary candidate{dir / name, -1};
+    candidate.slot = register_temporary(candidate.path);
+    const int fd = ::open(candidate.path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) {
       ::close(fd);
       return candidate;
     }
-    if (errno != EEXIST)
-      throw write_error(path, "cannot create a temporary file: " + std::string(std::strerror(errno)));
+    const int error = errno;
+    unregister_temporary(candidate.slot);
+    if (error != EEXIST)
+      throw write_error(path, "cannot create a temporary file: " + std::string(std::strerror(error)));
   }
   throw write_error(path, "cannot create a temporary file: too many name collisions");
-}
-
-// The live temporary files, for remove_uncommitted_files() from a signal handler: fixed slots of plain
-// characters (no allocation there); a temporary whose path does not fit is simply not listed.
-struct TemporarySlot {
-  std::atomic<bool> used{false};
-  char path[4096];
-};
-TemporarySlot g_temporaries[64];
-
-int register_temporary(const std::filesystem::path& path) {
-  const std::string& text = path.native();
-  if (text.size() >= sizeof g_temporaries[0].path) return -1;
-  for (int i = 0; i < 64; ++i) {
-    bool expected = false;
-    if (g_temporaries[i].used.load() || !g_temporaries[i].used.compare_exchange_strong(expected, true))
-      continue;
-    std::memcpy(g_temporaries[i].path, text.c_str(), text.size() + 1);
-    return i;
-  }
-  return -1;
-}
-
-void unregister_temporary(int slot) {
-  if (slot >= 0) g_temporaries[slot].used.store(false);
 }
 
 // Refuses `path` (as given) when what it leads to exists and is not a regular file.
@@ -136,7 +149,7 @@ class StandardOutputBuffer : public std::streambuf {
 
 void remove_uncommitted_files() noexcept {
   for (TemporarySlot& slot : g_temporaries)
-    if (slot.used.load()) ::unlink(slot.path);
+    if (slot.state.load() == kLive) ::unlink(slot.path);
 }
 
 std::filesystem::path resolve_output_target(const std::filesystem::path& path) {
@@ -174,8 +187,9 @@ AtomicFile::AtomicFile(std::filesystem::path path) : m_path(std::move(path)), m_
     m_out.rdbuf(m_buffer.get());
     return;
   }
-  m_temporary = make_temporary_sibling(m_target);
-  m_slot = register_temporary(m_temporary);
+  Temporary temporary = make_temporary_sibling(m_target);
+  m_temporary = std::move(temporary.path);
+  m_slot = temporary.slot;
   auto file = std::make_unique<std::filebuf>();
   if (!file->open(m_temporary, std::ios::out | std::ios::binary | std::ios::trunc)) {
     std::error_code ignored;
