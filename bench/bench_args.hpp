@@ -1,6 +1,7 @@
 // Command-line helpers shared by the benchmark programs of bench/ (header-only).
 #pragma once
 
+#include <cstdio>
 #include <cstring>
 #include <sstream>
 #include <string>
@@ -15,6 +16,13 @@ inline std::vector<std::string> split(const std::string& text) {
   for (std::string part; std::getline(in, part, ',');)
     if (!part.empty()) parts.push_back(part);
   return parts;
+}
+
+/// printf into a string (up to 511 characters).
+inline std::string format(const char* fmt, auto... args) {
+  char buffer[512];
+  std::snprintf(buffer, sizeof buffer, fmt, args...);
+  return buffer;
 }
 
 /// The value of `--name=value` when `arg` is that flag (a pointer into arg), else nullptr.
