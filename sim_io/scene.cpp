@@ -110,6 +110,10 @@ void Scene::add(std::vector<LoadedOccluder> occluders, const std::vector<GroundP
     m_topology.triangles.push_back({base, base + 1, base + 2});
     m_topology.triangles.push_back({base, base + 2, base + 3});
     m_topology.num_vertices += 4;
+    glm::dvec3 normal(0.0);
+    normal[g.axis] = 1.0;
+    m_topology.planes.push_back({normal, g.height});
+    m_topology.num_plane_triangles += 2;
   }
   m_topology.num_occluder_vertices = m_topology.num_vertices - cloth.topology().num_vertices;
 }

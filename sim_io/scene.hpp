@@ -34,12 +34,14 @@ class Scene {
   /// The cloth alone.
   explicit Scene(const MeshSequence& cloth);
   /// The cloth with its occluders, each read with load_sequence: one of a single frame holds for every
-  /// frame, an animated one must have the cloth's frame count and rate. A ground plane is a square centred
-  /// under the cloth whose side is 100 diagonals of the box of all its frames (MeshSequence::bounds): seen
-  /// from a cloth vertex at height h above it, its edge is at most h / (50 diagonals) rad above the horizon,
-  /// a sliver whose cosine-weighted share of the hemisphere is below (h / 50 diagonals)^2. (Larger would
-  /// stretch the relative offsets of ray casting, shading/embree_scene.hpp.) Throws InputError naming the
-  /// occluder's file on anything unreadable or mismatched. `cloth` must outlive the scene.
+  /// frame, an animated one must have the cloth's frame count and rate. A ground plane is an occluding plane
+  /// of the topology (MeshTopology::planes), which the cone engines apply exactly; for ray casting and
+  /// rendering it stands as a square centred under the cloth whose side is 100 diagonals of the box of all
+  /// its frames (MeshSequence::bounds): seen from a cloth vertex at height h above it, its edge is at most h
+  /// / (50 diagonals) rad above the horizon, a sliver whose cosine-weighted share of the hemisphere is below
+  /// (h / 50 diagonals)^2. (Larger would stretch the relative offsets of ray casting,
+  /// shading/embree_scene.hpp.) Throws InputError naming the occluder's file on anything unreadable or
+  /// mismatched. `cloth` must outlive the scene.
   Scene(const MeshSequence& cloth, const std::vector<OccluderSpec>& occluders,
         const std::vector<GroundPlane>& grounds);
   /// An occluder already loaded (or made in memory), and the name its errors give.

@@ -217,7 +217,7 @@ bool pieces_overlap(const SphericalPolygon& a, double a_solid_angle, const Spher
 
 struct ConeAssemblyScratch::Buffers {
   std::vector<SpatialWedge> wedges;
-  std::vector<Wedge> united, clipped;
+  std::vector<Wedge> united, clipped, swap;
   std::vector<AngularInterval> intervals;
   std::vector<int> parent, group_of, roots;
   std::vector<const SpatialWedge*> members;
@@ -236,24 +236,31 @@ void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_nor
 }
 
 void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
-                               ConeAssemblyScratch& scratch, VisibilityCone& result, ConeMeasures* measures) {
+                               ConeAssemblyScratch& scratch, VisibilityCone& result, ConeMeasures* measures,
+                               std::span<const glm::dvec3> half_spaces) {
   auto& b = *scratch.m_buffers;
-  // 1. Clip every wedge to the side's half-space and lift it into space.
+  // In a plane, the half-space {d : dot(d, h) >= 0} is the half-turn of directions within a quarter turn of
+  // h's projection; a plane perpendicular to h lies on its boundary and keeps every direction.
+  auto clip = [&](const SlicingPlane& plane, const glm::dvec3& h, std::vector<Wedge>& out) {
+    const glm::dvec2 m(glm::dot(plane.u, h), glm::dot(plane.w, h));
+    if (!(glm::length(m) > 1e-9)) return;
+    b.swap.clear();
+    clip_to_half_turn(out, wrap_angle(direction_angle(m) - kHalfPi), b.swap);
+    out.swap(b.swap);
+  };
+  // 1. Clip every wedge to the side's half-space (and the planes') and lift it into space.
   b.wedges.clear();
   for (const PlanarCone& cone : cones) {
     const SlicingPlane& plane = *cone.plane;
-    const glm::dvec2 m(glm::dot(plane.u, side_normal), glm::dot(plane.w, side_normal));
     std::span<const Wedge> wedges = cone.wedges;
     if (!is_united(wedges)) {
       b.united.clear();
       unite_wedges(wedges, b.intervals, b.united);
       wedges = b.united;
     }
-    b.clipped.clear();
-    if (glm::length(m) > 1e-9)
-      clip_to_half_turn(wedges, wrap_angle(direction_angle(m) - kHalfPi), b.clipped);
-    else
-      b.clipped.assign(wedges.begin(), wedges.end());
+    b.clipped.assign(wedges.begin(), wedges.end());
+    clip(plane, side_normal, b.clipped);
+    for (const glm::dvec3& h : half_spaces) clip(plane, h, b.clipped);
     for (const Wedge& w : b.clipped)
       if (w.width > kContainTolerance) b.wedges.emplace_back(&plane, w);
   }

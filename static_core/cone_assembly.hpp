@@ -42,9 +42,12 @@ class ConeAssemblyScratch {
 void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
                    ConeAssemblyScratch& scratch, VisibilityCone& result);
 /// The same, and the cone's measures (as measure_cone gives them) from the integrals the assembly computes
-/// anyway (each piece's vector irradiance and solid angle): what the engines call.
+/// anyway (each piece's vector irradiance and solid angle): what the engines call. Each wedge is also clipped
+/// to every half-space {d : dot(d, h) >= 0} of `half_spaces` (unit normals: the sides of the occluding planes
+/// the vertex is on, MeshTopology::planes).
 void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
-                               ConeAssemblyScratch& scratch, VisibilityCone& result, ConeMeasures* measures);
+                               ConeAssemblyScratch& scratch, VisibilityCone& result, ConeMeasures* measures,
+                               std::span<const glm::dvec3> half_spaces = {});
 /// The same, allocating (tests, one-off use).
 VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal);
 

@@ -124,6 +124,7 @@ struct FrameAssembler::Impl {
     std::vector<Wedge> blended;
     std::vector<Blend> blends;
     WedgeScratch wedge_scratch;
+    std::vector<glm::dvec3> half_spaces;  ///< the vertex's sides of the occluding planes
   };
 
   Impl(const MeshTopology& topology, const MeshConnectivity& connectivity, const SlicingPlan& plan,
@@ -301,8 +302,13 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
       for (const auto& [cone, begin, count] : ws.blends)  // ws.blended has stopped growing
         ws.cones[cone].wedges = {ws.blended.data() + begin, count};
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];
+      if (side == 0) {  // the side of each occluding plane the vertex is on (a vertex on it: above)
+        ws.half_spaces.clear();
+        for (const OccludingPlane& p : topology.planes)
+          ws.half_spaces.push_back(glm::dot(p.normal, frame.positions[v]) >= p.offset ? p.normal : -p.normal);
+      }
       assemble_and_measure_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v],
-                                &result.measures[side][v]);
+                                &result.measures[side][v], ws.half_spaces);
     }
   };
   if (params.parallel)

@@ -19,17 +19,30 @@ namespace pleat {
 using Index = std::uint32_t;
 using Triangle = std::array<Index, 3>;
 
+/// An infinite occluding plane {x : dot(normal, x) == offset} (a ground), `normal` unit.
+struct OccludingPlane {
+  glm::dvec3 normal{0.0, 1.0, 0.0};
+  double offset = 0.0;
+};
+
 /// Triangles over welded vertices 0..num_vertices-1, in the input's winding.
 ///
 /// A scene with occluders (the bodies, tables and ground a cloth was simulated against) appends their
 /// vertices after the cloth's, and their triangles after the cloth's: the last num_occluder_vertices vertices
-/// are occluders. They are sliced with the cloth and block sight lines, but receive no cones: every engine
-/// computes and stores cones for the first num_receivers() vertices only (docs/method.md §1).
+/// are occluders. They block sight lines but receive no cones: every engine computes and stores cones for the
+/// first num_receivers() vertices only (docs/method.md §1). The cone engines slice every triangle but the
+/// last num_plane_triangles: those stand in for the infinite `planes` (a large square each, for ray casting
+/// and rendering), which the engines apply exactly instead, by keeping in every cone only the directions on
+/// the vertex's side of each plane.
 struct MeshTopology {
   Index num_vertices = 0;
   std::vector<Triangle> triangles;
   Index num_occluder_vertices = 0;
+  std::vector<OccludingPlane> planes;
+  Index num_plane_triangles = 0;
   Index num_receivers() const { return num_vertices - num_occluder_vertices; }
+  /// The triangles the cone engines slice: the first num_sliced_triangles().
+  Index num_sliced_triangles() const { return Index(triangles.size()) - num_plane_triangles; }
 };
 
 /// One instant of the sequence: a position per welded vertex.

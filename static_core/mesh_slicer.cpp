@@ -108,7 +108,7 @@ void slice_mesh(const MeshTopology& topology, const MeshConnectivity& connectivi
 
 std::vector<Index> cone_recipients(const MeshTopology& topology, const MeshConnectivity& connectivity,
                                    const Frame& frame, const SlicingPlane& plane) {
-  std::vector<Index> faces(topology.triangles.size());
+  std::vector<Index> faces(topology.num_sliced_triangles());
   std::iota(faces.begin(), faces.end(), 0);
   SlicerScratch scratch;
   Slice slice;
@@ -131,7 +131,7 @@ void candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame,
                                std::vector<std::vector<Index>>& result) {
   result.resize(plan.planes.size());
   for (auto& faces_of_plane : result) faces_of_plane.clear();  // keeps their capacity from frame to frame
-  const std::size_t faces = topology.triangles.size();
+  const std::size_t faces = topology.num_sliced_triangles();
   for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
     std::vector<std::pair<double, Index>> planes;  // (offset, plane index) of this family
     glm::dvec3 normal(0.0);

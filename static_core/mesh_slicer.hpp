@@ -56,7 +56,8 @@ void slice_mesh(const MeshTopology& topology, const MeshConnectivity& connectivi
                 const SlicingPlane& plane, std::span<const Index> candidate_faces, SlicerScratch& scratch,
                 Slice& out);
 
-/// For each plane of the plan, the faces that may cross it (the candidate_faces of slice_mesh). Parallel
+/// For each plane of the plan, the faces that may cross it (the candidate_faces of slice_mesh), among the
+/// topology's sliced triangles (MeshTopology::num_sliced_triangles). Parallel
 /// families are bucketed by offset: a face is listed for the planes within its height interval widened by a
 /// margin far above the rounding of a dot product; other planes get every face. O(F log P + output).
 std::vector<std::vector<Index>> candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame,

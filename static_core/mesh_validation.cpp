@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <glm/geometric.hpp>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,16 @@ void validate_topology(const MeshTopology& topology, const char* who) {
     throw InputError(who, "",
                      std::to_string(topology.num_occluder_vertices) + " occluder vertices of " +
                          std::to_string(topology.num_vertices));
+  if (topology.num_plane_triangles > topology.triangles.size())
+    throw InputError(who, "",
+                     std::to_string(topology.num_plane_triangles) + " plane triangles of " +
+                         std::to_string(topology.triangles.size()));
+  for (std::size_t i = 0; i < topology.planes.size(); ++i) {
+    const OccludingPlane& p = topology.planes[i];
+    if (!(std::abs(glm::length(p.normal) - 1.0) < 1e-9) || !std::isfinite(p.offset))
+      throw InputError(who, "occluding plane " + std::to_string(i),
+                       "needs a unit normal and a finite offset");
+  }
   Index largest = 0;
   for (const Triangle& t : topology.triangles) largest = std::max({largest, t[0], t[1], t[2]});
   if (topology.triangles.empty() || largest < topology.num_vertices) return;

@@ -9,10 +9,9 @@ The options are those of `pleat visibility` (underscores for dashes): engine ("k
 same results), orientations, spacing, spacing_edges, planes, adaptive, max_missing, cone_storage, paper,
 plan (a file written by --save-plan), occluders, ground ("y=0"), threads (like --threads; None: all cores),
 max_edit_fraction. Results are in the caller's vertex order and equal, bit for bit, the command line's on the
-same input and options. The frames you pass are the shot: as the whole file does for `pleat visibility`, they fix
-the plan's extent and the ground's square (centred on and 100 diagonals of the cloth's box over those frames). For
-part of a shot, give `Engine` the whole shot and compute the frames you want: a subset of frames gives a smaller
-ground, and with `ground=` other values than `pleat visibility --frames` (without a ground, the same). Bad arrays raise ValueError (InputError, a ValueError, for what the library rejects:
+same input and options. The frames you pass are the shot: as the whole file does for `pleat visibility`, their
+first frame sets the plan's orientations and spacing (its planes are a lattice anchored in world space), so a
+frame's values do not depend on the other frames passed as long as the first is the same. Bad arrays raise ValueError (InputError, a ValueError, for what the library rejects:
 non-finite coordinates, ...); bad files raise InputError naming the file and the place.
 """
 import os

@@ -52,6 +52,16 @@ def test_occluders_ground_and_plan_options_equal_cli(drape):
     assert np.array_equal(pair, ours)
 
 
+def test_part_of_the_shot_with_a_ground_equals_cli_frames(drape):
+    # The ground is an exact plane, not a square sized by the frames given: the first two frames alone (the same
+    # first frame, hence the same plan) give the values `--frames 0:2` gives from the whole file.
+    cloth = pleat.load(drape["obj"], cache=drape["pc2"])
+    part = pleat.sky_visibility(cloth.faces, cloth.positions[:2], engine="static", ground="y=0")
+    theirs = run_cli(drape["obj"], "--cache", drape["pc2"], "--engine", "static", "--ground", "y=0",
+                     "--frames", "0:2")
+    assert np.array_equal(part, theirs)
+
+
 def test_saved_plan_equals_cli(drape):
     plan = drape["tmp"] / "plan.json"
     theirs = run_cli(drape["obj"], "--cache", drape["pc2"], "--paper", "--save-plan", plan)
