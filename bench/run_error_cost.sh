@@ -17,13 +17,15 @@ build_dir="${BUILD_DIR:-build}"
 out=bench/results
 name=frame_coherence_error_cost
 # The paper's 6 axis orientations (nearer-endpoint: the paper's plan at 1 edge; aimed-on-fan: pleat's storage on
-# them), then 8 (the default), 12, 16 and 24 spread orientations, at 1/2 and 1 average edge apart, with the
-# default storage (aimed-on-fan) and the one before it (interpolated-on-fan).
+# them), then 8 (the default), 12, 16 and 24 spread orientations, 1/2 and 1 average edge apart, with the default
+# storage (aimed-on-fan) and the one before it (interpolated-on-fan); aimed-on-fan also 3/4 edge apart (12 at 3/4
+# cuts about as many planes as 8 at 1/2, 16 at 1 as many: more orientations at equal cost).
 grid=""
-for o in 6; do for s in 0.5 1; do for r in nearer-endpoint aimed-on-fan; do grid+="$o:$s:$r,"; done; done; done
-for o in 8 12 16 24; do for s in 0.5 1; do for r in aimed-on-fan interpolated-on-fan; do
-  grid+="$o:$s:$r,"
-done; done; done
+for s in 0.5 1; do for r in nearer-endpoint aimed-on-fan; do grid+="6:$s:$r,"; done; done
+for o in 8 12 16 24; do
+  for s in 0.5 1; do for r in aimed-on-fan interpolated-on-fan; do grid+="$o:$s:$r,"; done; done
+  grid+="$o:0.75:aimed-on-fan,"
+done
 plans="${PLANS:-${grid%,}}"
 
 python=""
