@@ -286,7 +286,7 @@ def plot_error_cost(rows, out):
     if not sequences:
         return
     metrics = (("mean_err", "mean |A − A_ref|"), ("p95_err", "95th percentile of |A − A_ref|"))
-    fig, axes = panel_grid(len(sequences), rows=len(metrics), width=5.2, height=4.6)
+    fig, axes = panel_grid(len(sequences), rows=len(metrics), width=5.2, height=5.2)
     for i, (metric, label) in enumerate(metrics):
         for j, seq in enumerate(sequences):
             ax = axes[i][j]
@@ -316,7 +316,7 @@ def plot_error_cost(rows, out):
                 color = STORAGE_COLOR.get(storage, "black")
                 marker = SPACING_MARKER.get(spacing, "^")
                 ax.plot(r["cpu_ms_per_frame"], r[metric], marker, color=color, markersize=7,
-                        fillstyle="none" if o == 6 else "full", label=f"storage {storage}")
+                        fillstyle="none" if o == 6 else "full")
                 # The plan that is the default repeats the static engine's row exactly.
                 default = any(s["mean_err"] == r["mean_err"] and s["p95_err"] == r["p95_err"] for s in static)
                 if default:
@@ -329,15 +329,26 @@ def plot_error_cost(rows, out):
                             xytext=(5, -3), fontsize=7, color=color)
             log_x(ax)
             log_y(ax)
+            # The plans' range of error (Embree's ladder runs on below it, off the panel).
+            values = [r[metric] for r in mine] + [p[2] for p in ladder[:1]]
+            if values:
+                ax.set_ylim(min(r[metric] for r in mine) / 1.5 if mine else min(values) / 1.5, max(values) * 1.3)
             vertices = sel[0]["vertices"] if sel else 0
             ax.set_title(f"{seq}, {vertices:,} vertices", fontsize=11)
             ax.set_xlabel("CPU ms per frame, one thread")
             if j == 0:
                 ax.set_ylabel(label)
             ax.grid(True, which="both", alpha=0.3)
-    # Legend entries for the marker shapes (spacing), whatever the storage colours.
+    # Legend entries for the colours (storage rule) and the marker shapes (spacing).
     ax0 = axes[0][0]
+    storages = {parse_plan(r["config"])[2] for r in plans}
+    for storage, color in STORAGE_COLOR.items():
+        if storage in storages:
+            ax0.plot([], [], "o", color=color, label=f"storage {storage}")
+    spacings = {parse_plan(r["config"])[1] for r in plans}
     for spacing, marker in SPACING_MARKER.items():
+        if spacing not in spacings:
+            continue
         ax0.plot([], [], marker, color="#777777", linestyle=SPACING_LINE[spacing],
                  label=f"planes {spacing:g} edge apart (line: 8 → 12 → 16 → 24 orientations)")
     ax0.plot([], [], "o", color="#777777", fillstyle="none", label="hollow: the paper's 6 axes")
