@@ -2,17 +2,17 @@
 // hang or a crash of an engine is reported and the benchmark goes on.
 //
 // The child is this program run with the internal flag --worker FILE (plus the measurement's sequence, size,
-// u, frames, --worker-threads T and, where accuracy is measured, --worker-keep-sky): it rebuilds the same
-// frames and plans, runs static.compute(k) and kinetic.advance(k) (then the other plans' static engines) in
-// turn on every frame (so that both times
-// of a frame see the same load on a shared machine) with T TBB threads, and writes both rows to FILE (text,
-// one key per line) and a line per step to FILE.beat. The parent kills the child when FILE.beat stays
-// unchanged longer than the allowed silence: --kinetic-timeout if given, else (60 s, --quick 20 s) + 1 ms per
-// vertex + 30 x the longest gap between heartbeats so far.
+// u, frames, --worker-threads T and, where accuracy is measured, --worker-keep-sky and --plans): it rebuilds
+// the same frames and plans, runs static.compute(k) and kinetic.advance(k) (then the other plans' static
+// engines) in turn on every frame (so that the times of a frame see the same load on a shared machine) with
+// T TBB threads, and writes the rows to FILE (text, one key per line) and a line per step to FILE.beat. The
+// parent kills the child when FILE.beat stays unchanged longer than the allowed silence: --kinetic-timeout if
+// given, else (60 s, --quick 20 s) + 1 ms per vertex + 30 x the longest gap between heartbeats so far.
 //
 // Memory (memory_window.hpp): the peak is reset before the static engine is built and read after its frame 0
 // (it allocates almost nothing later), then reset before the kinetic engine is built and read at the end (so
-// the kinetic window also holds the static engine's per-frame transients).
+// the kinetic window also holds the static engine's per-frame transients, and the other plans' engines and
+// their transients where they run: the paper's and --plans, at u = 1).
 #pragma once
 
 #include <array>

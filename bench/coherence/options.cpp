@@ -88,11 +88,11 @@ Options parse_options(int argc, char** argv) {
     } else if (arg == "--reference-sample") {
       o.reference_sample = Index(to_int(next()));
     } else if (arg == "--plans") {
-      for (const std::string& item : split(next())) try {
-          o.plans.push_back(parse_setting(item, arg));
-        } catch (const std::invalid_argument& e) {
-          usage_error(e.what());
-        }
+      try {
+        for (const std::string& item : split(next())) o.plans.push_back(parse_setting(item, arg));
+      } catch (const std::invalid_argument& e) {
+        usage_error(e.what());
+      }
     } else if (arg == "--data") {
       o.data = next();
     } else if (arg == "--cloth-alone") {

@@ -362,9 +362,10 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
       << shell_output("cut -d' ' -f1-3 /proc/loadavg") << ". Whole run: " << format("%.0f", total_seconds)
       << " s wall.\n\n";
   out << "Every method runs on the same frames; the cone engines on the same plan (`make_diffuse_plan` on "
-         "the first "
-         "frame: its defaults, 8 orientations spread over the sphere, planes 1/2 of an average edge length "
-         "apart, interpolated-on-fan storage). "
+         "the first frame with its defaults: "
+      << setting_name(Setting{})
+      << " = orientations spread over the sphere, their planes' spacing in average edge lengths, storage "
+         "rule). "
          "**ms** = wall milliseconds per "
          "frame, the "
          "median over frames 1..N−1 (frame 0 builds the engines / Embree's BVH and is not counted); **CPU** "
