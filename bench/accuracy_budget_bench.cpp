@@ -50,6 +50,7 @@
 
 #include "bench/bench_args.hpp"
 #include "bench/coherence/matched_error.hpp"
+#include "bench/coherence/plan_setting.hpp"
 #include "bench/coherence/report.hpp"
 #include "bench/coherence/sequences.hpp"
 #include "bench/coherence/stopwatch.hpp"
@@ -75,36 +76,6 @@ std::string format(const char* fmt, auto... args) {
   char buffer[512];
   std::snprintf(buffer, sizeof buffer, fmt, args...);
   return buffer;
-}
-
-/// One engine configuration: the diffuse plan (orientation count, spacing in average edge lengths, relaxed
-/// or on the Fibonacci spiral) and the storage rule.
-struct Setting {
-  DiffusePlanParams plan;
-  ConeStorage storage;
-};
-
-/// A setting of `orientations` families `spacing_edges` average edge lengths apart.
-Setting setting(int orientations, double spacing_edges, ConeStorage storage, bool relaxed = true) {
-  DiffusePlanParams plan;
-  plan.orientations = orientations;
-  plan.spacing_in_edges = spacing_edges;
-  plan.relaxed = relaxed;
-  return {plan, storage};
-}
-
-/// "8:0.5:interpolated-on-fan" or "8:0.75:interpolated-on-fan:spiral" (orientations:spacing in
-/// edges:storage rule[:spiral]).
-Setting parse_setting(const std::string& text) {
-  const auto a = text.find(':'), b = text.find(':', a + 1);
-  if (a == std::string::npos || b == std::string::npos)
-    throw std::invalid_argument("--settings: '" + text + "' is not orientations:spacing:storage[:spiral]");
-  const auto c = text.find(':', b + 1);
-  const std::string storage = text.substr(b + 1, c == std::string::npos ? std::string::npos : c - b - 1);
-  if (c != std::string::npos && text.substr(c + 1) != "spiral")
-    throw std::invalid_argument("--settings: '" + text + "' ends in neither the storage rule nor ':spiral'");
-  return setting(std::stoi(text.substr(0, a)), std::stod(text.substr(a + 1, b - a - 1)),
-                 cone_storage_from_name(storage), c == std::string::npos);
 }
 
 struct Result {
@@ -288,7 +259,7 @@ int run(int argc, char** argv) {
       for (const auto& s : split(next())) oracle_orientations.push_back(std::stoi(s));
     } else if (arg == "--settings") {
       settings.clear();
-      for (const auto& item : split(next())) settings.push_back(parse_setting(item));
+      for (const auto& item : split(next())) settings.push_back(parse_setting(item, "--settings"));
     } else if (arg == "--oracle-sample")
       oracle_sample = Index(std::stoi(next()));
     else if (arg == "--quick")

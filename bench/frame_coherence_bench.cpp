@@ -13,9 +13,12 @@
 //   method;
 // and the matched-error comparison (bench/coherence/matched_error.hpp): K*, Embree's time at K*, and
 // pleat ÷ Embree(K*) for both engines, by mean and by 95th-percentile error. Static and kinetic must agree
-// to 1e-9 on every frame where accuracy is measured.
+// to 1e-9 on every frame where accuracy is measured, and so must a --plans row naming the default plan (or
+// the paper's) and the static (paper) row.
 // Outputs (bench/coherence/report.hpp): DIR/frame_coherence.csv, DIR/frame_coherence.md and
-// DIR/frame_coherence_headline.md (bench/run_frame_coherence.sh puts the latter into docs/benchmarks.md).
+// DIR/frame_coherence_headline.md (bench/run_frame_coherence.sh puts the latter into docs/benchmarks.md);
+// with --plans, the markdown's "Plans" tables and a "frame_coherence: plan ..." line per plan row on stdout
+// (bench/run_error_cost.sh).
 //
 // Flags (all optional):
 //   --quick                  curtain 3025, u = 1 and 2, 3 frames, rays 8,16,64, reference 512 (the test
@@ -38,6 +41,10 @@
 //   --cloth-alone            real sequences without their colliders (default: in the scene they were
 //                            simulated in, data/README.md; every method, the reference included, sees it)
 //   --kinetic-timeout S      seconds without progress before the cone engines' process is declared hung
+//   --plans o:s:storage,...  at u = 1 and the first thread count, a "plan" row per plan: the static engine on
+//                            o orientations s average edges apart with that storage rule (plan_setting.hpp;
+//                            e.g. 12:0.5:aimed-on-fan), on the same frames and reference as the other rows,
+//                            with its own K* and pleat ÷ Embree(K*) (default: none)
 // Exit status 1 and "frame_coherence: FAILED: ..." lines when any method failed or static and kinetic differ.
 // Plain executable: no Google Benchmark main.
 #include <tbb/global_control.h>
@@ -75,6 +82,17 @@ std::string format(const char* fmt, auto... args) {
   return buffer;
 }
 
+/// max |a − b| over every frame and value; infinite when the shapes differ.
+double max_difference(const std::vector<SkyValues>& a, const std::vector<SkyValues>& b) {
+  if (a.size() != b.size()) return INFINITY;
+  double worst = 0;
+  for (std::size_t f = 0; f < a.size(); ++f) {
+    if (a[f].size() != b[f].size()) return INFINITY;
+    for (std::size_t i = 0; i < a[f].size(); ++i) worst = std::max(worst, std::abs(a[f][i] - b[f][i]));
+  }
+  return worst;
+}
+
 struct Run {
   const Options& options;
   std::vector<std::string> failures;
@@ -97,9 +115,13 @@ struct Run {
     if (auto* rows = std::get_if<std::vector<MethodRow>>(&child)) {
       s = std::move((*rows)[0]);
       k = std::move((*rows)[1]);
-      if (rows->size() == 3) {
-        if (!(*rows)[2].ok()) fail(m, "paper: " + (*rows)[2].status);
-        m.rows.push_back(std::move((*rows)[2]));
+      for (std::size_t i = 2; i < rows->size(); ++i) {  // the paper's plan and --plans
+        MethodRow& row = (*rows)[i];
+        if (!row.ok())
+          fail(m, row.method + (row.config.empty() ? "" : " " + row.config) + ": " + row.status);
+        else if (row.method == "plan")
+          progress(m, format("plan %s: %.1f CPU ms/frame", row.config.c_str(), row.cpu_ms_per_frame()));
+        m.rows.push_back(std::move(row));
       }
     } else {
       const std::string why = std::get<std::string>(child);
@@ -165,15 +187,23 @@ struct Run {
     }
     const MethodRow* s = m.row("static");
     const MethodRow* k = m.row("kinetic");
-    if (s && k && s->ok() && k->ok() && s->sky.size() == k->sky.size()) {
-      double worst = 0;
-      for (std::size_t f = 0; f < s->sky.size(); ++f) {
-        if (s->sky[f].size() != k->sky[f].size()) worst = INFINITY;
-        for (std::size_t i = 0; i < s->sky[f].size() && std::isfinite(worst); ++i)
-          worst = std::max(worst, std::abs(s->sky[f][i] - k->sky[f][i]));
-      }
+    if (s && k && s->ok() && k->ok()) {
+      const double worst = max_difference(s->sky, k->sky);
       m.max_static_kinetic = worst;
       if (!(worst <= kEqualTolerance)) fail(m, format("max |A_static - A_kinetic| = %.3g > 1e-9", worst));
+    }
+    // A plan that is the default or the paper's repeats that row's engine on the same frames: same values.
+    const std::string default_name = setting_name(Setting{});
+    const std::string paper_name = setting_name(setting(6, 1.0, ConeStorage::NearerEndpoint));
+    for (const MethodRow* p : m.plans()) {
+      const MethodRow* same = p->config == default_name ? s
+                              : p->config == paper_name ? m.row("paper")
+                                                        : nullptr;
+      if (!same || !same->ok() || !p->ok()) continue;
+      const double d = max_difference(p->sky, same->sky);
+      if (!(d <= kEqualTolerance))
+        fail(m,
+             format("plan %s differs from the %s row by %.3g", p->config.c_str(), same->method.c_str(), d));
     }
     if (s && s->measured_accuracy())
       progress(m,
@@ -261,6 +291,12 @@ int run(int argc, char** argv) {
   }
   std::printf("frame_coherence: wrote %s and %s (%zu measurements, %.0f s)\n", csv_path.c_str(),
               (options.out / "frame_coherence.md").c_str(), all.size(), total);
+  for (const Measurement& m : all)
+    for (const MethodRow* p : m.plans())
+      if (p->measured_accuracy())
+        std::printf("frame_coherence: plan %s on %s %u: CPU %.1f ms/frame, error mean %.4f p95 %.4f\n",
+                    p->config.c_str(), m.sequence.c_str(), m.vertices, p->cpu_ms_per_frame(), p->err.mean,
+                    p->err.p95);
   for (const auto& f : r.failures) std::printf("frame_coherence: FAILED: %s\n", f.c_str());
   return r.failures.empty() ? 0 : 1;
 }

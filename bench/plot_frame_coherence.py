@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """Plots of the frame-coherence benchmark (bench/frame_coherence_bench.cpp) from its CSV.
 
-Usage: bench/plot_frame_coherence.py [CSV] [--out DIR]
+Usage: bench/plot_frame_coherence.py [CSV] [--out DIR] [--plots NAME,...]
   CSV   default bench/results/frame_coherence.csv
   DIR   default: the CSV's directory
+  NAME  time-vs-upsample, ratio, error-vs-time, flicker-vs-time, scaling, error-cost (default: all; each is
+        skipped when the CSV lacks its rows)
 
 Writes (PNG, one panel per sequence):
   frame_coherence_time_vs_upsample.png  ms/frame against temporal resolution u, per method (one row per size)
@@ -12,6 +14,8 @@ Writes (PNG, one panel per sequence):
                                         ladder as a curve, the cone engines as points (speed at matched accuracy)
   frame_coherence_flicker_vs_time.png   the same for temporal flicker
   frame_coherence_scaling.png           ms/frame against vertices, log-log, per method (u = 1), with slopes
+  frame_coherence_error_cost.png        with --plans rows (bench/run_error_cost.sh): mean and p95 error against
+                                        CPU ms/frame of each plan of the static engine beside Embree's ladder
 Every plot uses the one-thread rows.
 Needs matplotlib (Debian: python3-matplotlib).
 """
@@ -56,7 +60,7 @@ def load(path):
             r["vertices"] = int(r["vertices"])
             r["rays"] = int(r["rays"])
             r["upsample"] = number(r["upsample"])
-            for key in ("ms_per_frame", "mean_err", "p95_err", "flicker"):
+            for key in ("ms_per_frame", "cpu_ms_per_frame", "mean_err", "p95_err", "flicker"):
                 r[key] = number(r[key])
             rows.append(r)
     return rows
@@ -258,24 +262,132 @@ def plot_scaling(rows, out):
          "Time per frame against vertex count (log-log; slope 1 = linear)")
 
 
+STORAGE_COLOR = {
+    "nearer-endpoint": "#ff7f0e",
+    "nearest-on-fan": "#9467bd",
+    "interpolated-on-fan": "#2ca02c",
+    "aimed-on-fan": "#1f77b4",
+}
+SPACING_MARKER = {0.5: "o", 0.75: "^", 1.0: "s"}
+SPACING_LINE = {0.5: "-", 0.75: ":", 1.0: "--"}
+LADDER_LABELS = (8, 16, 32, 64, 128, 256, 1024)
+
+
+def parse_plan(name):
+    """'12:0.5:aimed-on-fan[:spiral]' -> (orientations, spacing, storage, spiral)."""
+    fields = name.split(":")
+    return int(fields[0]), float(fields[1]), fields[2], len(fields) > 3
+
+
+def plot_error_cost(rows, out):
+    """Per real sequence (columns) and error measure (rows): Embree's ladder and every plan, CPU ms per frame."""
+    plans = [r for r in rows if r["method"] == "plan" and r["upsample"] == 1 and not math.isnan(r["mean_err"])]
+    sequences = ordered({r["sequence"] for r in plans})
+    if not sequences:
+        return
+    metrics = (("mean_err", "mean |A − A_ref|"), ("p95_err", "95th percentile of |A − A_ref|"))
+    fig, axes = panel_grid(len(sequences), rows=len(metrics), width=5.2, height=5.2)
+    for i, (metric, label) in enumerate(metrics):
+        for j, seq in enumerate(sequences):
+            ax = axes[i][j]
+            sel = [r for r in rows if r["sequence"] == seq and r["upsample"] == 1]
+            ladder = sorted((r["rays"], r["cpu_ms_per_frame"], r[metric]) for r in sel if r["method"] == "embree")
+            if ladder:
+                ax.plot([p[1] for p in ladder], [p[2] for p in ladder], "-", marker="v", color="#555555",
+                        linewidth=1.2, markersize=4, label="Embree, K rays per vertex")
+                for rays, ms, value in ladder:
+                    if rays in LADDER_LABELS:
+                        ax.annotate(f"K={rays}", (ms, value), textcoords="offset points", xytext=(3, 3),
+                                    fontsize=7, color="#555555")
+            static = [r for r in sel if r["method"] == "static"]
+            mine = [r for r in sel if r["method"] == "plan" and not math.isnan(r[metric])]
+            # Spread orientations of one storage rule and spacing, joined in orientation order.
+            families = defaultdict(list)
+            for r in mine:
+                o, spacing, storage, spiral = parse_plan(r["config"])
+                if o != 6 and not spiral:
+                    families[(storage, spacing)].append((o, r["cpu_ms_per_frame"], r[metric]))
+            for (storage, spacing), pts in families.items():
+                pts.sort()
+                ax.plot([p[1] for p in pts], [p[2] for p in pts], SPACING_LINE.get(spacing, "-."),
+                        color=STORAGE_COLOR.get(storage, "black"), linewidth=0.8, alpha=0.6)
+            for r in mine:
+                o, spacing, storage, spiral = parse_plan(r["config"])
+                color = STORAGE_COLOR.get(storage, "black")
+                marker = SPACING_MARKER.get(spacing, "^")
+                ax.plot(r["cpu_ms_per_frame"], r[metric], marker, color=color, markersize=7,
+                        fillstyle="none" if o == 6 else "full")
+                # The plan that is the default repeats the static engine's row exactly.
+                default = any(s["mean_err"] == r["mean_err"] and s["p95_err"] == r["p95_err"] for s in static)
+                if default:
+                    ax.plot(r["cpu_ms_per_frame"], r[metric], "*", color="black", markersize=16,
+                            fillstyle="none", markeredgewidth=1.2, label="pleat's default plan")
+                text = f"{o}" + (" axes" if o == 6 else "") + (" spiral" if spiral else "")
+                if r["config"] == "6:1:nearer-endpoint":
+                    text = "paper"
+                ax.annotate(text, (r["cpu_ms_per_frame"], r[metric]), textcoords="offset points",
+                            xytext=(5, -3), fontsize=7, color=color)
+            log_x(ax)
+            log_y(ax)
+            # The plans' range of error (Embree's ladder runs on below it, off the panel).
+            values = [r[metric] for r in mine] + [p[2] for p in ladder[:1]]
+            if values:
+                ax.set_ylim(min(r[metric] for r in mine) / 1.5 if mine else min(values) / 1.5, max(values) * 1.3)
+            vertices = sel[0]["vertices"] if sel else 0
+            ax.set_title(f"{seq}, {vertices:,} vertices", fontsize=11)
+            ax.set_xlabel("CPU ms per frame, one thread")
+            if j == 0:
+                ax.set_ylabel(label)
+            ax.grid(True, which="both", alpha=0.3)
+    # Legend entries for the colours (storage rule) and the marker shapes (spacing).
+    ax0 = axes[0][0]
+    storages = {parse_plan(r["config"])[2] for r in plans}
+    for storage, color in STORAGE_COLOR.items():
+        if storage in storages:
+            ax0.plot([], [], "o", color=color, label=f"storage {storage}")
+    spacings = {parse_plan(r["config"])[1] for r in plans}
+    for spacing, marker in SPACING_MARKER.items():
+        if spacing not in spacings:
+            continue
+        ax0.plot([], [], marker, color="#777777", linestyle=SPACING_LINE[spacing],
+                 label=f"planes {spacing:g} edge apart (line: 8 → 12 → 16 → 24 orientations)")
+    ax0.plot([], [], "o", color="#777777", fillstyle="none", label="hollow: the paper's 6 axes")
+    save(fig, os.path.join(out, "frame_coherence_error_cost.png"),
+         "Error against cost: pleat's plans (labels: orientations) beside Embree's ray ladder (one thread, u = 1)",
+         axes.flat, 3)
+
+
+PLOTS = {
+    "time-vs-upsample": plot_time_vs_upsample,
+    "ratio": plot_ratio,
+    "error-vs-time": lambda rows, out: plot_accuracy_vs_time(
+        rows, out, "mean_err", "mean |A − A_ref| (4096 rays)", "frame_coherence_error_vs_time.png",
+        "Mean error against time per frame (lower left is better; one thread, u = 1)"),
+    "flicker-vs-time": lambda rows, out: plot_accuracy_vs_time(
+        rows, out, "flicker", "flicker: mean |ΔA − ΔA_ref| between frames", "frame_coherence_flicker_vs_time.png",
+        "Temporal flicker against time per frame (lower left is better; one thread, u = 1)"),
+    "scaling": plot_scaling,
+    "error-cost": plot_error_cost,
+}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("csv", nargs="?", default="bench/results/frame_coherence.csv")
     parser.add_argument("--out", default=None)
+    parser.add_argument("--plots", default=",".join(PLOTS), help="comma-separated: " + ", ".join(PLOTS))
     args = parser.parse_args()
+    chosen = [p for p in args.plots.split(",") if p]
+    unknown = [p for p in chosen if p not in PLOTS]
+    if unknown:
+        sys.exit(f"plot_frame_coherence: unknown plot {', '.join(unknown)} (known: {', '.join(PLOTS)})")
     rows = load(args.csv)
     if not rows:
         sys.exit(f"plot_frame_coherence: no usable rows in {args.csv}")
     out = args.out or os.path.dirname(os.path.abspath(args.csv))
     os.makedirs(out, exist_ok=True)
-    plot_time_vs_upsample(rows, out)
-    plot_ratio(rows, out)
-    plot_accuracy_vs_time(rows, out, "mean_err", "mean |A − A_ref| (4096 rays)", "frame_coherence_error_vs_time.png",
-                          "Mean error against time per frame (lower left is better; one thread, u = 1)")
-    plot_accuracy_vs_time(rows, out, "flicker", "flicker: mean |ΔA − ΔA_ref| between frames",
-                          "frame_coherence_flicker_vs_time.png",
-                          "Temporal flicker against time per frame (lower left is better; one thread, u = 1)")
-    plot_scaling(rows, out)
+    for name in chosen:
+        PLOTS[name](rows, out)
 
 
 if __name__ == "__main__":

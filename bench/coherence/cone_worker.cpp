@@ -45,6 +45,11 @@ struct Heartbeat {
   }
 };
 
+/// A row's name in the worker's result file: its method, with a plan's name ("plan=12:0.5:aimed-on-fan").
+std::string row_key(const MethodRow& row) {
+  return row.config.empty() ? row.method : row.method + "=" + row.config;
+}
+
 /// Times one frame of an engine into `row`; the result's sky values are kept if asked.
 template <class Step>
 void timed_frame(MethodRow& row, bool keep_sky, double& slice_vertices, Step&& step) {
@@ -56,25 +61,43 @@ void timed_frame(MethodRow& row, bool keep_sky, double& slice_vertices, Step&& s
   if (keep_sky) row.sky.push_back(sky_of(r));
 }
 
-/// Static and kinetic engines on `plan`, frame by frame in turn; with `paper`, also the static engine on the
-/// paper's plan, the baseline of the accuracy and cost comparison.
+/// A static engine on another plan than the default, with its row: "paper" (the paper's plan) or "plan"
+/// (Options::plans, its name in MethodRow::config).
+struct ExtraPlan {
+  std::string method, config;
+  SlicingPlan plan;
+};
+
+/// Static and kinetic engines on `plan`, frame by frame in turn, and a static engine on each of `extras`
+/// after them in every frame.
 std::vector<MethodRow> run_engines(const MeshTopology& topology, const SlicingPlan& plan,
-                                   const SlicingPlan* paper, const std::vector<Frame>& frames, int threads,
-                                   bool keep_sky, Heartbeat& heartbeat) {
-  MethodRow s, k, b;
+                                   const std::vector<ExtraPlan>& extras, const std::vector<Frame>& frames,
+                                   int threads, bool keep_sky, Heartbeat& heartbeat) {
+  MethodRow s, k;
   s.method = "static";
   k.method = "kinetic";
-  b.method = "paper";
-  s.threads = k.threads = b.threads = threads;
+  s.threads = k.threads = threads;
   k.kinetic.emplace();
-  std::optional<StaticVisibility> static_engine, paper_engine;
-  std::optional<KineticVisibility> kinetic_engine;
-  if (paper) try {
-      paper_engine.emplace(topology, *paper);
-      paper_engine->compute(frames[0]);
-    } catch (const std::exception& e) {
-      b.status = std::string("error at frame 0: ") + e.what();
+  std::vector<MethodRow> extra_rows(extras.size());
+  std::vector<std::optional<StaticVisibility>> extra_engines(extras.size());
+  std::vector<double> extra_sv(extras.size(), 0.0);
+  for (std::size_t e = 0; e < extras.size(); ++e) {
+    MethodRow& row = extra_rows[e];
+    row.method = extras[e].method;
+    row.config = extras[e].config;
+    row.threads = threads;
+    try {
+      extra_engines[e].emplace(topology, extras[e].plan);
+      const Stopwatch watch;
+      extra_engines[e]->compute(frames[0]);
+      row.ms_first = watch.wall_ms();
+    } catch (const std::exception& ex) {
+      row.status = std::string("error at frame 0: ") + ex.what();
     }
+    heartbeat.beat(row_key(row) + " 0");
+  }
+  std::optional<StaticVisibility> static_engine;
+  std::optional<KineticVisibility> kinetic_engine;
   s.peak_reset = start_memory_window(s.rss_before_mb);
   try {
     static_engine.emplace(topology, plan);
@@ -97,7 +120,7 @@ std::vector<MethodRow> run_engines(const MeshTopology& topology, const SlicingPl
     k.status = "error in the constructor: unknown exception";
   }
   heartbeat.beat("kinetic 0");
-  double static_sv = 0, kinetic_sv = 0, paper_sv = 0;
+  double static_sv = 0, kinetic_sv = 0;
   for (std::size_t f = 1; f < frames.size(); ++f) {
     if (s.ok()) try {
         timed_frame(s, keep_sky, static_sv,
@@ -118,22 +141,27 @@ std::vector<MethodRow> run_engines(const MeshTopology& topology, const SlicingPl
         k.status = "error at frame " + std::to_string(f) + ": unknown exception";
       }
     heartbeat.beat("kinetic " + std::to_string(f));
-    if (paper_engine && b.ok()) try {
-        timed_frame(b, keep_sky, paper_sv,
-                    [&]() -> const FrameVisibility& { return paper_engine->compute(frames[f]); });
-      } catch (const std::exception& e) {
-        b.status = "error at frame " + std::to_string(f) + ": " + e.what();
-      }
-    heartbeat.beat("paper " + std::to_string(f));
+    for (std::size_t e = 0; e < extras.size(); ++e) {
+      MethodRow& row = extra_rows[e];
+      if (row.ok()) try {
+          timed_frame(row, keep_sky, extra_sv[e],
+                      [&]() -> const FrameVisibility& { return extra_engines[e]->compute(frames[f]); });
+        } catch (const std::exception& ex) {
+          row.status = "error at frame " + std::to_string(f) + ": " + ex.what();
+        }
+      heartbeat.beat(row_key(row) + " " + std::to_string(f));
+    }
   }
   k.peak_mb = status_mb("VmHWM");
   if (!s.ms.empty()) s.slice_vertices = static_sv / double(s.ms.size());
   if (!k.ms.empty()) k.slice_vertices = kinetic_sv / double(k.ms.size());
-  if (!b.ms.empty()) b.slice_vertices = paper_sv / double(b.ms.size());
+  for (std::size_t e = 0; e < extras.size(); ++e)
+    if (!extra_rows[e].ms.empty())
+      extra_rows[e].slice_vertices = extra_sv[e] / double(extra_rows[e].ms.size());
   std::vector<MethodRow> rows;
   rows.push_back(std::move(s));
   rows.push_back(std::move(k));
-  if (paper) rows.push_back(std::move(b));
+  for (MethodRow& row : extra_rows) rows.push_back(std::move(row));
   return rows;
 }
 
@@ -181,16 +209,16 @@ KineticTotals kinetic_from_fields(const std::vector<double>& f) {
 
 std::vector<MethodRow> read_worker_result(const fs::path& path, int threads) {
   std::ifstream in(path);
-  std::map<std::string, std::string> status;
+  std::vector<std::pair<std::string, std::string>> status;  // (row key, status), in the file's order
   std::map<std::string, std::vector<double>> values;
   for (std::string line; std::getline(in, line);) {
     std::istringstream fields(line);
     std::string key;
     fields >> key;
     if (key == "status") {
-      std::string method;
-      fields >> method;
-      std::getline(fields >> std::ws, status[method]);
+      auto& [row, text] = status.emplace_back();
+      fields >> row;
+      std::getline(fields >> std::ws, text);
       continue;
     }
     std::size_t count = 0;
@@ -203,17 +231,19 @@ std::vector<MethodRow> read_worker_result(const fs::path& path, int threads) {
     }
     values[key] = std::move(v);
   }
-  std::vector<MethodRow> rows(status.count("paper") ? 3 : 2);
-  rows[0].method = "static";
-  rows[1].method = "kinetic";
-  if (rows.size() == 3) rows[2].method = "paper";
-  for (MethodRow& row : rows) {
-    const std::string& m = row.method;
+  if (status.size() < 2 || status[0].first != "static" || status[1].first != "kinetic")
+    throw std::runtime_error("the worker's result does not start with the static and kinetic rows");
+  std::vector<MethodRow> rows(status.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    MethodRow& row = rows[i];
+    const std::string& m = status[i].first;
+    const auto eq = m.find('=');
+    row.method = m.substr(0, eq);
+    if (eq != std::string::npos) row.config = m.substr(eq + 1);
     row.threads = threads;
     for (const char* key : {".ms_first", ".ms", ".cpu_ms", ".memory", ".frames_with_sky"})
-      if (!values.count(m + key) || !status.count(m))
-        throw std::runtime_error("no '" + m + key + "' in the worker's result");
-    row.status = status[m];
+      if (!values.count(m + key)) throw std::runtime_error("no '" + m + key + "' in the worker's result");
+    row.status = status[i].second;
     row.ms_first = values[m + ".ms_first"].at(0);
     row.ms = values[m + ".ms"];
     row.cpu_ms = values[m + ".cpu_ms"];
@@ -263,15 +293,20 @@ int run_cone_worker(const Options& options) {
       make_sequence(options.sequences.at(0), options.sizes.at(0), options.data, !options.cloth_alone);
   const std::vector<Frame> frames = make_frames(seq, options.upsample.at(0), options.frames);
   const SlicingPlan plan = default_plan(seq, frames[0]);
-  const SlicingPlan paper = paper_plan(seq, frames[0]);
+  std::vector<ExtraPlan> extras;
+  if (options.worker_keep_sky) {
+    extras.push_back({"paper", "", paper_plan(seq, frames[0])});
+    for (const Setting& p : options.plans)
+      extras.push_back({"plan", setting_name(p), setting_plan(seq, frames[0], p)});
+  }
   heartbeat.beat("frames");
-  const auto rows = run_engines(seq.topology, plan, options.worker_keep_sky ? &paper : nullptr, frames,
-                                options.worker_threads, options.worker_keep_sky, heartbeat);
+  const auto rows = run_engines(seq.topology, plan, extras, frames, options.worker_threads,
+                                options.worker_keep_sky, heartbeat);
   const fs::path tmp = options.worker_result.string() + ".tmp";
   {
     std::ofstream out(tmp);
     for (const MethodRow& row : rows) {
-      const std::string& m = row.method;
+      const std::string m = row_key(row);
       out << "status " << m << ' ' << row.status << '\n';
       write_values(out, m + ".ms_first", {row.ms_first});
       write_values(out, m + ".ms", row.ms);
@@ -318,6 +353,12 @@ std::variant<std::vector<MethodRow>, std::string> run_cone_engines_in_child(cons
                                 "--worker-threads",
                                 std::to_string(threads)};
   if (keep_sky) args.emplace_back("--worker-keep-sky");
+  if (keep_sky && !options.plans.empty()) {
+    std::string plans;
+    for (const Setting& p : options.plans) plans += (plans.empty() ? "" : ",") + setting_name(p);
+    args.emplace_back("--plans");
+    args.push_back(plans);
+  }
   if (options.cloth_alone) args.emplace_back("--cloth-alone");
   std::vector<char*> argv;
   argv.reserve(args.size() + 1);

@@ -34,11 +34,11 @@ struct KineticTotals {
 };
 
 struct MethodRow {
-  std::string
-      method;    ///< "static", "kinetic", "embree" (fixed directions), "embree-random" (new every frame)
-  int rays = 0;  ///< Embree's rays per vertex and side
+  std::string method;  ///< "static", "kinetic", "paper", "plan", "embree" (fixed directions), "embree-random"
+  int rays = 0;        ///< Embree's rays per vertex and side
   int threads = 1;
-  std::string config;          ///< how the method was configured (Embree: BVH update, ray call, flags)
+  std::string
+      config;  ///< how the method was configured (Embree: BVH update, ray call, flags; "plan": its name)
   std::vector<double> ms;      ///< wall time per timed frame (frames 1..N-1)
   std::vector<double> cpu_ms;  ///< process CPU time per timed frame (the one-core cost at 1 thread)
   double ms_first = NAN;       ///< frame 0 (construction / BVH build / warm-up)
@@ -79,6 +79,13 @@ struct Measurement {
     for (const auto& r : rows)
       if (r.method == method && r.threads == threads && r.rays == rays) return &r;
     return nullptr;
+  }
+  /// The static engine's rows on other plans (Options::plans), in the order given.
+  std::vector<const MethodRow*> plans() const {
+    std::vector<const MethodRow*> p;
+    for (const auto& r : rows)
+      if (r.method == "plan") p.push_back(&r);
+    return p;
   }
   /// Embree's fixed-direction rows at `threads`, by ascending ray count.
   std::vector<const MethodRow*> ladder(int threads) const {

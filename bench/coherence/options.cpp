@@ -87,6 +87,12 @@ Options parse_options(int argc, char** argv) {
       explicit_reference = true;
     } else if (arg == "--reference-sample") {
       o.reference_sample = Index(to_int(next()));
+    } else if (arg == "--plans") {
+      try {
+        for (const std::string& item : split(next())) o.plans.push_back(parse_setting(item, arg));
+      } catch (const std::invalid_argument& e) {
+        usage_error(e.what());
+      }
     } else if (arg == "--data") {
       o.data = next();
     } else if (arg == "--cloth-alone") {
@@ -108,7 +114,8 @@ Options parse_options(int argc, char** argv) {
           "  [--rays 8,12,16,24,32,48,64,96,128,256,1024] [--threads 1,2] [--sweep-rays 32] [--random-rays "
           "16]\n"
           "  [--reference-rays 4096] [--reference-sample 4000] [--data DIR] [--cloth-alone] "
-          "[--kinetic-timeout S]\n");
+          "[--kinetic-timeout S]\n"
+          "  [--plans orientations:spacing:storage[:spiral],...]\n");
       std::exit(0);
     } else {
       usage_error("unknown flag '" + arg + "'");
@@ -137,6 +144,10 @@ Options parse_options(int argc, char** argv) {
   if (o.reference_rays < 1 || o.sweep_rays < 1 || o.random_rays < 0)
     usage_error("ray counts must be positive");
   if (o.reference_sample < 1) usage_error("--reference-sample must be positive");
+  for (std::size_t i = 0; i < o.plans.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (setting_name(o.plans[i]) == setting_name(o.plans[j]))
+        usage_error("--plans names " + setting_name(o.plans[i]) + " twice");
   for (const auto& s : o.sequences)
     if (!is_sequence_name(s, o.data)) usage_error("unknown sequence '" + s + "'");
   return o;

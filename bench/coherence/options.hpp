@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/coherence/plan_setting.hpp"
 #include "static_core/mesh.hpp"
 
 namespace pleat::bench {
@@ -26,7 +27,8 @@ struct Options {
   Index reference_sample = 4000;  // the reference estimates about this many vertices (a stride above it)
   double kinetic_timeout_s = 0;   // 0: automatic (see cone_worker.hpp)
   std::filesystem::path data;
-  bool cloth_alone = false;  // real sequences without the colliders they were simulated against
+  std::vector<Setting> plans;  // extra static-engine rows at u = 1 (the first thread count), one per plan
+  bool cloth_alone = false;    // real sequences without the colliders they were simulated against
   // Internal: this process is a cone-engine worker for one measurement, writing its rows here.
   std::filesystem::path worker_result;
   int worker_threads = 1;

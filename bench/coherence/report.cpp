@@ -7,6 +7,8 @@
 #include <map>
 #include <sstream>
 
+#include "bench/coherence/plan_setting.hpp"
+
 namespace pleat::bench {
 
 namespace fs = std::filesystem;
@@ -106,6 +108,65 @@ double ms_of(const MethodRow* r) { return r && r->ok() ? r->ms_per_frame() : NAN
 /// CPU ms per frame: at one thread, the one-core cost, far less sensitive than wall time to other jobs.
 double cpu_of(const MethodRow* r) { return r && r->ok() ? r->cpu_ms_per_frame() : NAN; }
 
+/// Per u = 1 measurement with "plan" rows: each plan's cost and error, whether it is on the Pareto front of
+/// the plans measured (no other plan both cheaper in CPU and no less accurate), and its ratio to Embree at
+/// matched error, cheapest plan first.
+std::string plan_tables(const std::vector<Measurement>& all) {
+  std::ostringstream out;
+  const std::string default_name = setting_name(Setting{});
+  const std::string paper_name = setting_name(setting(6, 1.0, ConeStorage::NearerEndpoint));
+  out << "Each plan is orientations:spacing in average edge lengths:storage rule (6 orientations: the "
+         "paper's "
+         "axis-aligned set; others spread over the hemisphere); **"
+      << default_name << "** is pleat's default (its row repeats the static engine's), **" << paper_name
+      << "** the paper's plan. One thread, u = 1, median process CPU ms per frame; error against the same "
+         "reference as every other row. **front**: on the Pareto front of the plans measured here, by mean "
+         "or 95th-percentile error (no other plan both cheaper and at most as far off). "
+         "**÷ Embree(K\\*)**: the plan's CPU time over Embree's at the ray count matching its error (< 1: "
+         "the plan is faster at equal accuracy).\n\n";
+  for (const auto& m : all) {
+    auto plans = m.plans();
+    if (m.upsample != 1 || plans.empty()) continue;
+    std::sort(plans.begin(), plans.end(), [](auto* a, auto* b) { return cpu_of(a) < cpu_of(b); });
+    auto on_front = [&](const MethodRow* r, bool p95) {
+      if (!r->measured_accuracy() || !r->ok()) return false;
+      const double e = p95 ? r->err.p95 : r->err.mean, c = cpu_of(r);
+      for (const MethodRow* o : plans) {
+        if (o == r || !o->measured_accuracy() || !o->ok()) continue;
+        const double oe = p95 ? o->err.p95 : o->err.mean, oc = cpu_of(o);
+        if (oc <= c && oe <= e && (oc < c || oe < e)) return false;
+      }
+      return true;
+    };
+    out << "**" << m.sequence << "**, " << m.vertices << " vertices, " << m.frames << " frames:\n\n"
+        << "| plan | slice vertices | CPU ms / frame | err mean | err p95 | flicker | front | K* (mean) | "
+           "÷ Embree(K*) | K* (p95) | ÷ Embree(K* p95) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const MethodRow* r : plans) {
+      MatchedRays k, kp;
+      const bool have = matched_embree(m, *r, 1, false, k, true);
+      const bool have_p = matched_embree(m, *r, 1, true, kp, true);
+      const bool front_mean = on_front(r, false), front_p95 = on_front(r, true);
+      const std::string front = front_mean && front_p95 ? "mean, p95"
+                                : front_mean            ? "mean"
+                                : front_p95             ? "p95"
+                                                        : "";
+      out << "| " << r->config
+          << (r->config == default_name ? " (default)"
+              : r->config == paper_name ? " (paper)"
+                                        : "")
+          << " | " << cell(r->slice_vertices, "%.0f") << " | " << cell(cpu_of(r), "%.1f") << " | "
+          << (r->measured_accuracy() ? format("%.4f | %.4f", r->err.mean, r->err.p95) : "– | –") << " | "
+          << cell(r->flicker, "%.4f") << " | " << front << " | " << (have ? rays_cell(k) : "–") << " | "
+          << (have ? ratio_cell(cpu_of(r), k) : "–") << " | " << (have_p ? rays_cell(kp) : "–") << " | "
+          << (have_p ? ratio_cell(cpu_of(r), kp) : "–") << " |";
+      if (!r->ok()) out << ' ' << r->status;
+      out << '\n';
+    }
+    out << '\n';
+  }
+  return out.str();
+}
+
 }  // namespace
 
 SourceState read_source_state() {
@@ -121,7 +182,12 @@ SourceState read_source_state() {
 
 bool matched_embree(const Measurement& m, int threads, bool p95, MatchedRays& out, bool cpu) {
   const MethodRow* s = m.row("static");
-  if (!s || !s->measured_accuracy()) return false;
+  return s && matched_embree(m, *s, threads, p95, out, cpu);
+}
+
+bool matched_embree(const Measurement& m, const MethodRow& target, int threads, bool p95, MatchedRays& out,
+                    bool cpu) {
+  if (!target.measured_accuracy()) return false;
   std::vector<Rung> ladder;
   for (const MethodRow* timed : m.ladder(threads)) {
     const MethodRow* accuracy = m.row("embree", 1, timed->rays);
@@ -132,7 +198,7 @@ bool matched_embree(const Measurement& m, int threads, bool p95, MatchedRays& ou
     ladder.push_back({double(timed->rays), ms, e, accuracy->flicker});
   }
   if (ladder.empty()) return false;
-  out = matched_rays(ladder, p95 ? s->err.p95 : s->err.mean);
+  out = matched_rays(ladder, p95 ? target.err.p95 : target.err.mean);
   return true;
 }
 
@@ -296,9 +362,10 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
       << shell_output("cut -d' ' -f1-3 /proc/loadavg") << ". Whole run: " << format("%.0f", total_seconds)
       << " s wall.\n\n";
   out << "Every method runs on the same frames; the cone engines on the same plan (`make_diffuse_plan` on "
-         "the first "
-         "frame: its defaults, 8 orientations spread over the sphere, planes 1/2 of an average edge length "
-         "apart, interpolated-on-fan storage). "
+         "the first frame with its defaults: "
+      << setting_name(Setting{})
+      << " = orientations spread over the sphere, their planes' spacing in average edge lengths, storage "
+         "rule). "
          "**ms** = wall milliseconds per "
          "frame, the "
          "median over frames 1..N−1 (frame 0 builds the engines / Embree's BVH and is not counted); **CPU** "
@@ -322,6 +389,7 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
          "bracketing ray counts of the ladder (time and flicker at K\\* likewise); `< 8` / `> 1024`: off the "
          "ladder, the ratio then a bound.\n\n";
   out << "## Headline\n\n" << headline_tables(options, source, all) << "\n";
+  if (!options.plans.empty()) out << "## Plans: error against cost\n\n" << plan_tables(all);
 
   out << "## The peer's configuration\n\nPer sequence and size, the configurations tried (one thread, "
       << options.sweep_rays

@@ -23,6 +23,9 @@ SourceState read_source_state();
 /// ladder of a u = 1 measurement (errors and flicker of its one-thread rows, times of `threads`' rows: wall
 /// time, or process CPU time if `cpu`). False when the ladder or the cone error is missing.
 bool matched_embree(const Measurement& m, int threads, bool p95, MatchedRays& out, bool cpu = false);
+/// The same for the error of `target`, any row of m that measured accuracy (a "plan" row, the paper's).
+bool matched_embree(const Measurement& m, const MethodRow& target, int threads, bool p95, MatchedRays& out,
+                    bool cpu = false);
 
 void write_csv_header(std::ostream& out);
 void write_csv_rows(std::ostream& out, const Measurement& m);

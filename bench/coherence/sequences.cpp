@@ -80,6 +80,13 @@ SlicingPlan paper_plan(const Sequence& s, const Frame& first) {
   return make_paper_plan(s.cloth, cloth_part(s, first), s.real ? &s.cover : nullptr);
 }
 
+SlicingPlan setting_plan(const Sequence& s, const Frame& first, const Setting& setting) {
+  SlicingPlan plan =
+      make_diffuse_plan(s.cloth, cloth_part(s, first), setting.plan, s.real ? &s.cover : nullptr);
+  plan.storage = setting.storage;
+  return plan;
+}
+
 Sequence make_sequence(const std::string& name, Index size, const fs::path& data, bool in_scene) {
   Sequence s;
   s.name = name;

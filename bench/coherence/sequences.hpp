@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/coherence/plan_setting.hpp"
 #include "sim_io/scene.hpp"
 #include "static_core/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
@@ -59,6 +60,8 @@ Frame cloth_part(const Sequence& s, const Frame& frame);
 /// The plans the cone engines cut `s` with: pleat's default, and the paper's, made on the cloth of `first`.
 SlicingPlan default_plan(const Sequence& s, const Frame& first);
 SlicingPlan paper_plan(const Sequence& s, const Frame& first);
+/// The plan of a named setting (plan_setting.hpp), made like default_plan.
+SlicingPlan setting_plan(const Sequence& s, const Frame& first, const Setting& setting);
 
 /// Frames 0..count-1 at temporal resolution u. Throws std::out_of_range past the sequence's end.
 std::vector<Frame> make_frames(const Sequence& s, double u, int count);
