@@ -241,12 +241,13 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
   auto& b = *scratch.m_buffers;
   // In a plane, the half-space {d : dot(d, h) >= 0} is the half-turn of directions within a quarter turn of
   // h's projection; a plane perpendicular to h lies on its boundary and keeps every direction.
-  auto clip = [&](const SlicingPlane& plane, const glm::dvec3& h, std::vector<Wedge>& out) {
+  auto clip = [&](const SlicingPlane& plane, const glm::dvec3& h, std::span<const Wedge> in,
+                  std::vector<Wedge>& out) {
     const glm::dvec2 m(glm::dot(plane.u, h), glm::dot(plane.w, h));
-    if (!(glm::length(m) > 1e-9)) return;
-    b.swap.clear();
-    clip_to_half_turn(out, wrap_angle(direction_angle(m) - kHalfPi), b.swap);
-    out.swap(b.swap);
+    if (glm::length(m) > 1e-9)
+      clip_to_half_turn(in, wrap_angle(direction_angle(m) - kHalfPi), out);
+    else
+      out.assign(in.begin(), in.end());
   };
   // 1. Clip every wedge to the side's half-space (and the planes') and lift it into space.
   b.wedges.clear();
@@ -258,9 +259,13 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
       unite_wedges(wedges, b.intervals, b.united);
       wedges = b.united;
     }
-    b.clipped.assign(wedges.begin(), wedges.end());
-    clip(plane, side_normal, b.clipped);
-    for (const glm::dvec3& h : half_spaces) clip(plane, h, b.clipped);
+    b.clipped.clear();
+    clip(plane, side_normal, wedges, b.clipped);
+    for (const glm::dvec3& h : half_spaces) {
+      b.swap.clear();
+      clip(plane, h, b.clipped, b.swap);
+      b.clipped.swap(b.swap);
+    }
     for (const Wedge& w : b.clipped)
       if (w.width > kContainTolerance) b.wedges.emplace_back(&plane, w);
   }
