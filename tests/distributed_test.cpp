@@ -156,6 +156,17 @@ TEST(Distributed, BothEnginesAtTwoAndThreeRanksWriteTheBytesOfOneProcess) {
   }
 }
 
+TEST(Distributed, TheProgressCountsTheFramesOfEveryRank) {
+  PLEAT_NEEDS_MPI();
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  const auto run = mpirun(2, "visibility " + input + " -o " + (dir / "v.csv").string() + " --progress lines");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  // Rank 1's frames reach rank 0's line through its progress messages, to the last.
+  EXPECT_NE(run.output.find("7/7 frames 100.0%"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("r0 4/4  r1 3/3"), std::string::npos) << run.output;
+}
+
 TEST(Distributed, OccludersAtTwoRanksGiveTheBytesOfOneProcess) {
   PLEAT_NEEDS_MPI();
   TempDir dir;
