@@ -1,4 +1,4 @@
-// The world over Open MPI (PLEAT_MPI=ON): see cli/world.hpp.
+// The world over Open MPI (PLEAT_MPI=ON, or AUTO with Open MPI found): see cli/world.hpp.
 #include "cli/world.hpp"
 
 // The C API only (Open MPI's deprecated C++ bindings would need libmpi_cxx).

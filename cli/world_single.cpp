@@ -1,4 +1,5 @@
-// The world of one process, without MPI (PLEAT_MPI=OFF): see cli/world.hpp.
+// The world of one process, in a pleat built without MPI (PLEAT_MPI=OFF, or AUTO without Open MPI): see
+// cli/world.hpp.
 #include <chrono>
 #include <cstdlib>
 #include <iostream>
