@@ -37,7 +37,7 @@ void add_frames_option(CLI::App& command, std::string& frames);
 /// without.
 void add_light_option(CLI::App& command, std::vector<std::string>& specs, const std::string& default_text);
 
-/// How a job's frames are split under mpirun or kept between runs (cli/distributed.hpp): --checkpoint DIR
+/// How a job's frames are split under mpirun or kept between runs (cli/chunk_plan.hpp): --checkpoint DIR
 /// and --chunks N, the same for every subcommand that distributes.
 struct ChunkOptions {
   std::string checkpoint;

@@ -8,9 +8,10 @@
 #include <vector>
 
 #include "cli/commands.hpp"
-#include "cli/distributed.hpp"
 #include "cli/global_options.hpp"
+#include "cli/job_error.hpp"
 #include "cli/termination.hpp"
+#include "cli/world.hpp"
 
 namespace {
 
@@ -129,7 +130,11 @@ int main(int argc, char** argv) {
       "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --render renders/\n"
       "  pleat compare curtain.obj --cache curtain.pc2 --frame 20 --light sky:1 -o compare.png\n"
       "  pleat view curtain.glb -o curtain_view          # a page that relights it live\n"
-      "Run `pleat SUBCOMMAND --help` for each subcommand's options.");
+      "Run `pleat SUBCOMMAND --help` for each subcommand's options.\n" +
+      std::string(
+          World::built_with_mpi()
+              ? "MPI: built in; `mpirun -np N pleat visibility|shade ...` splits the frames over N ranks."
+              : "MPI: not built in (PLEAT_MPI=OFF); pleat runs as one process."));
   pleat::cli::register_info_command(app);
   pleat::cli::register_generate_command(app);
   pleat::cli::register_visibility_command(app);

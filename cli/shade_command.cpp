@@ -26,8 +26,11 @@
 
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
-#include "cli/distributed.hpp"
 #include "cli/global_options.hpp"
+#include "cli/job_error.hpp"
+#include "cli/run_chunks.hpp"
+#include "cli/shared_load.hpp"
+#include "cli/world.hpp"
 #include "shading/cone_cache.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
@@ -38,6 +41,8 @@
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
+#include "support/byte_stream.hpp"
+#include "support/fingerprint.hpp"
 
 namespace pleat::cli {
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "cli/distributed.hpp"
+#include "cli/world.hpp"
 #include "sim_io/atomic_file.hpp"
 
 namespace pleat::cli {

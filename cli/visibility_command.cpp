@@ -8,8 +8,11 @@
 
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
-#include "cli/distributed.hpp"
 #include "cli/global_options.hpp"
+#include "cli/job_error.hpp"
+#include "cli/run_chunks.hpp"
+#include "cli/shared_load.hpp"
+#include "cli/world.hpp"
 #include "kinetic/engine.hpp"
 #include "kinetic/kinetic_visibility.hpp"
 #include "shading/cone_cache.hpp"
@@ -18,6 +21,8 @@
 #include "sim_io/self_intersections.hpp"
 #include "sim_io/visibility_csv.hpp"
 #include "static_core/visibility.hpp"
+#include "support/byte_stream.hpp"
+#include "support/fingerprint.hpp"
 
 namespace pleat::cli {
 namespace {

@@ -71,7 +71,7 @@ class ShadedGlbWriter {
                   std::vector<std::size_t> frames, double fps, bool with_visibility = false,
                   GlbLayout layout = GlbLayout::Sides);
   /// The same with each frame's position_bounds() given (frame j: bounds[j]), so the constructor reads no
-  /// frame: for a writer whose frames' positions come from elsewhere (other processes, cli/distributed.hpp).
+  /// frame: for a writer whose frames' positions come from elsewhere (other processes, cli/run_chunks.hpp).
   ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
                   std::vector<std::size_t> frames, double fps, bool with_visibility,
                   const std::vector<PositionBounds>& bounds, GlbLayout layout = GlbLayout::Sides);

@@ -39,7 +39,7 @@ std::unique_ptr<FrameSource> make_memory_source(std::vector<std::vector<glm::dve
                                                 std::vector<double> times);
 
 /// How the loading pass (validation and welding, one read of every frame) is shared by cooperating processes
-/// (cli/distributed.hpp): each reads only the frames `range` gives it and `merge` combines what they found,
+/// (cli/shared_load.hpp): each reads only the frames `range` gives it and `merge` combines what they found,
 /// so no process reads the whole cache. The default reads every frame.
 struct LoadScan {
   /// [first, last) of the frames this process reads, given the number of frames; empty: all of them.

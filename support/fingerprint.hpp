@@ -1,5 +1,5 @@
 // FNV-1a 64 (Fowler–Noll–Vo): the project's one fingerprint hash, for the identity of a mesh, a frame, a job
-// (the cone cache's header, the checkpoints of cli/distributed.hpp). Not for security.
+// (the cone cache's header, the checkpoints of cli/chunk_plan.hpp). Not for security.
 #pragma once
 
 #include <cstddef>

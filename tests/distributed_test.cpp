@@ -1,9 +1,8 @@
-// Scale-out over MPI ranks (cli/distributed.hpp, issue 16): the chunk split and assignment, and the
-// executable under `mpirun --oversubscribe -np 2|3` on one machine: the same bytes as one process for both
-// engines and for shading, a killed rank leaves no output, a rerun with --checkpoint computes only the
-// missing chunks, bad input fails once with the single process's message.
-#include "cli/distributed.hpp"
-
+// Scale-out over MPI ranks (cli/chunk_plan.hpp, cli/run_chunks.hpp, issue 16): the chunk split and
+// assignment, and the executable under `mpirun --oversubscribe -np 2|3` on one machine: the same bytes as one
+// process for both engines and for shading, a killed rank leaves no output, a rerun with --checkpoint
+// computes only the missing chunks, bad input fails once with the single process's message. The mpirun runs
+// are skipped in a build without MPI (PLEAT_MPI=OFF), where a launch by mpirun is refused instead.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -17,6 +16,9 @@
 #include <regex>
 #include <string>
 
+#include "cli/chunk_plan.hpp"
+#include "cli/shared_load.hpp"
+#include "cli/world.hpp"
 #include "sim_io/load_sequence.hpp"
 #include "test_support.hpp"
 
@@ -36,6 +38,10 @@ const std::string kRankSanitizerEnv = "LSAN_OPTIONS=" PLEAT_MPI_LSAN_OPTIONS " "
 #else
 const std::string kRankSanitizerEnv;
 #endif
+
+/// The mpirun runs need a pleat built with MPI.
+#define PLEAT_NEEDS_MPI() \
+  if (!cli::World::built_with_mpi()) GTEST_SKIP() << "pleat is built without MPI (PLEAT_MPI=OFF)"
 
 /// `mpirun -np N pleat ARGS` on this machine, as root or not; `env` (NAME=VALUE) is passed to every rank.
 CommandResult mpirun(int ranks, const std::string& args, const std::string& env = "") {
@@ -126,6 +132,7 @@ TEST(Distributed, AssignChunksGivesEachRankAContiguousRunOfTheMissingChunks) {
 }
 
 TEST(Distributed, BothEnginesAtTwoAndThreeRanksWriteTheBytesOfOneProcess) {
+  PLEAT_NEEDS_MPI();
   TempDir dir;
   const std::string input = make_curtain(dir);
   for (const std::string engine : {"kinetic", "static"}) {
@@ -149,7 +156,19 @@ TEST(Distributed, BothEnginesAtTwoAndThreeRanksWriteTheBytesOfOneProcess) {
   }
 }
 
+TEST(Distributed, TheProgressCountsTheFramesOfEveryRank) {
+  PLEAT_NEEDS_MPI();
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  const auto run = mpirun(2, "visibility " + input + " -o " + (dir / "v.csv").string() + " --progress lines");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  // Rank 1's frames reach rank 0's line through its progress messages, to the last.
+  EXPECT_NE(run.output.find("7/7 frames 100.0%"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("r0 4/4  r1 3/3"), std::string::npos) << run.output;
+}
+
 TEST(Distributed, OccludersAtTwoRanksGiveTheBytesOfOneProcess) {
+  PLEAT_NEEDS_MPI();
   TempDir dir;
   const std::string input = make_curtain(dir);
   const std::string scene =
@@ -167,6 +186,7 @@ TEST(Distributed, OccludersAtTwoRanksGiveTheBytesOfOneProcess) {
 }
 
 TEST(Distributed, ShadeAtTwoAndThreeRanksWritesTheGlbAndImagesOfOneProcess) {
+  PLEAT_NEEDS_MPI();
   TempDir dir;
   const std::string input = make_curtain(dir);
   const std::string lights =
@@ -196,6 +216,7 @@ TEST(Distributed, ShadeAtTwoAndThreeRanksWritesTheGlbAndImagesOfOneProcess) {
 }
 
 TEST(Distributed, TheConeCacheAtTwoAndThreeRanksAndFromACheckpointIsTheOneOfOneProcess) {
+  PLEAT_NEEDS_MPI();
   TempDir dir;
   const std::string input = make_curtain(dir);
   const std::string one = (dir / "one").string();
@@ -229,6 +250,7 @@ TEST(Distributed, TheConeCacheAtTwoAndThreeRanksAndFromACheckpointIsTheOneOfOneP
 }
 
 TEST(Distributed, AKilledRankFailsTheJobAndLeavesNoOutput) {
+  PLEAT_NEEDS_MPI();
   TempDir dir;
   const std::string input = make_curtain(dir);
   std::filesystem::create_directories(dir / "out");
@@ -245,6 +267,7 @@ TEST(Distributed, AKilledRankFailsTheJobAndLeavesNoOutput) {
 }
 
 TEST(Distributed, ARerunWithTheCheckpointComputesOnlyTheMissingChunks) {
+  PLEAT_NEEDS_MPI();
   TempDir dir;
   const std::string input = make_curtain(dir);
   const std::string single = (dir / "one.csv").string();
@@ -278,6 +301,7 @@ TEST(Distributed, ARerunWithTheCheckpointComputesOnlyTheMissingChunks) {
 }
 
 TEST(Distributed, AChangedInputOrPlanInvalidatesTheCheckpoint) {
+  PLEAT_NEEDS_MPI();
   TempDir dir;
   const std::string input = make_curtain(dir);
   const std::string args = "visibility " + input + " -o " + (dir / "v.csv").string() +
@@ -302,6 +326,27 @@ TEST(Distributed, AChangedInputOrPlanInvalidatesTheCheckpoint) {
   ASSERT_EQ(changed.exit_code, 0) << changed.output;
   EXPECT_NE(changed.output.find("3 chunks over 2 ranks, 2 kept from the checkpoint"), std::string::npos)
       << changed.output;
+}
+
+TEST(Distributed, WithoutMpiALaunchByMpirunIsRefusedOnceWithoutOutput) {
+  if (cli::World::built_with_mpi()) GTEST_SKIP() << "pleat is built with MPI";
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  const std::string args = " visibility " + input + " -o " + (dir / "v.csv").string();
+  const std::string refusal = "pleat: error: this pleat was built without MPI";
+  // What mpirun gives each rank of two: rank 0 says why, every rank exits with 2.
+  for (int rank : {0, 1}) {
+    const auto run = test::run_command("OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=" + std::to_string(rank) +
+                                       " " + PLEAT_EXECUTABLE + args);
+    EXPECT_EQ(run.exit_code, 2) << run.output;
+    EXPECT_EQ(run.output.find(refusal) != std::string::npos, rank == 0) << run.output;
+    EXPECT_FALSE(std::filesystem::exists(dir / "v.csv"));
+  }
+  // A job of one rank is one process.
+  const auto one = test::run_command("OMPI_COMM_WORLD_SIZE=1 OMPI_COMM_WORLD_RANK=0 " +
+                                     std::string(PLEAT_EXECUTABLE) + args);
+  EXPECT_EQ(one.exit_code, 0) << one.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "v.csv"));
 }
 
 /// The generated curtain with vertex 0 split in two at its first face (as exporters split seams): the copy
@@ -338,6 +383,7 @@ std::string make_split_curtain(const TempDir& dir, int split_from) {
 }
 
 TEST(Distributed, WeldingOverSharedLoadingEqualsOneProcess) {
+  PLEAT_NEEDS_MPI();
   for (int split_from : {7, 5}) {
     TempDir dir;
     const std::string input = make_split_curtain(dir, split_from);
@@ -352,6 +398,7 @@ TEST(Distributed, WeldingOverSharedLoadingEqualsOneProcess) {
 }
 
 TEST(Distributed, BadInputFailsOnceWithTheSingleProcessMessageAndNoOutput) {
+  PLEAT_NEEDS_MPI();
   TempDir dir;
   const std::string input = make_curtain(dir, 6, 7);
   {
