@@ -72,12 +72,6 @@ constexpr Index kGeneratedSize = 3025;
 constexpr std::size_t kGeneratedFrame = 6;  // of the generated kinds (as in tests/visibility_accuracy_test)
 constexpr double kOracleOffset = 1e-3;      // of the average edge length
 
-std::string format(const char* fmt, auto... args) {
-  char buffer[512];
-  std::snprintf(buffer, sizeof buffer, fmt, args...);
-  return buffer;
-}
-
 struct Result {
   std::string sequence, variant;
   double ms = NAN;  // wall time of the variant's cone computation (all threads)

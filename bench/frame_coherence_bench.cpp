@@ -58,6 +58,7 @@
 #include <variant>
 #include <vector>
 
+#include "bench/bench_args.hpp"
 #include "bench/coherence/cone_worker.hpp"
 #include "bench/coherence/memory_window.hpp"
 #include "bench/coherence/options.hpp"
@@ -75,12 +76,6 @@ namespace fs = std::filesystem;
 
 constexpr Index kLargeVertices = 10000;
 constexpr double kEqualTolerance = 1e-9;
-
-std::string format(const char* fmt, auto... args) {
-  char buffer[512];
-  std::snprintf(buffer, sizeof buffer, fmt, args...);
-  return buffer;
-}
 
 /// max |a − b| over every frame and value; infinite when the shapes differ.
 double max_difference(const std::vector<SkyValues>& a, const std::vector<SkyValues>& b) {

@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "bench/bench_args.hpp"
 #include "bench/coherence/plan_setting.hpp"
 
 namespace pleat::bench {
@@ -14,12 +15,6 @@ namespace pleat::bench {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string format(const char* fmt, auto... args) {
-  char buffer[512];
-  std::snprintf(buffer, sizeof buffer, fmt, args...);
-  return buffer;
-}
 
 std::string num(double x, const char* fmt = "%.6g") {
   return std::isfinite(x) ? format(fmt, x) : std::string();
