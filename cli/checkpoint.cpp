@@ -91,20 +91,32 @@ std::vector<bool> Checkpoint::scan(const std::vector<std::size_t>& bounds,
 
 void Checkpoint::read(std::size_t first, std::size_t last, const ConsumeFrame& consume) const {
   const std::filesystem::path path = path_of(first, last);
+  auto unreadable = [&](const std::string& why) {
+    return std::runtime_error(path.string() + ": checkpoint chunk unreadable: " + why);
+  };
+  std::error_code ec;
+  const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
+  if (ec) throw unreadable(ec.message());
   std::ifstream in(path, std::ios::binary);
   const ChunkHeader header = read_header(in);
-  for (std::size_t f = header.first; f < header.last && in; ++f) {
+  if (!in) throw unreadable("no header");
+  std::uintmax_t at = kHeaderBytes;  // bytes of the file read so far
+  for (std::size_t f = header.first; f < header.last; ++f) {
+    const std::string place = "frame " + std::to_string(f) + ", byte " + std::to_string(at);
     std::string record(kRecordBytes, '\0');
     in.read(record.data(), std::streamsize(record.size()));
-    if (!in) break;
+    if (!in) throw unreadable(place + ": the file ends");
+    at += kRecordBytes;
     ByteReader reader(record);
     const auto frame = reader.get<std::uint64_t>(), size = reader.get<std::uint64_t>();
+    if (frame != f) throw unreadable(place + ": the record is of frame " + std::to_string(frame));
+    if (size > file_size - at) throw unreadable(place + ": a record of " + std::to_string(size) + " bytes");
     std::string bytes(size, '\0');
     in.read(bytes.data(), std::streamsize(bytes.size()));
-    if (!in || frame != f) break;
+    if (!in) throw unreadable(place + ": the file ends");
+    at += size;
     consume(f, bytes);
   }
-  if (!in) throw std::runtime_error(path.string() + ": checkpoint chunk unreadable");
 }
 
 ChunkFile::ChunkFile(const Checkpoint& checkpoint, std::size_t first, std::size_t last,

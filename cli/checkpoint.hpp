@@ -30,7 +30,9 @@ class Checkpoint {
   std::filesystem::path path_of(std::size_t first, std::size_t last) const;
   const std::filesystem::path& dir() const { return m_dir; }
   std::uint64_t job_key() const { return m_job_key; }
-  /// Passes every frame of the kept chunk [first, last) to `consume`, in order; throws if it is unreadable.
+  /// Passes every frame of the kept chunk [first, last) to `consume`, in order; throws std::runtime_error
+  /// naming the file, the frame and the byte if it is unreadable (truncated, a record of another frame, a
+  /// record longer than what is left of the file), before allocating for such a record.
   void read(std::size_t first, std::size_t last, const ConsumeFrame& consume) const;
 
  private:

@@ -5,6 +5,7 @@
 // are skipped in a build without MPI (PLEAT_MPI=OFF), where a launch by mpirun is refused instead.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstdio>
@@ -298,6 +299,34 @@ TEST(Distributed, ARerunWithTheCheckpointComputesOnlyTheMissingChunks) {
   ASSERT_EQ(fourth.exit_code, 0) << fourth.output;
   EXPECT_NE(fourth.output.find("4 kept from the checkpoint"), std::string::npos) << fourth.output;
   EXPECT_TRUE(slurp(dir / "v.csv") == slurp(single));
+}
+
+TEST(Distributed, ADamagedChunkFailsCleanlyWithoutOutput) {
+  // A chunk whose header, keys and end marker are intact but whose first record claims 2^62 bytes: the rerun
+  // names the file and the place and writes nothing (it neither allocates for the record nor crashes).
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  const std::string args = "visibility " + input + " -o " + (dir / "v.csv").string() +
+                           " --chunks 2 --checkpoint " + (dir / "ck").string();
+  ASSERT_EQ(test::run_pleat(args).exit_code, 0);
+  std::vector<std::filesystem::path> chunks;
+  for (const auto& e : std::filesystem::directory_iterator(dir / "ck")) chunks.push_back(e.path());
+  ASSERT_EQ(chunks.size(), 2u);
+  std::sort(chunks.begin(), chunks.end());
+  {
+    std::fstream chunk(chunks[0], std::ios::binary | std::ios::in | std::ios::out);
+    chunk.seekp(8 + 4 * 8 + 8);  // the header, then the first record's frame number: its byte count
+    const std::uint64_t huge = std::uint64_t(1) << 62;
+    chunk.write(reinterpret_cast<const char*>(&huge), sizeof huge);
+  }
+  std::filesystem::remove(dir / "v.csv");
+  const auto rerun = test::run_pleat(args);
+  EXPECT_NE(rerun.exit_code, 0);
+  EXPECT_NE(rerun.output.find(chunks[0].filename().string() +
+                              ": checkpoint chunk unreadable: frame 0, byte 40: a record of"),
+            std::string::npos)
+      << rerun.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "v.csv"));
 }
 
 TEST(Distributed, AChangedInputOrPlanInvalidatesTheCheckpoint) {
