@@ -300,10 +300,5 @@ int run(int argc, char** argv) {
 }  // namespace pleat::bench
 
 int main(int argc, char** argv) {
-  try {
-    return pleat::bench::run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "frame_coherence_bench: %s\n", e.what());
-    return 1;
-  }
+  return pleat::bench::run_main("frame_coherence_bench", pleat::bench::run, argc, argv);
 }

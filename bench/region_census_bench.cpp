@@ -207,9 +207,8 @@ int run(int argc, char** argv) {
         "of every slice, by its region's kind. Slices: those whose regions are all closed or pockets, and "
         "their share of the slice vertices. Pieces: the cloth's vertex sides by the pieces of their 3D "
         "cone.\n\n"
-     << "| sequence | slice vertices | closed | pocket | one window, not monotone | several windows | holes "
-        "| "
-        "simple slices | their slice vertices | 0 pieces | 1 piece | 2+ pieces |\n"
+     << "| sequence | slice vertices | closed | pocket | one window, not monotone | several windows | "
+     << "holes | simple slices | their slice vertices | 0 pieces | 1 piece | 2+ pieces |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const std::string& row : rows) md << row << '\n';
   std::printf("region_census: wrote %s\n", (out_dir / "region_census.md").c_str());
@@ -220,10 +219,5 @@ int run(int argc, char** argv) {
 }  // namespace pleat::bench
 
 int main(int argc, char** argv) {
-  try {
-    return pleat::bench::run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "region_census_bench: %s\n", e.what());
-    return 1;
-  }
+  return pleat::bench::run_main("region_census_bench", pleat::bench::run, argc, argv);
 }
