@@ -28,15 +28,7 @@ for o in 8 12 16 24; do
 done
 plans="${PLANS:-${grid%,}}"
 
-python=""
-for candidate in python3 /usr/bin/python3; do
-  if "$candidate" -c "import matplotlib" 2>/dev/null; then python="$candidate"; break; fi
-done
-[ -n "$python" ] ||
-  { echo "run_error_cost: matplotlib is missing (Debian: apt-get install python3-matplotlib)" >&2; exit 2; }
-
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build_dir" --target frame_coherence_bench -j "$(nproc 2>/dev/null || echo 2)"
+source bench/frame_coherence_setup.sh run_error_cost  # sets $python, builds the benchmark
 
 tmp="$build_dir/error_cost"  # the benchmark's own file names; copied to $out under this run's names
 mkdir -p "$tmp"

@@ -15,16 +15,7 @@ cd "$(dirname "$0")/.."
 build_dir="${BUILD_DIR:-build}"
 out=bench/results
 
-# The first Python that has matplotlib (a pyenv/venv python3 on PATH may not see Debian's python3-matplotlib).
-python=""
-for candidate in python3 /usr/bin/python3; do
-  if "$candidate" -c "import matplotlib" 2>/dev/null; then python="$candidate"; break; fi
-done
-[ -n "$python" ] ||
-  { echo "run_frame_coherence: matplotlib is missing (Debian: apt-get install python3-matplotlib)" >&2; exit 2; }
-
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build_dir" --target frame_coherence_bench -j "$(nproc 2>/dev/null || echo 2)"
+source bench/frame_coherence_setup.sh run_frame_coherence  # sets $python, builds the benchmark
 
 start=$(date +%s)
 status=0

@@ -283,6 +283,9 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
   const bool blend = aim || plan.storage == ConeStorage::InterpolatedOnFan;
   auto assemble_vertex = [&](std::size_t v) {
     Workspace& ws = workspaces.local();
+    ws.half_spaces.clear();  // the side of each occluding plane the vertex is on (a vertex on it: above)
+    for (const OccludingPlane& p : topology.planes)
+      ws.half_spaces.push_back(glm::dot(p.normal, frame.positions[v]) >= p.offset ? p.normal : -p.normal);
     for (int side = 0; side < 2; ++side) {
       ws.cones.clear();
       ws.blended.clear();
@@ -302,11 +305,6 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
       for (const auto& [cone, begin, count] : ws.blends)  // ws.blended has stopped growing
         ws.cones[cone].wedges = {ws.blended.data() + begin, count};
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];
-      if (side == 0) {  // the side of each occluding plane the vertex is on (a vertex on it: above)
-        ws.half_spaces.clear();
-        for (const OccludingPlane& p : topology.planes)
-          ws.half_spaces.push_back(glm::dot(p.normal, frame.positions[v]) >= p.offset ? p.normal : -p.normal);
-      }
       assemble_and_measure_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v],
                                 &result.measures[side][v], ws.half_spaces);
     }
