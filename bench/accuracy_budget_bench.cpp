@@ -307,6 +307,7 @@ int run(int argc, char** argv) {
       if (quick && orientations != 6) continue;
       SlicingPlan plan = make_diffuse_plan(topology, frame, s.plan);
       plan.storage = s.storage;
+      plan.reconstruction = s.reconstruction;
       StaticVisibility engine(topology, plan, VisibilityParams{false});
       engine.compute(frame);  // warm-up: buffers grow
       const Stopwatch watch;
@@ -314,12 +315,13 @@ int run(int argc, char** argv) {
       const double ms = watch.process_cpu_ms();
       const SkyValues a = sky_of(vis.measures);
       const std::string label = format(
-          "%s%d %s, %g edge apart, %s",
+          "%s%d %s, %g edge apart, %s%s",
           orientations == 6 && spacing_edges == 1 && s.storage == kPaper ? "paper: " : "", orientations,
           orientations == 6 ? "axis orientations"
           : s.plan.relaxed  ? "spread orientations"
                             : "spread orientations on the spiral",
-          spacing_edges, cone_storage_name(s.storage));
+          spacing_edges, cone_storage_name(s.storage),
+          s.reconstruction == ConeReconstruction::Grouped ? "" : ", nearest-circle");
       add(compare(a, reference, [](std::size_t) { return true; }), label, ms);
       if (orientations == 6 && spacing_edges == 1.0 && s.storage == kPaper) {
         const std::vector<bool> own = own_in_every_orientation(topology, frame, plan);

@@ -110,6 +110,7 @@ void broadcast_plan(SlicingPlan& plan) {
   if (World::root())
     bytes = ByteWriter()
                 .put<std::uint64_t>(std::uint64_t(plan.storage))
+                .put<std::uint64_t>(std::uint64_t(plan.reconstruction))
                 .put(plan.spacing)
                 .put_array(plan.orientations)
                 .put_array(plan.planes)
@@ -117,6 +118,7 @@ void broadcast_plan(SlicingPlan& plan) {
   World::broadcast(bytes, 0);
   ByteReader reader(bytes);
   plan.storage = ConeStorage(reader.get<std::uint64_t>());
+  plan.reconstruction = ConeReconstruction(reader.get<std::uint64_t>());
   plan.spacing = reader.get<double>();
   plan.orientations = reader.get_array<glm::dvec3>();
   plan.planes = reader.get_array<SlicingPlane>();
@@ -125,6 +127,8 @@ void broadcast_plan(SlicingPlan& plan) {
 std::uint64_t plan_fingerprint(const SlicingPlan& plan) {
   Fingerprint f;
   f.add_value(int(plan.storage)).add_value(plan.spacing);
+  // (Added only when not the default, so that the checkpoints of grouped plans stay valid.)
+  if (plan.reconstruction != ConeReconstruction::Grouped) f.add_value(int(plan.reconstruction));
   f.add(plan.orientations.data(), plan.orientations.size() * sizeof(glm::dvec3));
   for (const SlicingPlane& p : plan.planes)
     f.add_value(p.normal).add_value(p.offset).add_value(p.u).add_value(p.w).add_value(p.orientation);

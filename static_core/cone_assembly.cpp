@@ -7,6 +7,7 @@
 #include <memory>
 #include <numeric>
 
+#include "static_core/internal/nearest_circle.hpp"
 #include "static_core/union_find.hpp"
 
 namespace pleat {
@@ -225,6 +226,7 @@ struct ConeAssemblyScratch::Buffers {
   std::vector<SphericalPolygon> pieces;  // capacity kept across calls
   std::vector<double> piece_solid_angle;
   std::vector<glm::dvec3> piece_irradiance;
+  NearestCircleAssembler nearest_circle;
 };
 
 ConeAssemblyScratch::ConeAssemblyScratch() : m_buffers(std::make_unique<Buffers>()) {}
@@ -237,8 +239,19 @@ void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_nor
 
 void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
                                ConeAssemblyScratch& scratch, VisibilityCone& result, ConeMeasures* measures,
-                               std::span<const glm::dvec3> half_spaces) {
+                               std::span<const glm::dvec3> half_spaces, ConeReconstruction rule) {
   auto& b = *scratch.m_buffers;
+  if (rule == ConeReconstruction::NearestCircle) {
+    b.nearest_circle.assemble(cones, side_normal, half_spaces, result);
+    if (measures) {
+      MeasureSums sums;
+      for (std::size_t i = 0; i < result.pieces.size(); ++i)
+        sums.add(result.pieces[i], b.nearest_circle.irradiance()[i], b.nearest_circle.solid_angle()[i],
+                 side_normal);
+      *measures = sums.measures(side_normal);
+    }
+    return;
+  }
   // In a plane, the half-space {d : dot(d, h) >= 0} is the half-turn of directions within a quarter turn of
   // h's projection; a plane perpendicular to h lies on its boundary and keeps every direction.
   auto clip = [&](const SlicingPlane& plane, const glm::dvec3& h, std::span<const Wedge> in,

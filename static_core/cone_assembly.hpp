@@ -44,10 +44,12 @@ void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_nor
 /// The same, and the cone's measures (as measure_cone gives them) from the integrals the assembly computes
 /// anyway (each piece's vector irradiance and solid angle): what the engines call. Each wedge is also clipped
 /// to every half-space {d : dot(d, h) >= 0} of `half_spaces` (unit normals: the sides of the occluding planes
-/// the vertex is on, MeshTopology::planes).
+/// the vertex is on, MeshTopology::planes). `rule` NearestCircle: the cone by the nearest-circle rule instead
+/// (static_core/internal/nearest_circle.hpp; its pieces are disjoint cells, many more than the groups).
 void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
                                ConeAssemblyScratch& scratch, VisibilityCone& result, ConeMeasures* measures,
-                               std::span<const glm::dvec3> half_spaces = {});
+                               std::span<const glm::dvec3> half_spaces = {},
+                               ConeReconstruction rule = ConeReconstruction::Grouped);
 /// The same, allocating (tests, one-off use).
 VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal);
 

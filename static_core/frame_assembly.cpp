@@ -306,7 +306,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         ws.cones[cone].wedges = {ws.blended.data() + begin, count};
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];
       assemble_and_measure_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v],
-                                &result.measures[side][v], ws.half_spaces);
+                                &result.measures[side][v], ws.half_spaces, plan.reconstruction);
     }
   };
   if (params.parallel)

@@ -338,4 +338,20 @@ ConeStorage cone_storage_from_name(std::string_view name) {
   throw std::invalid_argument("unknown cone storage rule '" + std::string(name) + "'");
 }
 
+const char* cone_reconstruction_name(ConeReconstruction reconstruction) {
+  switch (reconstruction) {
+    case ConeReconstruction::Grouped:
+      return "grouped";
+    case ConeReconstruction::NearestCircle:
+      return "nearest-circle";
+  }
+  return "?";
+}
+
+ConeReconstruction cone_reconstruction_from_name(std::string_view name) {
+  for (ConeReconstruction r : {ConeReconstruction::Grouped, ConeReconstruction::NearestCircle})
+    if (name == cone_reconstruction_name(r)) return r;
+  throw std::invalid_argument("unknown cone reconstruction rule '" + std::string(name) + "'");
+}
+
 }  // namespace pleat

@@ -55,10 +55,22 @@ enum class ConeStorage {
   AimedOnFan,
 };
 
+/// How a vertex's 2D cones become its 3D cone (docs/method.md §8).
+enum class ConeReconstruction {
+  /// The paper's: wedges that cross or come close are grouped, each group one polygon through its wedges'
+  /// bounding directions sorted about the group's mean direction.
+  Grouped,
+  /// Every direction takes the visibility of the nearest point of the nearest slicing circle through the
+  /// vertex (its cell on the sphere, projected onto the circle along the meridian): exact polygons, no
+  /// grouping rules (static_core/internal/nearest_circle.hpp).
+  NearestCircle,
+};
+
 struct SlicingPlan {
   std::vector<glm::dvec3> orientations;  ///< unit normals, one per family of planes
   std::vector<SlicingPlane> planes;
   ConeStorage storage = ConeStorage::AimedOnFan;
+  ConeReconstruction reconstruction = ConeReconstruction::Grouped;
   /// > 0: the planes are the world-anchored lattice of this spacing (cover_with_planes), so a plan is
   /// (orientations, spacing, storage) plus the box it covers; 0: the planes were placed one by one (adaptive,
   /// counted, light plans) and are the plan.
@@ -77,6 +89,11 @@ Bounds cloth_bounds(const MeshTopology& topology, const Frame& frame);
 const char* cone_storage_name(ConeStorage storage);
 /// The rule of a name from cone_storage_name; throws std::invalid_argument for any other.
 ConeStorage cone_storage_from_name(std::string_view name);
+
+/// "grouped", "nearest-circle".
+const char* cone_reconstruction_name(ConeReconstruction reconstruction);
+/// The rule of a name from cone_reconstruction_name; throws std::invalid_argument for any other.
+ConeReconstruction cone_reconstruction_from_name(std::string_view name);
 
 /// The plane through `point` with unit normal `normal` and a deterministic in-plane frame.
 SlicingPlane make_plane(const glm::dvec3& normal, double offset, int orientation);

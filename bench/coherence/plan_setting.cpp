@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <vector>
 
 namespace pleat::bench {
 
@@ -20,15 +21,30 @@ Setting parse_setting(const std::string& text, const std::string& flag) {
   auto bad = [&](const std::string& why) {
     return std::invalid_argument(
         flag + ": '" + text + "' " + why +
-        " (expected orientations:spacing:storage[:spiral], e.g. 12:0.5:aimed-on-fan)");
+        " (expected orientations:spacing:storage[:spiral][:nearest-circle], e.g. 12:0.5:aimed-on-fan)");
   };
-  const auto a = text.find(':'), b = a == std::string::npos ? a : text.find(':', a + 1);
-  if (b == std::string::npos) throw bad("has fewer than three fields");
-  const auto c = text.find(':', b + 1);
-  const std::string count = text.substr(0, a), spacing = text.substr(a + 1, b - a - 1);
-  const std::string storage = text.substr(b + 1, c == std::string::npos ? std::string::npos : c - b - 1);
-  if (c != std::string::npos && text.substr(c + 1) != "spiral")
-    throw bad("ends in neither the storage rule nor ':spiral'");
+  std::vector<std::string> fields;
+  for (std::size_t from = 0;;) {
+    const auto to = text.find(':', from);
+    fields.push_back(text.substr(from, to == std::string::npos ? std::string::npos : to - from));
+    if (to == std::string::npos) break;
+    from = to + 1;
+  }
+  if (fields.size() < 3) throw bad("has fewer than three fields");
+  const std::string &count = fields[0], &spacing = fields[1], &storage = fields[2];
+  bool relaxed = true;
+  ConeReconstruction reconstruction = ConeReconstruction::Grouped;
+  for (std::size_t i = 3; i < fields.size(); ++i) {
+    if (fields[i] == "spiral") {
+      relaxed = false;
+      continue;
+    }
+    try {
+      reconstruction = cone_reconstruction_from_name(fields[i]);
+    } catch (const std::invalid_argument&) {
+      throw bad("has a field '" + fields[i] + "' that is neither 'spiral' nor a reconstruction rule");
+    }
+  }
   int orientations = 0;
   double edges = 0;
   std::size_t used = 0;
@@ -51,14 +67,19 @@ Setting parse_setting(const std::string& text, const std::string& flag) {
   } catch (const std::invalid_argument&) {
     throw bad("names no storage rule (nearer-endpoint, nearest-on-fan, interpolated-on-fan, aimed-on-fan)");
   }
-  return setting(orientations, edges, rule, c == std::string::npos);
+  Setting result = setting(orientations, edges, rule, relaxed);
+  result.reconstruction = reconstruction;
+  return result;
 }
 
 std::string setting_name(const Setting& s) {
   char spacing[32];
   std::snprintf(spacing, sizeof spacing, "%g", s.plan.spacing_in_edges);
   return std::to_string(s.plan.orientations) + ':' + spacing + ':' + cone_storage_name(s.storage) +
-         (s.plan.relaxed ? "" : ":spiral");
+         (s.plan.relaxed ? "" : ":spiral") +
+         (s.reconstruction == ConeReconstruction::Grouped
+              ? ""
+              : std::string(":") + cone_reconstruction_name(s.reconstruction));
 }
 
 }  // namespace pleat::bench

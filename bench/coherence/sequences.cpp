@@ -84,6 +84,7 @@ SlicingPlan setting_plan(const Sequence& s, const Frame& first, const Setting& s
   SlicingPlan plan =
       make_diffuse_plan(s.cloth, cloth_part(s, first), setting.plan, s.real ? &s.cover : nullptr);
   plan.storage = setting.storage;
+  plan.reconstruction = setting.reconstruction;
   return plan;
 }
 
