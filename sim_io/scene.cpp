@@ -100,7 +100,7 @@ void Scene::add(std::vector<LoadedOccluder> occluders, const std::vector<GroundP
     const int a = (g.axis + 1) % 3,
               b = (g.axis + 2) % 3;  // (a, b, axis) right-handed: the square faces +axis
     const Index base = m_topology.num_vertices;
-    for (const auto [sa, sb] : {std::pair{-1, -1}, std::pair{1, -1}, std::pair{1, 1}, std::pair{-1, 1}}) {
+    for (const auto& [sa, sb] : {std::pair{-1, -1}, std::pair{1, -1}, std::pair{1, 1}, std::pair{-1, 1}}) {
       glm::dvec3 corner(0.0);
       corner[g.axis] = g.height;
       corner[a] = centre[a] + sa * half;

@@ -144,6 +144,8 @@ double aim_end(double blended, const glm::dvec2* point, const glm::dvec2& eye, f
 /// aim->eye to the blend of the two horizon points (aim_wedges).
 struct Aim {
   glm::dvec2 apex_a, apex_b, eye;
+  double gap;                             ///< plane b's offset minus plane a's
+  std::vector<HorizonTangent>* tangents;  ///< null: none wanted
 };
 
 bool blend_or_aim(std::span<const Wedge> a, std::span<const Wedge> b, double t, const Aim* aim,
@@ -182,20 +184,36 @@ bool blend_or_aim(std::span<const Wedge> a, std::span<const Wedge> b, double t, 
     if (aim) {
       // The horizon points of the matched ends, blended: where the occluding silhouette crosses the plane
       // through the eye, to first order.
-      auto point = [&](double ax, float rx, double ay, float ry, glm::dvec2& p) -> const glm::dvec2* {
-        if (!std::isfinite(rx) || !std::isfinite(ry)) return nullptr;
-        const glm::dvec2 px = aim->apex_a + double(rx) * glm::dvec2(std::cos(ax), std::sin(ax));
-        const glm::dvec2 py = aim->apex_b + double(ry) * glm::dvec2(std::cos(ay), std::sin(ay));
-        p = px + t * (py - px);
-        return &p;
+      struct Points {
+        glm::dvec2 x, y, blend;
       };
-      glm::dvec2 ps, pe;
+      auto point = [&](double ax, float rx, double ay, float ry, Points& p) -> const glm::dvec2* {
+        if (!std::isfinite(rx) || !std::isfinite(ry)) return nullptr;
+        p.x = aim->apex_a + double(rx) * glm::dvec2(std::cos(ax), std::sin(ax));
+        p.y = aim->apex_b + double(ry) * glm::dvec2(std::cos(ay), std::sin(ay));
+        p.blend = p.x + t * (p.y - p.x);
+        return &p.blend;
+      };
+      Points ps{}, pe{};
       const double ds =
           aim_end(start, point(x.start, x.start_reach, y.start, y.start_reach, ps), aim->eye, start_reach);
       const double de =
           aim_end(start + width, point(x.end(), x.end_reach, y.end(), y.end_reach, pe), aim->eye, end_reach);
       start += ds;
       width = std::min(width + de - ds, kTwoPi);
+      // The horizon's great circle at an aimed end: through the eye and both horizon points (the aimed
+      // direction, towards their blend, lies in it).
+      auto tangent = [&](const Points& p, double angle) {
+        const glm::dvec3 to_x(p.x - aim->eye, -t * aim->gap), to_y(p.y - aim->eye, (1 - t) * aim->gap);
+        const glm::dvec3 n = glm::cross(to_x, to_y);
+        const double length = glm::length(n);
+        if (length > 1e-12 * glm::length(to_x) * glm::length(to_y))
+          aim->tangents->push_back({wrap_angle(angle), n / length});
+      };
+      if (aim->tangents && aim->gap != 0 && width > 0) {
+        if (std::isfinite(start_reach)) tangent(ps, start);
+        if (std::isfinite(end_reach)) tangent(pe, start + width);
+      }
     }
     if (width > 0) s.a.push_back({wrap_angle(start), width, start_reach, end_reach});
   }
@@ -212,8 +230,8 @@ bool blend_wedges(std::span<const Wedge> a, std::span<const Wedge> b, double t, 
 
 bool aim_wedges(std::span<const Wedge> a, const glm::dvec2& apex_a, std::span<const Wedge> b,
                 const glm::dvec2& apex_b, double t, const glm::dvec2& eye, WedgeScratch& s,
-                std::vector<Wedge>& out) {
-  const Aim aim{apex_a, apex_b, eye};
+                std::vector<Wedge>& out, double gap, std::vector<HorizonTangent>* tangents) {
+  const Aim aim{apex_a, apex_b, eye, gap, tangents};
   return blend_or_aim(a, b, t, &aim, s, out);
 }
 

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <span>
 #include <utility>
 #include <vector>
@@ -99,9 +100,16 @@ inline constexpr double kMaxAimTurn = kTwoPi / 8;
 /// to it (docs/method.md §7) — unless that turns it by more than kMaxAimTurn from the blended angle. Other
 /// ends are blended as blend_wedges does. A wedge whose ends cross is dropped. Returns false as blend_wedges
 /// does.
+/// With `tangents`, each aimed end also gives the great circle the horizon follows across the planes there:
+/// the plane through the eye and the end's two horizon points (the planes `gap` apart along their normal, the
+/// eye at t between them), appended as a HorizonTangent.
+struct HorizonTangent {
+  double angle;       ///< the aimed end's angle in [0, 2pi)
+  glm::dvec3 normal;  ///< unit normal of the horizon's great circle, in (u, w, plane normal) coordinates
+};
 bool aim_wedges(std::span<const Wedge> a, const glm::dvec2& apex_a, std::span<const Wedge> b,
                 const glm::dvec2& apex_b, double t, const glm::dvec2& eye, WedgeScratch& scratch,
-                std::vector<Wedge>& out);
+                std::vector<Wedge>& out, double gap = 0.0, std::vector<HorizonTangent>* tangents = nullptr);
 
 class AngularSet {
  public:

@@ -53,7 +53,11 @@ struct SpatialWedge {
     sample[3] = glm::normalize(sample[2] + sample[4]);
   }
   const SlicingPlane* plane;
-  bool reflex;                       ///< wider than a half-turn (only unclipped wedges are)
+  bool reflex;  ///< wider than a half-turn (only unclipped wedges are)
+  /// The normal of the horizon's great circle at each end, where known (zero: not known), and whether it is
+  /// exactly the boundary there (the side's horizon or an occluding plane), not a tangent of a curved one.
+  glm::dvec3 start_silhouette{0.0}, end_silhouette{0.0};
+  bool start_on_plane = false, end_on_plane = false;
   glm::dvec2 start2, end2;           ///< the ends in the plane's (u, w) frame
   std::array<glm::dvec3, 5> sample;  ///< start, quarter, middle, three quarters, end
   const glm::dvec3& start_direction() const { return sample[0]; }
@@ -120,8 +124,50 @@ double pseudo_angle(double x, double y) {
 /// wedges were clipped to it); rounding below the horizon is snapped just above it, a pair of antipodal
 /// neighbours is bridged through c, and the result is counter-clockwise about the side normal. Returns the
 /// piece's vector irradiance (zero when it has fewer than three vertices).
+struct Bound {
+  double azimuth;         ///< pseudo_angle about the group's centre
+  glm::dvec3 direction;   ///< unit
+  glm::dvec3 silhouette;  ///< the horizon's great circle there (zero: not known)
+  bool on_plane;          ///< the silhouette is a plane's boundary, not a tangent of a curved horizon
+};
+
+/// The corner between two consecutive bounding directions a and b where the horizon's great circles through
+/// them (normals na, nb) meet: the horizon followed from both sides instead of the chord. Only where the
+/// corner lies between them (no farther from each than they are from each other), within kMaxBulge of the
+/// chord's length from it, and in every half-space of `keep`.
+constexpr double kParabolicBulge = 2.0 / 3;
+constexpr double kMaxBulge = 1.0;
+bool silhouette_corner(const Bound& from, const Bound& to, std::span<const glm::dvec3> keep,
+                       glm::dvec3& corner) {
+  const glm::dvec3 &a = from.direction, &b = to.direction, &na = from.silhouette, &nb = to.silhouette;
+  if (glm::dot(na, na) == 0 || glm::dot(nb, nb) == 0) return false;
+  glm::dvec3 x = glm::cross(na, nb);
+  const double length = glm::length(x);
+  if (!(length > 1e-9)) return false;
+  x /= length;
+  if (glm::dot(x, a + b) < 0) x = -x;
+  const double ab = glm::dot(a, b);
+  if (!(glm::dot(a, x) >= ab - 1e-12 && glm::dot(b, x) >= ab - 1e-12)) return false;
+  const glm::dvec3 chord_normal = glm::cross(a, b);
+  const double chord = glm::length(chord_normal);  // sine of the chord's angle
+  if (!(chord > 1e-12) || std::abs(glm::dot(x, chord_normal)) > kMaxBulge * chord * chord) return false;
+  for (const glm::dvec3& h : keep)
+    if (!(glm::dot(x, h) >= -1e-12)) return false;
+  // Between two planes' boundaries the corner is exact. A curved horizon between two samples bulges from the
+  // chord by about 2/3 of the triangle its tangents make with it (a parabolic arc; Archimedes): the corner is
+  // taken that far from the chord's middle.
+  if (from.on_plane && to.on_plane) {
+    corner = x;
+  } else {
+    const glm::dvec3 middle = glm::normalize(a + b);
+    corner = glm::normalize(middle + kParabolicBulge * (x - middle));
+  }
+  return true;
+}
+
 glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3& side_normal,
-                       std::vector<std::pair<double, glm::dvec3>>& order, SphericalPolygon& bridged) {
+                       std::span<const glm::dvec3> keep, std::vector<Bound>& order,
+                       SphericalPolygon& bridged) {
   bridged.clear();
   glm::dvec3 centre(0.0);  // the integral of the direction over the arcs: n x (start - end) per arc
   for (const SpatialWedge* w : group)
@@ -132,8 +178,8 @@ glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm:
   const glm::dvec3 a2 = glm::cross(centre, a1);
   order.clear();
   for (const SpatialWedge* w : group)
-    for (const glm::dvec3* end : {&w->start_direction(), &w->end_direction()}) {
-      glm::dvec3 d = glm::normalize(*end);
+    for (int e = 0; e < 2; ++e) {
+      glm::dvec3 d = glm::normalize(e == 0 ? w->start_direction() : w->end_direction());
       const double up = glm::dot(d, side_normal);
       if (up < 1e-15) {
         const glm::dvec3 flat = d - up * side_normal;
@@ -142,16 +188,17 @@ glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm:
       }
       const double x = glm::dot(d, a1), y = glm::dot(d, a2);
       if (x * x + y * y < 1e-24) continue;  // at the centre: no azimuth, and inside anyway
-      order.emplace_back(pseudo_angle(x, y), d);
+      order.push_back({pseudo_angle(x, y), d, e == 0 ? w->start_silhouette : w->end_silhouette,
+                       e == 0 ? w->start_on_plane : w->end_on_plane});
     }
-  std::sort(order.begin(), order.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
+  std::sort(order.begin(), order.end(), [](const Bound& p, const Bound& q) { return p.azimuth < q.azimuth; });
   // Keep distinct directions (in place in `order`), then bridge antipodal neighbours.
   std::size_t kept = 0;
   for (std::size_t i = 0; i < order.size(); ++i) {
-    if (kept > 0 && glm::dot(order[kept - 1].second, order[i].second) > 1 - 1e-15) continue;
+    if (kept > 0 && glm::dot(order[kept - 1].direction, order[i].direction) > 1 - 1e-15) continue;
     order[kept++] = order[i];
   }
-  while (kept > 1 && glm::dot(order[kept - 1].second, order[0].second) > 1 - 1e-15) --kept;
+  while (kept > 1 && glm::dot(order[kept - 1].direction, order[0].direction) > 1 - 1e-15) --kept;
   // Counter-clockwise about the side normal: Lambert's integral positive. Reversing a polygon negates its
   // vector irradiance.
   auto orient = [&] {
@@ -169,16 +216,20 @@ glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm:
       glm::dvec3 d = glm::normalize(w.middle() + side * kTanLoneWedge * w.plane->normal);
       const double up = glm::dot(d, side_normal);
       if (up < 1e-15) d = glm::normalize(glm::normalize(d - up * side_normal) + 1e-15 * side_normal);
-      bridged.push_back(side > 0 ? order[0].second : order[1].second);
+      bridged.push_back(side > 0 ? order[0].direction : order[1].direction);
       bridged.push_back(d);
     }
     return orient();
   }
   for (std::size_t i = 0; i < kept; ++i) {
-    bridged.push_back(order[i].second);
-    if (glm::dot(order[i].second, order[(i + 1) % kept].second) < -1 + 1e-9 &&
-        glm::dot(centre, side_normal) > 0)
-      bridged.push_back(centre);
+    const Bound &here = order[i], &next = order[(i + 1) % kept];
+    bridged.push_back(here.direction);
+    glm::dvec3 corner;
+    if (glm::dot(here.direction, next.direction) < -1 + 1e-9) {
+      if (glm::dot(centre, side_normal) > 0) bridged.push_back(centre);
+    } else if (kept > 2 && silhouette_corner(here, next, keep, corner)) {
+      bridged.push_back(corner);
+    }
   }
   return orient();
 }
@@ -222,7 +273,8 @@ struct ConeAssemblyScratch::Buffers {
   std::vector<AngularInterval> intervals;
   std::vector<int> parent, group_of, roots;
   std::vector<const SpatialWedge*> members;
-  std::vector<std::pair<double, glm::dvec3>> order;
+  std::vector<Bound> order;
+  std::vector<glm::dvec3> keep;          // the side normal and the half-spaces
   std::vector<SphericalPolygon> pieces;  // capacity kept across calls
   std::vector<double> piece_solid_angle;
   std::vector<glm::dvec3> piece_irradiance;
@@ -262,6 +314,24 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
     else
       out.assign(in.begin(), in.end());
   };
+  b.keep.assign(1, side_normal);
+  b.keep.insert(b.keep.end(), half_spaces.begin(), half_spaces.end());
+  // The horizon's great circle at a wedge end: from the cone's tangents (an aimed end), or the boundary of
+  // the side's or a plane's half-space the end was clipped to; zero where not known.
+  auto silhouette = [&](const PlanarCone& cone, double angle, const glm::dvec3& direction, glm::dvec3& normal,
+                        bool& on_plane) {
+    for (const glm::dvec3& h : b.keep)
+      if (std::abs(glm::dot(direction, h)) < 1e-9) {
+        normal = h, on_plane = true;
+        return;
+      }
+    const SlicingPlane& p = *cone.plane;
+    for (const HorizonTangent& t : cone.tangents)
+      if (std::abs(std::remainder(angle - t.angle, kTwoPi)) < 1e-9) {
+        normal = t.normal.x * p.u + t.normal.y * p.w + t.normal.z * p.normal;
+        return;
+      }
+  };
   // 1. Clip every wedge to the side's half-space (and the planes') and lift it into space.
   b.wedges.clear();
   for (const PlanarCone& cone : cones) {
@@ -280,7 +350,11 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
       b.clipped.swap(b.swap);
     }
     for (const Wedge& w : b.clipped)
-      if (w.width > kContainTolerance) b.wedges.emplace_back(&plane, w);
+      if (w.width > kContainTolerance) {
+        SpatialWedge& lifted = b.wedges.emplace_back(&plane, w);
+        silhouette(cone, w.start, lifted.start_direction(), lifted.start_silhouette, lifted.start_on_plane);
+        silhouette(cone, w.end(), lifted.end_direction(), lifted.end_silhouette, lifted.end_on_plane);
+      }
   }
   // 2. Group by intersection (union-find).
   const int k = static_cast<int>(b.wedges.size());
@@ -304,7 +378,7 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
     b.members.clear();
     for (int i = 0; i < k; ++i)
       if (b.group_of[i] == b.roots[r]) b.members.push_back(&b.wedges[i]);
-    b.piece_irradiance[r] = build_piece(b.members, side_normal, b.order, b.pieces[r]);
+    b.piece_irradiance[r] = build_piece(b.members, side_normal, b.keep, b.order, b.pieces[r]);
     b.piece_solid_angle[r] = solid_angle(b.pieces[r], b.piece_irradiance[r]);
   };
   if (b.pieces.size() < b.roots.size()) b.pieces.resize(b.roots.size());

@@ -9,7 +9,11 @@
 // piece: its wedges' bounding directions are sorted radially about the group's mean direction (azimuthal
 // projection about it) — a polygonal cone, not necessarily convex, counter-clockwise. (The paper sorts about
 // the centroid of the points projected onto the tangent plane; that fails on the slot-shaped cones of deep
-// folds — see cone_assembly.cpp.) Cost: O(k^2) for k wedges at the vertex (k is a few dozen).
+// folds — see cone_assembly.cpp.) Between two consecutive bounding directions whose horizon great circles are
+// known (PlanarCone::tangents from aim_wedges; the side's horizon and the occluding planes where an end was
+// clipped to them), the piece follows the horizon instead of the chord: a corner where the two great circles
+// meet, exact between two planes, and for a curved horizon 2/3 of the way from the chord's middle (a
+// parabolic arc's bulge). Cost: O(k^2) for k wedges at the vertex (k is a few dozen).
 #pragma once
 
 #include <memory>
@@ -26,6 +30,8 @@ namespace pleat {
 struct PlanarCone {
   const SlicingPlane* plane = nullptr;
   std::span<const Wedge> wedges;
+  /// Where known, the horizon's great circle at wedge ends (aim_wedges): the pieces follow it between ends.
+  std::span<const HorizonTangent> tangents = {};
 };
 
 /// Reusable memory of assemble_cone (one per thread): no allocation per call once it has grown.

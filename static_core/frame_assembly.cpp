@@ -116,12 +116,14 @@ struct FrameAssembler::Impl {
     bool vertex_above;
   };
   struct Blend {
-    std::size_t cone, begin, count;  ///< ws.cones[cone] has ws.blended[begin, begin + count)
+    std::size_t cone, begin, count;              ///< ws.cones[cone] has ws.blended[begin, begin + count)
+    std::size_t tangents_begin, tangents_count;  ///< and ws.tangents[tangents_begin, + tangents_count)
   };
   struct Workspace {
     ConeAssemblyScratch scratch;
     std::vector<PlanarCone> cones;
     std::vector<Wedge> blended;
+    std::vector<HorizonTangent> tangents;  ///< of the aimed ends (aim_wedges)
     std::vector<Blend> blends;
     WedgeScratch wedge_scratch;
     std::vector<glm::dvec3> half_spaces;  ///< the vertex's sides of the occluding planes
@@ -266,15 +268,17 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         (glm::dot(below.normal, position) - below.offset) / (above.offset - below.offset), 0.0, 1.0);
     auto apex = [&](const Ref& r) { return planes[r.plane]->slice.vertices[r.slice_vertex].point; };
     const glm::dvec2 eye(glm::dot(below.u, position), glm::dot(below.w, position));
-    const std::size_t begin = ws.blended.size();
+    const std::size_t begin = ws.blended.size(), tangents_begin = ws.tangents.size();
     const bool blended =
         aim ? aim_wedges(cone_of(lo, side), apex(lo), cone_of(hi, side), apex(hi), t, eye, ws.wedge_scratch,
-                         ws.blended)
+                         ws.blended, above.offset - below.offset, &ws.tangents)
             : blend_wedges(cone_of(lo, side), cone_of(hi, side), t, ws.wedge_scratch, ws.blended);
     if (blended) {
-      ws.blends.push_back({ws.cones.size(), begin, ws.blended.size() - begin});
+      ws.blends.push_back({ws.cones.size(), begin, ws.blended.size() - begin, tangents_begin,
+                           ws.tangents.size() - tangents_begin});
       ws.cones.push_back({&below, {}});
     } else {
+      ws.tangents.resize(tangents_begin);
       const Ref& nearer = t <= 0.5 ? lo : hi;
       ws.cones.push_back({&plan.planes[nearer.plane], cone_of(nearer, side)});
     }
@@ -289,6 +293,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     for (int side = 0; side < 2; ++side) {
       ws.cones.clear();
       ws.blended.clear();
+      ws.tangents.clear();
       ws.blends.clear();
       for (std::size_t o = 0; o < orientations; ++o) {
         const std::int32_t from = source[key_of(side, o, static_cast<Index>(v))];
@@ -302,8 +307,10 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         for (std::uint32_t i = first[k]; i < first[k + 1]; ++i)
           ws.cones.push_back({&plan.planes[refs[i].plane], cone_of(refs[i], side)});
       }
-      for (const auto& [cone, begin, count] : ws.blends)  // ws.blended has stopped growing
-        ws.cones[cone].wedges = {ws.blended.data() + begin, count};
+      for (const Blend& b : ws.blends) {  // ws.blended and ws.tangents have stopped growing
+        ws.cones[b.cone].wedges = {ws.blended.data() + b.begin, b.count};
+        ws.cones[b.cone].tangents = {ws.tangents.data() + b.tangents_begin, b.tangents_count};
+      }
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];
       assemble_and_measure_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v],
                                 &result.measures[side][v], ws.half_spaces, plan.reconstruction);

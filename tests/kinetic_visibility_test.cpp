@@ -458,7 +458,9 @@ TEST(KineticVisibility, WholeIntervalRebuildsKeepTheOutput) {
         EXPECT_EQ(stats.rebuilt_because[whole], plan.planes.size()) << "frame " << f;  // every slice or none
         ++whole_intervals;
       }
-      if (measured && f == 2) EXPECT_EQ(stats.rebuilt_because[whole], plan.planes.size());
+      if (measured && f == 2) {
+        EXPECT_EQ(stats.rebuilt_because[whole], plan.planes.size());
+      }
       const FrameVisibility fresh = compute_visibility(cloth.topology(), frames[f], plan);
       for (int side = 0; side < 2; ++side)
         for (std::size_t v = 0; v < fresh.measures[side].size(); ++v)

@@ -75,11 +75,11 @@ Setting parse_setting(const std::string& text, const std::string& flag) {
 std::string setting_name(const Setting& s) {
   char spacing[32];
   std::snprintf(spacing, sizeof spacing, "%g", s.plan.spacing_in_edges);
-  return std::to_string(s.plan.orientations) + ':' + spacing + ':' + cone_storage_name(s.storage) +
-         (s.plan.relaxed ? "" : ":spiral") +
-         (s.reconstruction == ConeReconstruction::Grouped
-              ? ""
-              : std::string(":") + cone_reconstruction_name(s.reconstruction));
+  std::string name = std::to_string(s.plan.orientations) + ':' + spacing + ':' + cone_storage_name(s.storage);
+  if (!s.plan.relaxed) name += ":spiral";
+  if (s.reconstruction != ConeReconstruction::Grouped)
+    name.append(":").append(cone_reconstruction_name(s.reconstruction));
+  return name;
 }
 
 }  // namespace pleat::bench

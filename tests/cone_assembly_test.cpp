@@ -1,0 +1,128 @@
+// The grouped 3D assembly (static_core/cone_assembly.hpp) on an analytic horizon, with and without the
+// horizon's great circles at the wedge ends (PlanarCone::tangents, which aim_wedges gives): a round opening
+// about the side normal (the cap d·m >= cos ρ: A = sin²ρ exactly) sampled by great circles through the
+// vertex. Chords between the ends cut inside the rounded boundary; following the horizon's tangent great
+// circles from both ends to where they meet halves that error (a tangent polygon's excess is half a chord
+// polygon's deficit), and the pieces stay valid. Also: an end on the side's horizon and one on an occluding
+// plane's boundary meet where the two planes do.
+#include "static_core/cone_assembly.hpp"
+
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <vector>
+
+#include "static_core/angular_set.hpp"
+#include "static_core/slicing_plan.hpp"
+
+namespace pleat {
+namespace {
+
+constexpr double kPi = kTwoPi / 2;
+
+glm::dvec3 gen_unit() {
+  while (true) {
+    const glm::dvec3 d(*rc::gen::inRange(-1000, 1001), *rc::gen::inRange(-1000, 1001),
+                       *rc::gen::inRange(-1000, 1001));
+    if (glm::length(d) > 100) return glm::normalize(d);
+  }
+}
+
+/// The cap of angular radius rho about m, cut by the circles of `planes`: per plane its wedge, and the
+/// horizon's tangent great circles at both ends.
+struct Cap {
+  std::vector<SlicingPlane> planes;
+  std::vector<std::vector<Wedge>> wedges;
+  std::vector<std::vector<HorizonTangent>> tangents;
+  std::vector<PlanarCone> cones(bool with_tangents) const {
+    std::vector<PlanarCone> out;
+    for (std::size_t i = 0; i < planes.size(); ++i)
+      if (!wedges[i].empty())
+        out.push_back({&planes[i], wedges[i],
+                       with_tangents ? std::span(tangents[i]) : std::span<const HorizonTangent>()});
+    return out;
+  }
+};
+
+Cap cap(const glm::dvec3& m, double rho, const std::vector<glm::dvec3>& normals) {
+  Cap c;
+  for (std::size_t k = 0; k < normals.size(); ++k) {
+    const SlicingPlane p = make_plane(normals[k], 0.0, int(k));
+    c.planes.push_back(p);
+    c.wedges.emplace_back();
+    c.tangents.emplace_back();
+    // d(φ)·m = R cos(φ − φ0): the circle meets the cap where that is at least cos ρ.
+    const double mu = glm::dot(p.u, m), mw = glm::dot(p.w, m);
+    const double r = std::hypot(mu, mw);
+    if (!(r > std::cos(rho) + 1e-6)) continue;
+    const double phi0 = std::atan2(mw, mu), delta = std::acos(std::cos(rho) / r);
+    c.wedges.back().push_back({wrap_angle(phi0 - delta), 2 * delta});
+    for (const double phi : {phi0 - delta, phi0 + delta}) {
+      const glm::dvec3 d = std::cos(phi) * p.u + std::sin(phi) * p.w;
+      const glm::dvec3 t = glm::normalize(glm::cross(m, d));  // along the cap's boundary
+      const glm::dvec3 n = glm::normalize(glm::cross(d, t));  // its tangent great circle
+      c.tangents.back().push_back(
+          {wrap_angle(phi), {glm::dot(n, p.u), glm::dot(n, p.w), glm::dot(n, p.normal)}});
+    }
+  }
+  return c;
+}
+
+double sky_visibility(const Cap& c, const glm::dvec3& m, bool with_tangents, VisibilityCone& cone) {
+  ConeAssemblyScratch scratch;
+  ConeMeasures measures;
+  assemble_and_measure_cone(c.cones(with_tangents), m, scratch, cone, &measures);
+  return measures.sky_visibility;
+}
+
+RC_GTEST_PROP(ConeAssembly, HorizonTangentsHalveTheChordsErrorOnARoundOpening, ()) {
+  const glm::dvec3 m = gen_unit();
+  const double rho = *rc::gen::inRange(300, 1200) / 1000.0;
+  // Eight circles through the vertex, each passing within 0.7 rho of m (so each cuts the cap).
+  std::vector<glm::dvec3> normals;
+  const glm::dvec3 x =
+      glm::normalize(glm::cross(m, std::abs(m.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+  const glm::dvec3 y = glm::cross(m, x);
+  for (int k = 0; k < 8; ++k) {
+    const double a = kPi * (k + *rc::gen::inRange(0, 500) / 1000.0) / 8;
+    const double tilt = std::tan(0.7 * rho * *rc::gen::inRange(-1000, 1001) / 1000.0);
+    normals.push_back(glm::normalize(std::cos(a) * x + std::sin(a) * y + tilt * m));
+  }
+  const Cap c = cap(m, rho, normals);
+  const double truth = std::sin(rho) * std::sin(rho);
+  VisibilityCone chords, tangents;
+  const double a_chords = sky_visibility(c, m, false, chords);
+  const double a_tangents = sky_visibility(c, m, true, tangents);
+  RC_ASSERT(a_chords < truth);  // the chord polygon lies inside the cap
+  RC_ASSERT(std::abs(a_tangents - truth) < 0.5 * std::abs(a_chords - truth));
+  RC_ASSERT(tangents.pieces.size() == 1u);
+  for (const glm::dvec3& d : tangents.pieces[0]) RC_ASSERT(glm::dot(d, m) >= 0);
+  RC_ASSERT(std::abs(measure_cone(tangents, m).sky_visibility - a_tangents) < 1e-12);
+}
+
+TEST(ConeAssembly, AnEndOnTheHorizonAndOneOnTheGroundMeetWhereTheirPlanesDo) {
+  // A vertex on a wall x = 0 facing +x (m), above a ground z >= 0 at its foot: the open set is the lune
+  // {d : d.x >= 0, d.z >= 0} between the two planes, with corners at +y and -y: A = 1/2. Three circles
+  // through the vertex, each wholly seen (planes y = 0, y = z and y = -z), clipped to both half-spaces, give
+  // ends at +x (on the ground's boundary) and at +z, (0, ±1, 1)/√2 (on the wall's): their chord polygon
+  // misses the lune's corners, and only following the wall's and the ground's great circles from the ends
+  // reaches them.
+  const glm::dvec3 m(1, 0, 0);
+  std::vector<SlicingPlane> planes{make_plane({0, 1, 0}, 0.0, 0),
+                                   make_plane(glm::normalize(glm::dvec3(0, 1, -1)), 0.0, 1),
+                                   make_plane(glm::normalize(glm::dvec3(0, 1, 1)), 0.0, 2)};
+  std::vector<std::vector<Wedge>> wedges{{{0.0, kTwoPi}}, {{0.0, kTwoPi}}, {{0.0, kTwoPi}}};
+  std::vector<PlanarCone> cones;
+  for (std::size_t i = 0; i < planes.size(); ++i) cones.push_back({&planes[i], wedges[i]});
+  const std::vector<glm::dvec3> ground{{0, 0, 1}};
+  ConeAssemblyScratch scratch;
+  VisibilityCone cone;
+  ConeMeasures measures;
+  assemble_and_measure_cone(cones, m, scratch, cone, &measures, ground);
+  EXPECT_NEAR(measures.sky_visibility, 0.5, 1e-9);
+}
+
+}  // namespace
+}  // namespace pleat
