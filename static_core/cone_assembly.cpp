@@ -131,17 +131,15 @@ struct Bound {
   bool on_plane;          ///< the silhouette is a plane's boundary, not a tangent of a curved horizon
 };
 
-/// The corner between two consecutive bounding directions a and b where the horizon's great circles through
-/// them (normals na, nb) meet: the horizon followed from both sides instead of the chord. Only where the
-/// corner lies between them (no farther from each than they are from each other), within kMaxBulge of the
-/// chord's length from it, and in every half-space of `keep`.
+/// The corner put between two consecutive bounding directions a and b of a piece, from the horizon's great
+/// circles through them where known (silhouette_corner): the horizon followed instead of the chord.
 constexpr double kParabolicBulge = 2.0 / 3;
 constexpr double kMaxBulge = 1.0;
-bool silhouette_corner(const Bound& from, const Bound& to, std::span<const glm::dvec3> keep,
-                       glm::dvec3& corner) {
-  const glm::dvec3 &a = from.direction, &b = to.direction, &na = from.silhouette, &nb = to.silhouette;
-  if (glm::dot(na, na) == 0 || glm::dot(nb, nb) == 0) return false;
-  glm::dvec3 x = glm::cross(na, nb);
+/// Where the great circles of normals na and nb meet between a and b (no farther from each than they are from
+/// each other), within kMaxBulge of the chord's length from it, and in every half-space of `keep`.
+bool meet(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& na, const glm::dvec3& nb,
+          std::span<const glm::dvec3> keep, glm::dvec3& x) {
+  x = glm::cross(na, nb);
   const double length = glm::length(x);
   if (!(length > 1e-9)) return false;
   x /= length;
@@ -153,16 +151,45 @@ bool silhouette_corner(const Bound& from, const Bound& to, std::span<const glm::
   if (!(chord > 1e-12) || std::abs(glm::dot(x, chord_normal)) > kMaxBulge * chord * chord) return false;
   for (const glm::dvec3& h : keep)
     if (!(glm::dot(x, h) >= -1e-12)) return false;
-  // Between two planes' boundaries the corner is exact. A curved horizon between two samples bulges from the
-  // chord by about 2/3 of the triangle its tangents make with it (a parabolic arc; Archimedes): the corner is
-  // taken that far from the chord's middle.
-  if (from.on_plane && to.on_plane) {
-    corner = x;
-  } else {
-    const glm::dvec3 middle = glm::normalize(a + b);
-    corner = glm::normalize(middle + kParabolicBulge * (x - middle));
-  }
   return true;
+}
+
+/// The parabolic arc's point over the chord a-b whose triangle with it has the arc's area, given where the
+/// end tangents meet (x): 2/3 of the way from the chord's middle to x (Archimedes).
+glm::dvec3 parabolic(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& x) {
+  const glm::dvec3 middle = glm::normalize(a + b);
+  return glm::normalize(middle + kParabolicBulge * (x - middle));
+}
+
+/// The corner between `from` and `to`: 1 where their great circles meet (exactly for two planes' boundaries,
+/// else the parabolic point); failing that, 2 from each known tangent of a curved horizon alone, the parabola
+/// through both ends with that tangent (averaged where both give one); 0 where nothing is known or no corner
+/// lies between them.
+int silhouette_corner(const Bound& from, const Bound& to, std::span<const glm::dvec3> keep,
+                      glm::dvec3& corner) {
+  const glm::dvec3 &a = from.direction, &b = to.direction, &na = from.silhouette, &nb = to.silhouette;
+  const bool known_a = glm::dot(na, na) > 0, known_b = glm::dot(nb, nb) > 0;
+  glm::dvec3 x;
+  if (known_a && known_b && meet(a, b, na, nb, keep, x)) {
+    // Between two planes' boundaries the corner is exact; a curved horizon bulges as a parabola.
+    corner = from.on_plane && to.on_plane ? x : parabolic(a, b, x);
+    return 1;
+  }
+  // One tangent of a curved horizon: the parabola through a and b with that tangent, whose bulge is where the
+  // tangent meets the great circle of points as far from a as from b (a parabola's two tangents meet there).
+  const glm::dvec3 bisector = a - b;
+  glm::dvec3 from_a(0.0), from_b(0.0);
+  const bool by_a = known_a && !from.on_plane && meet(a, b, na, bisector, keep, x);
+  if (by_a) from_a = parabolic(a, b, x);
+  const bool by_b = known_b && !to.on_plane && meet(a, b, bisector, nb, keep, x);
+  if (by_b) from_b = parabolic(a, b, x);
+  if (by_a && by_b) {
+    corner = glm::normalize(from_a + from_b);
+    return 2;
+  }
+  if (!by_a && !by_b) return 0;
+  corner = by_a ? from_a : from_b;
+  return 2;
 }
 
 glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3& side_normal,
@@ -176,6 +203,15 @@ glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm:
   const glm::dvec3 a1 = glm::normalize(std::abs(centre.x) < 0.9 ? glm::cross(centre, glm::dvec3(1, 0, 0))
                                                                 : glm::cross(centre, glm::dvec3(0, 1, 0)));
   const glm::dvec3 a2 = glm::cross(centre, a1);
+  // Whether a corner lies strictly between two consecutive bounds' azimuths about the centre (cyclically), in
+  // front of it: inserted there, the piece stays star-shaped about the centre, so simple.
+  auto within_sector = [&](const glm::dvec3& d, double from, double to) {
+    if (!(glm::dot(d, centre) >= -1e-12)) return false;
+    const double x = glm::dot(d, a1), y = glm::dot(d, a2);
+    if (x * x + y * y < 1e-24) return false;
+    const double at = pseudo_angle(x, y);
+    return from < to ? from < at && at < to : from < at || at < to;
+  };
   order.clear();
   for (const SpatialWedge* w : group)
     for (int e = 0; e < 2; ++e) {
@@ -227,7 +263,8 @@ glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm:
     glm::dvec3 corner;
     if (glm::dot(here.direction, next.direction) < -1 + 1e-9) {
       if (glm::dot(centre, side_normal) > 0) bridged.push_back(centre);
-    } else if (kept > 2 && silhouette_corner(here, next, keep, corner)) {
+    } else if (const int kind = kept > 2 ? silhouette_corner(here, next, keep, corner) : 0;
+               kind == 1 || (kind == 2 && within_sector(corner, here.azimuth, next.azimuth))) {
       bridged.push_back(corner);
     }
   }
