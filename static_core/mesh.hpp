@@ -38,7 +38,7 @@ struct MeshTopology {
   Index num_vertices = 0;
   std::vector<Triangle> triangles;
   Index num_occluder_vertices = 0;
-  std::vector<OccludingPlane> planes;
+  std::vector<OccludingPlane> planes{};
   Index num_plane_triangles = 0;
   Index num_receivers() const { return num_vertices - num_occluder_vertices; }
   /// The triangles the cone engines slice: the first num_sliced_triangles().

@@ -16,19 +16,12 @@
 
 #include "static_core/angular_set.hpp"
 #include "static_core/slicing_plan.hpp"
+#include "test_support.hpp"
 
 namespace pleat {
 namespace {
 
 constexpr double kPi = kTwoPi / 2;
-
-glm::dvec3 gen_unit() {
-  while (true) {
-    const glm::dvec3 d(*rc::gen::inRange(-1000, 1001), *rc::gen::inRange(-1000, 1001),
-                       *rc::gen::inRange(-1000, 1001));
-    if (glm::length(d) > 100) return glm::normalize(d);
-  }
-}
 
 /// The cap of angular radius rho about m, cut by the circles of `planes`: per plane its wedge, and the
 /// horizon's tangent great circles at both ends.
@@ -78,7 +71,7 @@ double sky_visibility(const Cap& c, const glm::dvec3& m, bool with_tangents, Vis
 }
 
 RC_GTEST_PROP(ConeAssembly, HorizonTangentsHalveTheChordsErrorOnARoundOpening, ()) {
-  const glm::dvec3 m = gen_unit();
+  const glm::dvec3 m = test::gen_unit_direction();
   const double rho = *rc::gen::inRange(300, 1200) / 1000.0;
   // Eight circles through the vertex, each passing within 0.7 rho of m (so each cuts the cap).
   std::vector<glm::dvec3> normals;

@@ -21,19 +21,12 @@
 #include "static_core/cone_assembly.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/spherical_polygon.hpp"
+#include "test_support.hpp"
 
 namespace pleat {
 namespace {
 
 constexpr double kPi = kTwoPi / 2;
-
-glm::dvec3 gen_unit() {
-  while (true) {
-    const glm::dvec3 d(*rc::gen::inRange(-1000, 1001), *rc::gen::inRange(-1000, 1001),
-                       *rc::gen::inRange(-1000, 1001));
-    if (glm::length(d) > 100) return glm::normalize(d);
-  }
-}
 
 /// Circles through the vertex: planes through the origin (the assembly reads normal, u and w only).
 struct Circles {
@@ -120,7 +113,7 @@ Circles gen_circles(const glm::dvec3& m, bool with_half_spaces) {
   Circles c;
   const int count = *rc::gen::inRange(1, 13);
   for (int k = 0; k < count; ++k) {
-    glm::dvec3 n = gen_unit();
+    glm::dvec3 n = test::gen_unit_direction();
     switch (*rc::gen::inRange(0, 9)) {
       case 0:  // a circle through the side normal
         if (glm::length(glm::cross(m, n)) > 0.1) n = glm::normalize(glm::cross(m, n));
@@ -153,7 +146,7 @@ Circles gen_circles(const glm::dvec3& m, bool with_half_spaces) {
     c.wedges.push_back(w);
   }
   if (with_half_spaces)
-    for (int i = *rc::gen::inRange(0, 3); i > 0; --i) c.half_spaces.push_back(gen_unit());
+    for (int i = *rc::gen::inRange(0, 3); i > 0; --i) c.half_spaces.push_back(test::gen_unit_direction());
   return c;
 }
 
@@ -166,7 +159,7 @@ ConeMeasures assemble(const Circles& c, const glm::dvec3& m, VisibilityCone& con
 }
 
 RC_GTEST_PROP(NearestCircle, EqualsTheNearestCircleLabellingOfTheHemisphere, ()) {
-  const glm::dvec3 m = gen_unit();
+  const glm::dvec3 m = test::gen_unit_direction();
   const Circles c = gen_circles(m, *rc::gen::arbitrary<bool>());
   VisibilityCone cone;
   const ConeMeasures measures = assemble(c, m, cone);
@@ -181,7 +174,7 @@ RC_GTEST_PROP(NearestCircle, EqualsTheNearestCircleLabellingOfTheHemisphere, ())
     RC_ASSERT(glm::dot(measures.bent_normal, glm::normalize(truth.moment)) > std::cos(0.03));
   // Membership, direction by direction, away from the boundaries (which rounding may move).
   for (int i = 0; i < 200; ++i) {
-    const glm::dvec3 w = gen_unit();
+    const glm::dvec3 w = test::gen_unit_direction();
     if (c.margin(w, m) < 1e-6) continue;
     bool inside = false;
     for (const SphericalPolygon& piece : cone.pieces) inside = inside || contains_direction(piece, w);
@@ -192,7 +185,7 @@ RC_GTEST_PROP(NearestCircle, EqualsTheNearestCircleLabellingOfTheHemisphere, ())
 RC_GTEST_PROP(NearestCircle, WhollyVisibleCirclesTileTheHemisphere, ()) {
   // Every circle wholly visible: the cells cover the hemisphere once, so A = 1 and the solid angle is 2 pi
   // to rounding — the cells neither overlap nor leave gaps.
-  const glm::dvec3 m = gen_unit();
+  const glm::dvec3 m = test::gen_unit_direction();
   Circles c = gen_circles(m, false);
   for (auto& w : c.wedges) w = {{0.0, kTwoPi}};
   VisibilityCone cone;
@@ -212,7 +205,7 @@ RC_GTEST_PROP(NearestCircle, EnvelopesAreTheLeastBoundAtEveryAngle, ()) {
   NearestCircleAssembler::CircleSet set;
   const int count = *rc::gen::inRange(1, 25);
   for (int k = 0; k < count; ++k) {
-    const glm::dvec3 n = gen_unit();
+    const glm::dvec3 n = test::gen_unit_direction();
     bool repeated = false;
     for (const auto& c : set.circles) repeated = repeated || std::abs(glm::dot(c.n, n)) > 1 - 1e-9;
     if (repeated) continue;

@@ -78,7 +78,7 @@ TEST(Occluders, AnInfiniteWallBesideASheetHidesHalfOfEachSide) {
   // A vertical wall x = 1 (two triangles a thousand units wide) beside a sheet over [0, 0.7]^2 at z = 0:
   // every direction with a positive x component meets it, half of each hemisphere's cosine-weighted sky.
   test::TempDir dir;
-  MeshTopology wall{4, {{0, 1, 2}, {0, 2, 3}}};
+  MeshTopology wall{.num_vertices = 4, .triangles = {{0, 1, 2}, {0, 2, 3}}};
   write_obj(dir / "wall.obj", wall, {{1, -1000, -1000}, {1, 1000, -1000}, {1, 1000, 1000}, {1, -1000, 1000}});
   const MeshSequence cloth = sequence_of(test::flat_sheet(8, 8, 0.1));
   const Scene scene(cloth, {parse_occluder_spec((dir / "wall.obj").string())}, {});
@@ -148,7 +148,7 @@ TEST(Occluders, KineticEqualsStaticWithAMovingOccluderAndTheGround) {
   // A tilted quad sweeping through the flag's box, frame by frame (an OBJ sequence).
   const Bounds& box = cloth.bounds();
   const glm::dvec3 c = 0.5 * (box.lo + box.hi), size = box.hi - box.lo;
-  MeshTopology quad{4, {{0, 1, 2}, {0, 2, 3}}};
+  MeshTopology quad{.num_vertices = 4, .triangles = {{0, 1, 2}, {0, 2, 3}}};
   for (int f = 0; f < 10; ++f) {
     const double x = box.lo.x + size.x * (0.1 + 0.08 * f);
     char name[64];
@@ -213,7 +213,7 @@ TEST(Occluders, BadOccludersNameTheFile) {
   std::ofstream(dir / "nan.obj") << "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n";
   fails_naming((dir / "nan.obj").string(), "nan.obj", "");
   // Two frames of an occluder against three of the cloth.
-  MeshTopology tri{3, {{0, 1, 2}}};
+  MeshTopology tri{.num_vertices = 3, .triangles = {{0, 1, 2}}};
   write_obj(dir / "t_0.obj", tri, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
   write_obj(dir / "t_1.obj", tri, {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}});
   fails_naming((dir / "t_%d.obj").string(), "t_%d.obj", "2 frames, the cloth 3");

@@ -50,7 +50,7 @@ inline std::vector<std::vector<glm::dvec3>> all_positions(const MeshSequence& s)
 
 /// Two triangles that pierce each other in frame 1 only, as DIR/x.obj + DIR/x.pc2 (two frames).
 inline void write_piercing_pair(const std::filesystem::path& dir) {
-  const MeshTopology t{6, {{0, 1, 2}, {3, 4, 5}}};
+  const MeshTopology t{.num_vertices = 6, .triangles = {{0, 1, 2}, {3, 4, 5}}};
   const std::vector<glm::dvec3> apart = {{0, 0, 0},     {2, 0, 0},     {0, 2, 0},
                                          {0.5, 0.5, 1}, {0.5, 0.5, 2}, {1, 0.5, 1}};
   std::vector<glm::dvec3> pierced = apart;

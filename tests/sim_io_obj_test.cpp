@@ -24,7 +24,7 @@ TEST(SimIoObj, GoldenQuadAndPentagonAreFanTriangulated) {
 
 TEST(SimIoObj, RoundTripIsExactInDoubles) {
   TempDir dir;
-  MeshTopology topology{4, {{0, 1, 2}, {0, 2, 3}}};
+  MeshTopology topology{.num_vertices = 4, .triangles = {{0, 1, 2}, {0, 2, 3}}};
   const std::vector<glm::dvec3> positions = {{0.1, 0.2, 0.3},
                                              {1.0 / 3.0, -2.5e-300, 1e300},
                                              {std::nextafter(1.0, 2.0), -0.0, 123456789.123456789},

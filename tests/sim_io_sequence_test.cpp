@@ -95,16 +95,16 @@ TEST(SimIoSequence, TopologyCounts) {
   EXPECT_EQ(c.inconsistent_edges, 0u);
   EXPECT_EQ(c.components, 1u);
   // Three triangles on one edge, one flipped neighbour, an isolated vertex.
-  const MeshTopology fan{6, {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}};
+  const MeshTopology fan{.num_vertices = 6, .triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}};
   const TopologyCounts f = count_topology(fan);
   EXPECT_EQ(f.non_manifold_edges, 1u);
   EXPECT_EQ(f.isolated_vertices, 1u);
-  const MeshTopology flipped{4, {{0, 1, 2}, {0, 1, 3}}};
+  const MeshTopology flipped{.num_vertices = 4, .triangles = {{0, 1, 2}, {0, 1, 3}}};
   EXPECT_EQ(count_topology(flipped).inconsistent_edges, 1u);
 }
 
 TEST(SimIoSequence, DegenerateFacesAreCountedExactly) {
-  const MeshTopology t{5, {{0, 1, 2}, {0, 1, 3}, {0, 0, 4}}};
+  const MeshTopology t{.num_vertices = 5, .triangles = {{0, 1, 2}, {0, 1, 3}, {0, 0, 4}}};
   Frame f;
   f.positions = {{0, 0, 0}, {1, 1, 1}, {0.1, 0.1, 0.1}, {0, 1, 0}, {3, 3, 3}};
   EXPECT_EQ(count_degenerate_faces(t, f), 2u);  // collinear, and a repeated corner

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cstdio>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <iterator>
 #include <random>
 
@@ -36,6 +37,14 @@ std::string flip_random_bits(std::string bytes) {
     bytes[at] = char(bytes[at] ^ (1 << *rc::gen::inRange(0, 8)));
   }
   return bytes;
+}
+
+glm::dvec3 gen_unit_direction() {
+  while (true) {
+    const glm::dvec3 d(*rc::gen::inRange(-1000, 1001), *rc::gen::inRange(-1000, 1001),
+                       *rc::gen::inRange(-1000, 1001));
+    if (glm::length(d) > 100) return glm::normalize(d);
+  }
 }
 
 CommandResult run_pleat(const std::string& args) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <glm/vec3.hpp>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,10 @@ struct CommandResult {
 
 /// Inside a rapidcheck property: `bytes` with 1 to 5 random bits flipped (corruption properties).
 std::string flip_random_bits(std::string bytes);
+
+/// Inside a rapidcheck property: a unit direction, from integer coordinates in [-1000, 1000] (exact axes and
+/// diagonals included; shrinks towards them).
+glm::dvec3 gen_unit_direction();
 
 /// Runs `pleat ARGS` (args are passed to the shell as written) and captures its output.
 CommandResult run_pleat(const std::string& args);
