@@ -260,13 +260,16 @@ glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm:
   for (std::size_t i = 0; i < kept; ++i) {
     const Bound &here = order[i], &next = order[(i + 1) % kept];
     bridged.push_back(here.direction);
-    glm::dvec3 corner;
     if (glm::dot(here.direction, next.direction) < -1 + 1e-9) {
       if (glm::dot(centre, side_normal) > 0) bridged.push_back(centre);
-    } else if (const int kind = kept > 2 ? silhouette_corner(here, next, keep, corner) : 0;
-               kind == 1 || (kind == 2 && within_sector(corner, here.azimuth, next.azimuth))) {
-      bridged.push_back(corner);
+      continue;
     }
+    // A one-tangent corner (kind 2) is kept only inside its sector; two-tangent ones (kind 1) also outside
+    // it: the slot-shaped pieces of folds, sorted about a centre near their edge, need them.
+    glm::dvec3 corner;
+    const int kind = kept > 2 ? silhouette_corner(here, next, keep, corner) : 0;
+    if (kind == 1 || (kind == 2 && within_sector(corner, here.azimuth, next.azimuth)))
+      bridged.push_back(corner);
   }
   return orient();
 }
