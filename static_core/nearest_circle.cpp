@@ -200,39 +200,27 @@ void NearestCircleAssembler::assemble(std::span<const PlanarCone> cones, const g
         };
         for (int sheet : {1, 0}) {
           const std::vector<EnvelopePiece>& envelope = set.envelope[2 * k + sheet];
-          const std::size_t n = envelope.size();
-          std::size_t i = piece_at(envelope, a);
-          // The breakpoints in (a, b), in increasing order, with the piece that starts at each.
+          const std::size_t n = envelope.size(), i = piece_at(envelope, a);
+          // The breakpoints in (a, b) start pieces i + 1, ..., i + count (cyclically).
           const double base = a - wrap_angle(a);  // a's turn: breakpoint phi + base (+ 2 pi) follows a
-          auto breakpoint = [&](std::size_t j) {
-            double phi = envelope[j].phi + base;
+          std::size_t count = 0;
+          while (count + 1 < n) {
+            double phi = envelope[(i + count + 1) % n].phi + base;
             while (phi <= a) phi += kTwoPi;
-            return phi;
-          };
-          if (sheet == 1) {
-            add(envelope_point(set, k, sheet, envelope[i], a));
-            for (std::size_t step = 1; step <= n && n > 1; ++step) {
-              const std::size_t j = (i + step) % n;
-              const double phi = breakpoint(j);
-              if (!(phi < b)) break;
-              add(envelope[j].start);
-            }
-            add(envelope_point(set, k, sheet, envelope[piece_at(envelope, b)], b));
+            if (!(phi < b)) break;
+            ++count;
+          }
+          const glm::dvec3 at_a = envelope_point(set, k, sheet, envelope[i], a);
+          const glm::dvec3 at_b = envelope_point(set, k, sheet, envelope[piece_at(envelope, b)], b);
+          if (sheet == 1) {  // lower, from a to b
+            add(at_a);
+            for (std::size_t step = 1; step <= count; ++step) add(envelope[(i + step) % n].start);
+            add(at_b);
             add(on_circle(c, b));
-          } else {
-            // Upper sheet, from b down to a: collect the breakpoints forwards, then add them backwards.
-            std::size_t count = 0;
-            for (std::size_t step = 1; step <= n && n > 1; ++step)
-              if (breakpoint((i + step) % n) < b)
-                ++count;
-              else
-                break;
-            add(envelope_point(set, k, sheet, envelope[piece_at(envelope, b)], b));
-            for (std::size_t step = count; step >= 1; --step) {
-              const std::size_t j = (i + step) % n;
-              add(envelope[j].start);
-            }
-            add(envelope_point(set, k, sheet, envelope[i], a));
+          } else {  // upper, from b back to a
+            add(at_b);
+            for (std::size_t step = count; step >= 1; --step) add(envelope[(i + step) % n].start);
+            add(at_a);
             add(on_circle(c, a));
           }
         }
