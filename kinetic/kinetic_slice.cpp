@@ -140,10 +140,11 @@ std::size_t find_fan_swaps(const Slice& old, const Slice& next, KineticScratch& 
 
 void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& connectivity,
                          const Frame& frame, const SlicingPlane& plane, ConeStorage storage,
-                         std::span<const Index> faces, KineticScratch& scratch) {
+                         std::span<const Index> faces, std::span<const std::uint8_t> flat_edges,
+                         KineticScratch& scratch) {
   m_storage = storage;
   const auto start = std::chrono::steady_clock::now();
-  slice_mesh(topology, connectivity, frame, plane, faces, scratch.slicer, m_out.slice);
+  slice_mesh(topology, connectivity, frame, plane, faces, scratch.slicer, m_out.slice, flat_edges);
   try {
     finish_build(topology, frame, scratch, true);
     m_rebuild_cost = per_slice_vertex(seconds_since(start));
@@ -192,12 +193,12 @@ void KineticSlice::grow_cones(const MeshTopology& topology, const Frame& frame, 
 
 KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConnectivity& connectivity,
                                     const Frame& next, const SlicingPlane& plane,
-                                    std::span<const Index> faces, const KineticPolicy& policy,
-                                    KineticScratch& scratch) {
+                                    std::span<const Index> faces, std::span<const std::uint8_t> flat_edges,
+                                    const KineticPolicy& policy, KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
   KineticCounts counts;
   try {
-    counts = carry(topology, connectivity, next, plane, faces, policy, scratch);
+    counts = carry(topology, connectivity, next, plane, faces, flat_edges, policy, scratch);
   } catch (...) {
     m_editable = false;  // perhaps half-edited: the next interval rebuilds it
     m_kept.release();
@@ -223,7 +224,8 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
 KineticCounts KineticSlice::rebuild_outright(const MeshTopology& topology,
                                              const MeshConnectivity& connectivity, const Frame& next,
                                              const SlicingPlane& plane, std::span<const Index> faces,
-                                             bool keep, KineticScratch& scratch) {
+                                             std::span<const std::uint8_t> flat_edges, bool keep,
+                                             KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
   KineticCounts counts;
   counts.slices_rebuilt = 1;
@@ -233,7 +235,7 @@ KineticCounts KineticSlice::rebuild_outright(const MeshTopology& topology,
   m_rebuilds_left = 0;  // the slice's own run of rebuilds is the engine's now
   m_carry_cost = -1.0;  // measured afresh when carried again
   try {
-    slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_out.slice);
+    slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_out.slice, flat_edges);
     finish_build(topology, next, scratch, keep);
   } catch (...) {
     m_editable = false;
@@ -256,7 +258,8 @@ void KineticSlice::rederive_triangulation(SliceTriangulation& out) const {
 
 KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnectivity& connectivity,
                                   const Frame& next, const SlicingPlane& plane, std::span<const Index> faces,
-                                  const KineticPolicy& policy, KineticScratch& scratch) {
+                                  std::span<const std::uint8_t> flat_edges, const KineticPolicy& policy,
+                                  KineticScratch& scratch) {
   KineticCounts counts;
   m_changed_edges.clear();
   m_attempted = false;
@@ -281,7 +284,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     if (sliced)
       std::swap(m_out.slice, scratch.next);
     else  // into the slice's own buffer, as the static engine slices each plane into its own
-      slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_out.slice);
+      slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_out.slice, flat_edges);
     // A slice the next interval rebuilds outright keeps nothing: it is built as the static engine builds it.
     finish_build(topology, next, scratch, !(by_policy && m_rebuilds_left != 0));
     return counts;
@@ -296,7 +299,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     return rebuild(RebuildReason::cost);
   if (m_carried) m_backoff = 0;  // the last interval carried it, and (where measured) that paid
   m_attempted = true;
-  slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, scratch.next);
+  slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, scratch.next, flat_edges);
   sliced = true;
 
   // Match slice vertices by mesh edge: survivors, and those that vanish or appear.

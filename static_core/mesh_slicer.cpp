@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 #include <numeric>
 
+#include "static_core/assert.hpp"
 #include "static_core/internal/cgal_types.hpp"
 
 namespace pleat {
@@ -35,9 +36,81 @@ bool on_or_above(const SlicingPlane& plane, const glm::dvec3& p) {
   return on_or_above_exact(plane, p);
 }
 
+namespace {
+
+/// Takes the slice vertices on flat edges out of `out` (see slice_mesh): each chain edge that leaves a kept
+/// vertex is followed through flat vertices to the next kept one; the kept vertices are renumbered in order.
+void run_through_flat_edges(std::span<const std::uint8_t> flat_edges, SlicerScratch& scratch, Slice& out) {
+  auto& flat = scratch.flat;
+  flat.assign(out.vertices.size(), 0);
+  std::size_t dropped = 0;
+  for (std::size_t x = 0; x < out.vertices.size(); ++x)
+    if (flat_edges[out.vertices[x].edge] && out.in_edge[x] >= 0 && out.out_edge[x] >= 0)
+      flat[x] = 1, ++dropped;
+  if (dropped == 0) return;
+  auto& new_index = scratch.new_index;
+  new_index.assign(out.vertices.size(), -1);
+  std::size_t kept = 0;
+  for (std::size_t x = 0; x < out.vertices.size(); ++x)
+    if (!flat[x]) {
+      new_index[x] = static_cast<std::int32_t>(kept);
+      out.vertices[kept++] = out.vertices[x];
+    }
+  auto& edges = scratch.edges;  // out.edges is read by the walks below while they run
+  edges.clear();
+  std::size_t passed = 0;
+  for (const SliceEdge& first : out.edges) {
+    if (flat[first.from]) continue;  // inside a straight run: the run's first edge carries it
+    // A flat vertex has one edge in and one out (its edge has two faces, both cut): the run is a path.
+    Index to = first.to;
+    for (; flat[to]; ++passed) to = out.edges[out.out_edge[to]].to;
+    edges.push_back({Index(new_index[first.from]), Index(new_index[to]), first.face});
+  }
+  // Every flat crossing lies inside a run from a kept vertex (the faces of a run lie in one plane and do not
+  // fold, so its chain goes one way along a line and cannot close on itself).
+  PLEAT_ASSERT(passed == dropped, "slice_mesh: a closed chain of flat crossings");
+  out.edges.swap(edges);
+  out.vertices.resize(kept);
+}
+
+}  // namespace
+
+void flat_occluder_edges(const MeshTopology& topology, const MeshConnectivity& connectivity,
+                         const Frame& frame, std::vector<std::uint8_t>& flat) {
+  flat.assign(connectivity.num_edges(), 0);
+  if (topology.num_occluder_vertices == 0) return;
+  const Index first_occluder = topology.num_receivers();
+  // Per edge, the corner opposite it in each of its (two) occluder faces.
+  std::vector<std::array<std::int32_t, 2>> opposite(connectivity.num_edges(), {-1, -1});
+  for (Index f = 0; f < topology.num_sliced_triangles(); ++f) {
+    const Triangle& t = topology.triangles[f];
+    if (t[0] < first_occluder) continue;  // an occluder's faces use its vertices alone
+    for (int i = 0; i < 3; ++i) {
+      const Index e = connectivity.of_face()[f][i];  // (t[i], t[i + 1]): opposite t[i + 2]
+      if (connectivity.kind(e) != EdgeKind::Interior) continue;
+      auto& o = opposite[e];
+      (o[0] < 0 ? o[0] : o[1]) = static_cast<std::int32_t>(t[(i + 2) % 3]);
+    }
+  }
+  auto point = [&](Index v) {
+    const glm::dvec3& p = frame.positions[v];
+    return cgal::Kernel::Point_3(p.x, p.y, p.z);
+  };
+  for (std::size_t e = 0; e < opposite.size(); ++e) {
+    const auto [c, d] = opposite[e];
+    if (d < 0) continue;
+    const auto a = point(connectivity.endpoints()[e][0]), b = point(connectivity.endpoints()[e][1]);
+    const auto pc = point(Index(c)), pd = point(Index(d));
+    if (CGAL::collinear(a, b, pc) || CGAL::orientation(a, b, pc, pd) != CGAL::COPLANAR) continue;
+    // In the plane of a, b, c: d on the other side of the line ab (not folded onto c's face, not on the
+    // line).
+    flat[e] = CGAL::coplanar_orientation(a, b, pc, pd) == CGAL::NEGATIVE;
+  }
+}
+
 void slice_mesh(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                 const SlicingPlane& plane, std::span<const Index> candidate_faces, SlicerScratch& scratch,
-                Slice& out) {
+                Slice& out, std::span<const std::uint8_t> flat_edges) {
   out.clear();
   auto& vertex_of_edge = scratch.slice_vertex_of_edge;
   if (vertex_of_edge.size() != connectivity.num_edges()) vertex_of_edge.assign(connectivity.num_edges(), -1);
@@ -98,11 +171,19 @@ void slice_mesh(const MeshTopology& topology, const MeshConnectivity& connectivi
   }
   for (const auto& sv : out.vertices) vertex_of_edge[sv.edge] = -1;
 
-  out.out_edge.assign(out.vertices.size(), -1);
-  out.in_edge.assign(out.vertices.size(), -1);
-  for (std::size_t e = 0; e < out.edges.size(); ++e) {
-    if (out.out_edge[out.edges[e].from] < 0) out.out_edge[out.edges[e].from] = static_cast<std::int32_t>(e);
-    if (out.in_edge[out.edges[e].to] < 0) out.in_edge[out.edges[e].to] = static_cast<std::int32_t>(e);
+  auto link = [&] {
+    out.out_edge.assign(out.vertices.size(), -1);
+    out.in_edge.assign(out.vertices.size(), -1);
+    for (std::size_t e = 0; e < out.edges.size(); ++e) {
+      if (out.out_edge[out.edges[e].from] < 0) out.out_edge[out.edges[e].from] = static_cast<std::int32_t>(e);
+      if (out.in_edge[out.edges[e].to] < 0) out.in_edge[out.edges[e].to] = static_cast<std::int32_t>(e);
+    }
+  };
+  link();
+  if (!flat_edges.empty()) {
+    const std::size_t before = out.vertices.size();
+    run_through_flat_edges(flat_edges, scratch, out);
+    if (out.vertices.size() != before) link();
   }
 }
 

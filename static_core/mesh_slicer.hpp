@@ -48,13 +48,29 @@ struct Slice {
 /// Reusable per-thread memory of slice_mesh (no allocation per slice once warmed up).
 struct SlicerScratch {
   std::vector<std::int32_t> slice_vertex_of_edge;  ///< -1 where the edge was not crossed
+  std::vector<std::uint8_t> flat;                  ///< per slice vertex: on a flat edge (run through)
+  std::vector<std::int32_t> new_index;             ///< per slice vertex: its index once flat ones are out
+  std::vector<SliceEdge> edges;                    ///< the chain edges once flat crossings are run through
 };
 
 /// Slices the faces listed in `candidate_faces` (all faces that may cross the plane; others are ignored)
 /// into `out`. Deterministic: slice vertices are numbered in order of first appearance.
+///
+/// `flat_edges` (per mesh edge, from flat_occluder_edges for this frame; empty: none): a chain runs straight
+/// through a crossing of a flat edge, so that crossing gets no slice vertex and the two slice edges on either
+/// side of it are one. The chain is the same point set (the crossing lies on the segment between its chain
+/// neighbours, exactly); only occluders' edges are flat, so no vertex loses a cone.
 void slice_mesh(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                 const SlicingPlane& plane, std::span<const Index> candidate_faces, SlicerScratch& scratch,
-                Slice& out);
+                Slice& out, std::span<const std::uint8_t> flat_edges = {});
+
+/// Per mesh edge of `connectivity`, 1 where the edge is *flat* in `frame`: an interior edge (two faces, in
+/// opposite directions) between occluder vertices whose two faces lie in one plane on either side of it —
+/// coplanar and not folded onto each other, decided exactly (CGAL's orientation and coplanar_orientation on
+/// the input coordinates), a face with collinear corners never flat. A modelled table's caps and the
+/// diagonals of a cylinder's side quads are flat; cloth edges never are. O(edges), once per frame.
+void flat_occluder_edges(const MeshTopology& topology, const MeshConnectivity& connectivity,
+                         const Frame& frame, std::vector<std::uint8_t>& flat);
 
 /// For each plane of the plan, the faces that may cross it (the candidate_faces of slice_mesh), among the
 /// topology's sliced triangles (MeshTopology::num_sliced_triangles). Parallel

@@ -23,8 +23,8 @@ struct Workspace {
 
 void process_plane(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                    const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
-                   Workspace& ws, PlaneCones& out) {
-  slice_mesh(topology, connectivity, frame, plane, faces, ws.slicer, out.slice);
+                   std::span<const std::uint8_t> flat_edges, Workspace& ws, PlaneCones& out) {
+  slice_mesh(topology, connectivity, frame, plane, faces, ws.slicer, out.slice, flat_edges);
   ws.triangulation.build(out.slice);
   out.crossings = ws.triangulation.crossings();
   compute_plane_cones(topology.num_receivers(), storage, frame, ws.triangulation, ws.cones, out);
@@ -72,6 +72,7 @@ struct StaticVisibility::Impl {
   std::vector<PlaneCones> planes;
   std::vector<const PlaneCones*> plane_views;  // the assembler's view of `planes`
   std::vector<std::vector<Index>> faces;       // candidate faces per plane
+  std::vector<std::uint8_t> flat_edges;        // per mesh edge, this frame's (flat_occluder_edges)
   tbb::enumerable_thread_specific<Workspace> workspaces;
   FrameAssembler assembler;
   FrameVisibility result;
@@ -79,10 +80,11 @@ struct StaticVisibility::Impl {
 
 void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result) {
   candidate_faces_per_plane(topology, frame, plan, faces);
+  flat_occluder_edges(topology, connectivity, frame, flat_edges);
   // Every plane on its own: slice, triangulate, shortest-path trees, 2D cones.
   auto run = [&](std::size_t p) {
-    process_plane(topology, connectivity, frame, plan.planes[p], plan.storage, faces[p], workspaces.local(),
-                  planes[p]);
+    process_plane(topology, connectivity, frame, plan.planes[p], plan.storage, faces[p], flat_edges,
+                  workspaces.local(), planes[p]);
   };
   if (params.parallel)
     tbb::parallel_for(std::size_t(0), planes.size(), run);

@@ -126,12 +126,13 @@ class KineticSlice {
   /// The static build of `frame` (also the fallback). `storage` is the plan's rule (compute_plane_cones).
   void build(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
              const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
-             KineticScratch& scratch);
+             std::span<const std::uint8_t> flat_edges, KineticScratch& scratch);
   /// From the current frame to `next` (see the header comment). Returns what it did: one of
   /// slices_unchanged, slices_repaired or slices_rebuilt is 1 (and rebuilt_because the reason), and where its
   /// time went.
   KineticCounts advance(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& next,
-                        const SlicingPlane& plane, std::span<const Index> faces, const KineticPolicy& policy,
+                        const SlicingPlane& plane, std::span<const Index> faces,
+                        std::span<const std::uint8_t> flat_edges, const KineticPolicy& policy,
                         KineticScratch& scratch);
 
   /// To `next` by the static build, as the static engine does it (no attempt to carry), for the engine's
@@ -139,7 +140,8 @@ class KineticSlice {
   /// interval to carry. Counted as rebuilt for frame_cost.
   KineticCounts rebuild_outright(const MeshTopology& topology, const MeshConnectivity& connectivity,
                                  const Frame& next, const SlicingPlane& plane, std::span<const Index> faces,
-                                 bool keep, KineticScratch& scratch);
+                                 std::span<const std::uint8_t> flat_edges, bool keep,
+                                 KineticScratch& scratch);
 
   const PlaneCones& cones() const { return m_out; }
   /// The mesh edges that started or stopped crossing the plane in the last advance() (local edits only).
@@ -158,7 +160,8 @@ class KineticSlice {
   void finish_frame(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
   /// advance() but its timing.
   KineticCounts carry(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& next,
-                      const SlicingPlane& plane, std::span<const Index> faces, const KineticPolicy& policy,
+                      const SlicingPlane& plane, std::span<const Index> faces,
+                      std::span<const std::uint8_t> flat_edges, const KineticPolicy& policy,
                       KineticScratch& scratch);
   void grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
   /// Step 2 of the header comment: certify every face at the next frame and take out the vertices of
