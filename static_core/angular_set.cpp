@@ -148,17 +148,30 @@ struct Aim {
   std::vector<HorizonTangent>* tangents;  ///< null: none wanted
 };
 
-bool blend_or_aim(std::span<const Wedge> a, std::span<const Wedge> b, double t, const Aim* aim,
-                  WedgeScratch& s, std::vector<Wedge>& out) {
-  const std::size_t k = a.size();
-  if (b.size() != k) return false;
-  if (k == 0) return true;
-  if (is_full_turn(a) || is_full_turn(b)) {
-    if (!(is_full_turn(a) && is_full_turn(b))) return false;
-    out.push_back({0.0, kTwoPi});
-    return true;
+/// Whether wedge x can move to wedge y: each end by at most kMaxBlendTurn the shorter way round, and those
+/// turns describing y's own width (not y's complement or a wrapped-around one). Sets the ends' turns.
+bool can_move(const Wedge& x, const Wedge& y, double& turn_start, double& turn_end) {
+  turn_start = signed_turn(x.start, y.start);
+  turn_end = signed_turn(x.end(), y.end());
+  return std::abs(turn_start) <= kMaxBlendTurn && std::abs(turn_end) <= kMaxBlendTurn &&
+         std::abs(x.width + turn_end - turn_start - y.width) <= 1e-9;
+}
+
+/// The ends' total turn when every a[i] moves to b[(i + r) % k] (both of k wedges); infinite when one cannot
+/// (can_move).
+double shift_cost(std::span<const Wedge> a, std::span<const Wedge> b, std::size_t r) {
+  double cost = 0, turn_start, turn_end;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (!can_move(a[i], b[(i + r) % a.size()], turn_start, turn_end)) return INFINITY;
+    cost += std::abs(turn_start) + std::abs(turn_end);
   }
-  // The cyclic shift r (a[i] with b[(i + r) % k]) that moves the ends least in total.
+  return cost;
+}
+
+/// The cyclic shift r (a[i] with b[(i + r) % k], both of k wedges) that moves the ends least in total, valid
+/// or not (blend_or_aim refuses an invalid one: the sets do not match).
+std::size_t least_turn_shift(std::span<const Wedge> a, std::span<const Wedge> b) {
+  const std::size_t k = a.size();
   std::size_t shift = 0;
   double least = INFINITY;
   for (std::size_t r = 0; r < k; ++r) {
@@ -170,14 +183,85 @@ bool blend_or_aim(std::span<const Wedge> a, std::span<const Wedge> b, double t, 
     }
     if (cost < least) least = cost, shift = r;
   }
+  return shift;
+}
+
+/// `fewer` (united, not a full turn) with the one wedge or the one gap it lacks against `more` (one wedge
+/// more, not a full turn) put in, into s.pad, and the shift that matches them (a[i] with b[(i + shift) % k]):
+/// either a wedge of `more` whose middle lies in a gap of `fewer`, put in as a wedge of width 0 there and
+/// matched to it (a gap closing between the planes), or a gap of `more` whose middle lies in a wedge of
+/// `fewer`, put in as a cut of that wedge into two that touch there, matched to the gap's two sides (an
+/// occluder rising between the planes). Of every candidate whose match is valid (can_move), the one whose
+/// ends turn least. The put-in ends have no reach (nothing is aimed at them). False when there is none.
+bool pad_to_match(std::span<const Wedge> fewer, std::span<const Wedge> more, WedgeScratch& s,
+                  std::size_t& shift) {
+  const std::size_t k = more.size();
+  double best = INFINITY;
+  // s.trial's wedge `at` is the one matched to more[i]: the shift follows.
+  auto offer = [&](std::size_t at, std::size_t i) {
+    const std::size_t r = (i + k - at) % k;
+    const double cost = shift_cost(s.trial, more, r);
+    if (cost < best) best = cost, shift = r, s.pad.swap(s.trial);
+  };
+  auto inside = [](double angle, const Wedge& w) {
+    const double d = wrap_angle(angle - w.start);
+    return d > 0 && d < w.width;
+  };
+  for (std::size_t i = 0; i < k; ++i) {  // a wedge fewer lacks, in one of its gaps
+    const double middle = wrap_angle(more[i].start + more[i].width / 2);
+    if (std::any_of(fewer.begin(), fewer.end(), [&](const Wedge& w) { return inside(middle, w); })) continue;
+    const std::size_t at =
+        std::size_t(std::upper_bound(fewer.begin(), fewer.end(), middle,
+                                     [](double x, const Wedge& w) { return x < w.start; }) -
+                    fewer.begin());
+    s.trial.assign(fewer.begin(), fewer.begin() + at);
+    s.trial.push_back({middle, 0.0});
+    s.trial.insert(s.trial.end(), fewer.begin() + at, fewer.end());
+    offer(at, i);
+  }
+  if (k >= 2)
+    for (std::size_t i = 0; i < k; ++i) {  // a gap fewer lacks: between more[i] and its successor
+      const double gap = wrap_angle(more[(i + 1) % k].start - more[i].end());
+      const double middle = wrap_angle(more[i].end() + gap / 2);
+      for (std::size_t j = 0; j < fewer.size(); ++j) {
+        if (!inside(middle, fewer[j])) continue;
+        const double d = wrap_angle(middle - fewer[j].start);
+        s.trial.assign(fewer.begin(), fewer.begin() + j);
+        s.trial.push_back({fewer[j].start, d, fewer[j].start_reach, INFINITY});
+        s.trial.push_back({middle, fewer[j].width - d, INFINITY, fewer[j].end_reach});
+        s.trial.insert(s.trial.end(), fewer.begin() + j + 1, fewer.end());
+        offer(j, i);
+      }
+    }
+  return best < INFINITY;
+}
+
+bool blend_or_aim(std::span<const Wedge> a, std::span<const Wedge> b, double t, const Aim* aim,
+                  WedgeScratch& s, std::vector<Wedge>& out) {
+  if (a.empty() && b.empty()) return true;
+  if (is_full_turn(a) || is_full_turn(b)) {
+    if (!(is_full_turn(a) && is_full_turn(b))) return false;
+    out.push_back({0.0, kTwoPi});
+    return true;
+  }
+  std::size_t shift = 0;       // a[i] is matched with b[(i + shift) % k]
+  if (a.size() != b.size()) {  // one wedge or one gap more on one side: put it in on the other
+    // (Not against an empty set: measured worse, docs/method.md §7.)
+    if (a.empty() || b.empty() || (a.size() + 1 != b.size() && b.size() + 1 != a.size())) return false;
+    const bool a_fewer = a.size() < b.size();
+    if (!pad_to_match(a_fewer ? a : b, a_fewer ? b : a, s, shift)) return false;
+    (a_fewer ? a : b) = s.pad;
+    if (!a_fewer) shift = (a.size() - shift) % a.size();  // the match seen from a
+  } else {
+    shift = least_turn_shift(a, b);
+  }
+  const std::size_t k = a.size();
   s.a.clear();
   for (std::size_t i = 0; i < k; ++i) {
     const Wedge& x = a[i];
     const Wedge& y = b[(i + shift) % k];
-    const double turn_start = signed_turn(x.start, y.start), turn_end = signed_turn(x.end(), y.end());
-    if (std::abs(turn_start) > kMaxBlendTurn || std::abs(turn_end) > kMaxBlendTurn) return false;
-    // The ends' shorter turns must describe y's own width (not y's complement or a wrapped-around one).
-    if (std::abs(x.width + turn_end - turn_start - y.width) > 1e-9) return false;
+    double turn_start, turn_end;
+    if (!can_move(x, y, turn_start, turn_end)) return false;
     double start = x.start + t * turn_start;
     double width = x.width + t * (y.width - x.width);
     float start_reach = INFINITY, end_reach = INFINITY;

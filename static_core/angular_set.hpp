@@ -59,7 +59,7 @@ void unite_wedges(std::span<const Wedge> wedges, std::vector<AngularInterval>& s
 /// Reusable buffers of intersect_wedges, blend_wedges and aim_wedges.
 struct WedgeScratch {
   std::vector<AngularInterval> intervals, x, y, z;
-  std::vector<Wedge> a, b;
+  std::vector<Wedge> a, b, pad, trial;
 };
 
 /// Appends the intersection of the unions of `a` and `b` to `out` (disjoint, sorted by start), without
@@ -82,10 +82,14 @@ inline constexpr double kMaxBlendTurn = kTwoPi / 4;
 
 /// Appends to `out` the set between the united sets `a` (at t = 0) and `b` (at t = 1): the wedges of `a` and
 /// `b` matched in counter-clockwise order (the cyclic shift that moves the ends least), each end moved the
-/// shorter way round from a's to b's by the fraction t in [0, 1], and the result united. Returns false, and
-/// appends nothing, when the sets cannot be matched so: different numbers of wedges, one a full turn and the
-/// other not, or an end that would turn by more than kMaxBlendTurn. Two empty sets blend to the empty set.
-/// O(k^2) for k wedges; no allocation once `scratch` has grown.
+/// shorter way round from a's to b's by the fraction t in [0, 1], and the result united. Where one set has
+/// one wedge more (neither empty), the other is given the wedge or the gap it lacks, grown from nothing: a
+/// wedge of width 0 at the middle of the extra wedge (a gap closing between the planes), or its wedge cut
+/// across the middle of the extra gap (an occluder rising between them), whichever moves the ends least.
+/// Returns false, and appends nothing, when the sets cannot be matched so: numbers of wedges two or more
+/// apart, one set empty and the other not, one a full turn and the other not, or an end that would turn by
+/// more than kMaxBlendTurn. Two empty sets blend to the empty set. O(k^3) for k wedges where the numbers
+/// differ, else O(k^2); no allocation once `scratch` has grown.
 bool blend_wedges(std::span<const Wedge> a, std::span<const Wedge> b, double t, WedgeScratch& scratch,
                   std::vector<Wedge>& out);
 

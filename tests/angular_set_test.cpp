@@ -167,12 +167,52 @@ RC_GTEST_PROP(AngularSet, BlendMovesEveryEndLinearly, ()) {
   RC_ASSERT(difference(same, a) < 1e-12);
 }
 
+RC_GTEST_PROP(AngularSet, BlendGrowsAWedgeOrAGapFromNothing, ()) {
+  // b has k wedges; a lacks one of them (a gap closes between the planes) or the gap after one of them (an
+  // occluder rises between them): the blend grows the missing wedge or gap from nothing at its middle, by
+  // t of its width at b, while every other end moves linearly.
+  const int k = *rc::gen::inRange(2, 6);
+  const MovingWedges m = gen_moving_wedges(k);
+  const std::vector<Wedge> at0 = m.at(0.0), at1 = m.at(1.0);
+  const std::size_t i = *rc::gen::inRange(0, k), next = (i + 1) % k;
+  const bool gap = *rc::gen::arbitrary<bool>();
+  const double t = *rc::gen::element(0.0, 1.0, 0.5, *rc::gen::inRange(0, 1001) / 1000.0);
+  std::vector<Wedge> a_raw, expected = m.at(t);
+  if (!gap) {
+    RC_PRE(at1[i].width / 2 < kMaxBlendTurn);
+    for (std::size_t j = 0; j < at0.size(); ++j)
+      if (j != i) a_raw.push_back(at0[j]);
+    const double middle = at1[i].start + at1[i].width / 2;
+    expected[i] = {wrap_angle(middle - t * at1[i].width / 2), t * at1[i].width};
+  } else {
+    const double width = wrap_angle(at1[next].start - at1[i].end());  // of b's gap after wedge i
+    RC_PRE(width / 2 < kMaxBlendTurn);
+    for (std::size_t j = 0; j < at0.size(); ++j)
+      if (j != i && j != next) a_raw.push_back(at0[j]);
+    a_raw.push_back({at0[i].start, wrap_angle(at0[next].end() - at0[i].start)});  // i and next as one
+    const double middle = at1[i].end() + width / 2;
+    expected[i].width = wrap_angle(middle - t * width / 2 - expected[i].start);
+    const double end = expected[next].end();
+    expected[next] = {wrap_angle(middle + t * width / 2), wrap_angle(end - (middle + t * width / 2))};
+  }
+  const std::vector<Wedge> a = united(a_raw), b = united(at1);
+  RC_ASSERT(a.size() + 1 == b.size());
+  WedgeScratch scratch;
+  std::vector<Wedge> blend, reverse;
+  RC_ASSERT(blend_wedges(a, b, t, scratch, blend));
+  RC_ASSERT(is_united(blend) || blend.empty());
+  RC_ASSERT(difference(blend, expected) < 1e-9);
+  RC_ASSERT(blend_wedges(b, a, 1.0 - t, scratch, reverse));  // symmetric
+  RC_ASSERT(difference(blend, reverse) < 1e-9);
+}
+
 TEST(AngularSet, BlendRefusesSetsThatDoNotMatch) {
   WedgeScratch scratch;
   std::vector<Wedge> out;
-  const std::vector<Wedge> one{{1.0, 0.5}}, two{{1.0, 0.2}, {2.0, 0.3}}, full{{0.0, kTwoPi}};
-  EXPECT_FALSE(blend_wedges(one, two, 0.5, scratch, out));   // a wedge appears
-  EXPECT_FALSE(blend_wedges(one, full, 0.5, scratch, out));  // a full turn against a wedge
+  const std::vector<Wedge> one{{1.0, 0.5}}, three{{1.0, 0.2}, {2.0, 0.3}, {3.0, 0.3}}, full{{0.0, kTwoPi}};
+  EXPECT_FALSE(blend_wedges(one, three, 0.5, scratch, out));  // two wedges appear
+  EXPECT_FALSE(blend_wedges({}, one, 0.5, scratch, out));     // a wedge from an empty set
+  EXPECT_FALSE(blend_wedges(one, full, 0.5, scratch, out));   // a full turn against a wedge
   const std::vector<Wedge> far{{1.0 + kTwoPi / 2, 0.5}};
   EXPECT_FALSE(blend_wedges(one, far, 0.5, scratch, out));  // ends that would turn by half a turn
   const std::vector<Wedge> complement{{1.5, kTwoPi - 0.5}};
