@@ -123,5 +123,33 @@ TEST(ConeAssembly, AnEndOnTheHorizonAndOneOnTheGroundMeetWhereTheirPlanesDo) {
   EXPECT_NEAR(measures.sky_visibility, 0.5, 1e-9);
 }
 
+TEST(ConeAssembly, ArcsLinkOverAnotherCircleOnlyNearIt) {
+  // Two arcs: one around +x on the circle of the plane z = 0, and one 48-72 degrees above that plane on the
+  // circle of y = 0, whose points project onto the first arc. With only these two circles through the vertex
+  // nothing lies nearer another circle: one visible region, one piece. With six more orientations (their
+  // circles seeing nothing) the circles are pi / 8 apart, the second arc lies more than 1.5 of those from the
+  // first circle, nearer the others: two regions, two pieces.
+  const glm::dvec3 m = glm::normalize(glm::dvec3(1, 0, 1));
+  std::vector<SlicingPlane> planes{make_plane({0, 0, 1}, 0.0, 0), make_plane({0, 1, 0}, 0.0, 1)};
+  auto angle_in = [](const SlicingPlane& p, const glm::dvec3& d) {
+    return std::atan2(glm::dot(p.w, d), glm::dot(p.u, d));
+  };
+  const glm::dvec3 up(0.5, 0, std::sqrt(3.0) / 2);  // 60 degrees above z = 0, over +x
+  const std::vector<Wedge> around_x{{wrap_angle(angle_in(planes[0], {1, 0, 0}) - 0.2), 0.4}};
+  const std::vector<Wedge> above{{wrap_angle(angle_in(planes[1], up) - 0.2), 0.4}};
+  std::vector<PlanarCone> cones{{&planes[0], around_x}, {&planes[1], above}};
+  ConeAssemblyScratch scratch;
+  VisibilityCone two_circles, eight_circles;
+  assemble_cone(cones, m, scratch, two_circles);
+  EXPECT_EQ(two_circles.pieces.size(), 1u);
+  std::vector<SlicingPlane> more;
+  for (const glm::dvec3& n : {glm::dvec3(1, 0, 0), glm::dvec3(1, 1, 1), glm::dvec3(1, -1, 1),
+                              glm::dvec3(-1, 1, 1), glm::dvec3(0, 1, 1), glm::dvec3(1, 1, 0)})
+    more.push_back(make_plane(glm::normalize(n), 0.0, int(2 + more.size())));
+  for (const SlicingPlane& p : more) cones.push_back({&p, {}});
+  assemble_cone(cones, m, scratch, eight_circles);
+  EXPECT_EQ(eight_circles.pieces.size(), 2u);
+}
+
 }  // namespace
 }  // namespace pleat
