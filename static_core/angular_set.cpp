@@ -175,11 +175,10 @@ std::size_t least_turn_shift(std::span<const Wedge> a, std::span<const Wedge> b)
   std::size_t shift = 0;
   double least = INFINITY;
   for (std::size_t r = 0; r < k; ++r) {
-    double cost = 0;
+    double cost = 0, turn_start, turn_end;
     for (std::size_t i = 0; i < k && cost < least; ++i) {
-      const Wedge& x = a[i];
-      const Wedge& y = b[(i + r) % k];
-      cost += std::abs(signed_turn(x.start, y.start)) + std::abs(signed_turn(x.end(), y.end()));
+      can_move(a[i], b[(i + r) % k], turn_start, turn_end);  // the turns, whether or not it can
+      cost += std::abs(turn_start) + std::abs(turn_end);
     }
     if (cost < least) least = cost, shift = r;
   }

@@ -88,10 +88,9 @@ bool near_ends(const glm::dvec3& d, const SpatialWedge& w) {
 
 /// How far from a plane's great circle a sample point of another arc may lie and still link to it over that
 /// circle (same_region), in units of the circles' spacing pi / n for a vertex cut by n orientations: a point
-/// farther than that is nearer another orientation's circle, which would have seen the region. (Measured
-/// against 4096 rays, 8 orientations: 1.5 lowers the mean error of the rucked sleeve in its scene by 14%,
-/// of the real cloth alone by 4-13%, of the generated roll by 30%; unlimited, as before, the error grew
-/// with more orientations: docs/benchmarks.md.)
+/// farther than that is nearer another orientation's circle, which would have seen the region. Unlimited,
+/// separate openings were joined the more often the more orientations there were (the value was chosen by
+/// measurement: docs/benchmarks.md, "Linking arcs only near their circle").
 constexpr double kLinkHeightInSpacings = 1.5;
 
 /// True when two wedges belong to one visible region: their arcs cross (the paper's test: the cones share

@@ -80,15 +80,22 @@ void flat_occluder_edges(const MeshTopology& topology, const MeshConnectivity& c
   flat.assign(connectivity.num_edges(), 0);
   if (topology.num_occluder_vertices == 0) return;
   const Index first_occluder = topology.num_receivers();
-  // Per edge, the corner opposite it in each of its (two) occluder faces.
-  std::vector<std::array<std::int32_t, 2>> opposite(connectivity.num_edges(), {-1, -1});
+  // An occluder's faces use its vertices alone, and edges are sorted by their smaller endpoint: the
+  // occluders' edges are the last ones, from `first_edge` on.
+  const auto& endpoints = connectivity.endpoints();
+  const std::size_t first_edge =
+      std::size_t(std::partition_point(endpoints.begin(), endpoints.end(),
+                                       [&](const std::array<Index, 2>& e) { return e[0] < first_occluder; }) -
+                  endpoints.begin());
+  // Per occluder edge, the corner opposite it in each of its (two) faces.
+  std::vector<std::array<std::int32_t, 2>> opposite(endpoints.size() - first_edge, {-1, -1});
   for (Index f = 0; f < topology.num_sliced_triangles(); ++f) {
     const Triangle& t = topology.triangles[f];
-    if (t[0] < first_occluder) continue;  // an occluder's faces use its vertices alone
+    if (t[0] < first_occluder) continue;
     for (int i = 0; i < 3; ++i) {
       const Index e = connectivity.of_face()[f][i];  // (t[i], t[i + 1]): opposite t[i + 2]
       if (connectivity.kind(e) != EdgeKind::Interior) continue;
-      auto& o = opposite[e];
+      auto& o = opposite[e - first_edge];
       (o[0] < 0 ? o[0] : o[1]) = static_cast<std::int32_t>(t[(i + 2) % 3]);
     }
   }
@@ -96,10 +103,10 @@ void flat_occluder_edges(const MeshTopology& topology, const MeshConnectivity& c
     const glm::dvec3& p = frame.positions[v];
     return cgal::Kernel::Point_3(p.x, p.y, p.z);
   };
-  for (std::size_t e = 0; e < opposite.size(); ++e) {
-    const auto [c, d] = opposite[e];
+  for (std::size_t e = first_edge; e < endpoints.size(); ++e) {
+    const auto [c, d] = opposite[e - first_edge];
     if (d < 0) continue;
-    const auto a = point(connectivity.endpoints()[e][0]), b = point(connectivity.endpoints()[e][1]);
+    const auto a = point(endpoints[e][0]), b = point(endpoints[e][1]);
     const auto pc = point(Index(c)), pd = point(Index(d));
     if (CGAL::collinear(a, b, pc) || CGAL::orientation(a, b, pc, pd) != CGAL::COPLANAR) continue;
     // In the plane of a, b, c: d on the other side of the line ab (not folded onto c's face, not on the
