@@ -27,6 +27,8 @@ const char* rebuild_reason_name(RebuildReason reason) {
       return "cost";
     case RebuildReason::frame_cost:
       return "frame_cost";
+    case RebuildReason::no_cones:
+      return "no_cones";
     case RebuildReason::count:
       break;
   }
@@ -159,17 +161,23 @@ void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& c
 void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch,
                                 bool keep) {
   SliceTriangulation& tri = scratch.triangulation;
+  m_unkept_check.reset();
+  if (!offer_cones(topology, frame, scratch)) {  // occluders only: no triangulation, nothing kept
+    m_out.crossings = 0;
+    m_editable = false;
+    m_kept.release();
+    return;
+  }
   tri.build(m_out.slice);
   m_out.crossings = tri.crossings();
   m_editable = keep && tri.dimension() == 2 && m_out.crossings == 0 &&
                tri.cdt().number_of_vertices() == m_out.slice.vertices.size() &&
                chains_are_edges(tri.cdt(), m_out.slice.edges, [&](Index x) { return tri.vertex_of(x); });
-  m_unkept_check.reset();
   if (!m_editable && scratch.check_unkept) {
     std::string why;
     m_unkept_check = tri.check_invariants(&why) ? std::string() : (why.empty() ? "invalid" : why);
   }
-  grow_cones(topology, frame, scratch);
+  grow_cones(scratch);
   if (m_editable)
     keep_triangulation(tri.cdt_for_editing(), m_kept);
   else
@@ -180,15 +188,26 @@ void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame
   std::swap(m_out.slice, scratch.next);
   scratch.triangulation.adopt_edits(m_out.slice);
   m_out.crossings = 0;
-  grow_cones(topology, frame, scratch);
+  if (!offer_cones(topology, frame, scratch)) {  // carried into occluders only: not carried further
+    m_editable = false;
+    m_kept.release();
+    return;
+  }
+  grow_cones(scratch);
   keep_triangulation(scratch.triangulation.cdt_for_editing(), m_kept);
 }
 
-void KineticSlice::grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
+bool KineticSlice::offer_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
-  compute_plane_cones(topology.num_receivers(), m_storage, frame, scratch.triangulation, scratch.cones,
-                      m_out);
+  m_offers = offer_plane_cones(topology.num_receivers(), m_storage, frame, scratch.cones, m_out);
   m_cone_seconds = seconds_since(start);
+  return m_offers;
+}
+
+void KineticSlice::grow_cones(KineticScratch& scratch) {
+  const auto start = std::chrono::steady_clock::now();
+  compute_plane_cones(scratch.triangulation, scratch.cones, m_out);
+  m_cone_seconds += seconds_since(start);
 }
 
 KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConnectivity& connectivity,
@@ -292,7 +311,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   // Rebuilt by the policy in the last interval(s): rebuilt outright until it is time to try again, for the
   // reason that started the run.
   if (m_rebuilds_left > 0) return rebuild(m_streak_reason);
-  if (!m_editable) return rebuild(RebuildReason::degenerate);
+  if (!m_editable) return rebuild(m_offers ? RebuildReason::degenerate : RebuildReason::no_cones);
   // Carrying this slice has cost more than rebuilding it (both measured on it): rebuilt, and tried again
   // after the retry interval (when the carry is measured afresh: unknown right after a rebuild).
   if (policy.measured_cost && m_carry_cost >= 0 && m_rebuild_cost >= 0 && m_carry_cost > m_rebuild_cost)

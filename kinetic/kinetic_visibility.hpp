@@ -29,7 +29,9 @@ class KineticSlice;
 struct KineticInspect;
 
 /// Why a slice was built from scratch in an interval.
-/// frame_cost: the engine rebuilt every slice of the interval (KineticPolicy::measured_cost).
+/// frame_cost: the engine rebuilt every slice of the interval (KineticPolicy::measured_cost). no_cones: the
+/// slice offered no cone at the last frame (it cut occluders only), so it was never triangulated: sliced
+/// afresh.
 enum class RebuildReason : int {
   none = 0,
   degenerate,
@@ -38,6 +40,7 @@ enum class RebuildReason : int {
   repair_failed,
   cost,
   frame_cost,
+  no_cones,
   count
 };
 const char* rebuild_reason_name(RebuildReason reason);

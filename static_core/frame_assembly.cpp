@@ -41,11 +41,21 @@ void store_cones(Index num_receivers, ConeStorage storage, const Frame& frame, c
   for (const StoredCone& s : stored) best_of[2 * std::size_t(s.vertex) + s.side] = -1;
 }
 
-void compute_plane_cones(Index num_receivers, ConeStorage storage, const Frame& frame,
-                         const SliceTriangulation& triangulation, PlaneConeScratch& s, PlaneCones& out) {
+bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& frame, PlaneConeScratch& s,
+                       PlaneCones& out) {
   store_cones(num_receivers, storage, frame, out.slice, out.stored, s.best);
+  if (out.stored.empty()) {
+    out.cones.wedges.clear();
+    out.cones.offsets.assign(2 * out.slice.vertices.size() + 1, 0);
+    out.cones.windows = out.cones.regions = out.cones.regions_with_holes = 0;
+    return false;
+  }
   s.needed.assign(out.slice.vertices.size(), 0);
   for (const StoredCone& c : out.stored) s.needed[c.slice_vertex] = 1;
+  return true;
+}
+
+void compute_plane_cones(const SliceTriangulation& triangulation, PlaneConeScratch& s, PlaneCones& out) {
   compute_slice_cones(out.slice, triangulation, s.cones, out.cones, s.needed);
 }
 
@@ -170,7 +180,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     stats.crossing_slices += r.crossings > 0;
   }
 
-  // 1. Storage: what each plane offers its mesh vertices is in planes[p]->stored (compute_plane_cones).
+  // 1. Storage: what each plane offers its mesh vertices is in planes[p]->stored (offer_plane_cones).
   auto stored = [&](std::uint32_t p) -> const std::vector<StoredCone>& { return planes[p]->stored; };
 
   // 2. Per vertex, side and orientation, the stored cones: one CSR array over the key

@@ -25,9 +25,11 @@ void process_plane(const MeshTopology& topology, const MeshConnectivity& connect
                    const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
                    std::span<const std::uint8_t> flat_edges, Workspace& ws, PlaneCones& out) {
   slice_mesh(topology, connectivity, frame, plane, faces, ws.slicer, out.slice, flat_edges);
+  out.crossings = 0;
+  if (!offer_plane_cones(topology.num_receivers(), storage, frame, ws.cones, out)) return;
   ws.triangulation.build(out.slice);
   out.crossings = ws.triangulation.crossings();
-  compute_plane_cones(topology.num_receivers(), storage, frame, ws.triangulation, ws.cones, out);
+  compute_plane_cones(ws.triangulation, ws.cones, out);
 }
 
 }  // namespace

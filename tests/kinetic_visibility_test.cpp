@@ -109,7 +109,8 @@ std::string compare_slice(const KineticVisibility& kinetic, std::size_t p, const
   SliceTriangulation st;
   st.build(fresh.slice);
   PlaneConeScratch scratch;
-  compute_plane_cones(topology.num_receivers(), kinetic.plan().storage, frame, st, scratch, fresh);
+  if (offer_plane_cones(topology.num_receivers(), kinetic.plan().storage, frame, scratch, fresh))
+    compute_plane_cones(st, scratch, fresh);
   const Slice& slice = fresh.slice;
   const SliceCones& cones = fresh.cones;
   const kinetic::KineticSlice& ks = kinetic::KineticInspect::slice(kinetic, p);

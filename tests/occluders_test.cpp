@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,8 @@
 #include "sim_io/obj_format.hpp"
 #include "sim_io/scene.hpp"
 #include "static_core/input_error.hpp"
+#include "static_core/internal/frame_assembly.hpp"
+#include "static_core/mesh_connectivity.hpp"
 #include "static_core/visibility.hpp"
 #include "test_support.hpp"
 
@@ -176,6 +179,62 @@ TEST(Occluders, KineticEqualsStaticWithAMovingOccluderAndTheGround) {
             << "frame " << f << " vertex " << v;
   }
   EXPECT_GT(crossings, 0u);  // the quad cuts through the flag: crossings, counted, no failure
+}
+
+TEST(Occluders, PlanesCuttingOnlyOccludersAreNotTriangulated) {
+  // A flag and a tall quad beside it, beyond the flag's box: the planes over the box that cut the quad but
+  // not the flag offer no cone, so neither engine triangulates them.
+  test::TempDir dir;
+  const MeshSequence cloth = generated(ClothKind::Flag, {12, 10, 24.0, 3}, 6);
+  const Bounds& box = cloth.bounds();
+  const glm::dvec3 size = box.hi - box.lo;
+  const double x = box.hi.x + 0.05 * size.x;
+  write_obj(dir / "wall.obj", MeshTopology{.num_vertices = 4, .triangles = {{0, 1, 2}, {0, 2, 3}}},
+            {{x, box.lo.y - size.y, box.lo.z - size.z},
+             {x + 0.2 * size.x, box.hi.y + size.y, box.lo.z - size.z},
+             {x + 0.2 * size.x, box.hi.y + size.y, box.hi.z + size.z},
+             {x, box.lo.y - size.y, box.hi.z + size.z}});
+  const Scene scene(cloth, {parse_occluder_spec((dir / "wall.obj").string())}, {});
+  const MeshTopology& topology = scene.topology();
+  const SlicingPlan plan = make_diffuse_plan(cloth.topology(), cloth.frame(0), {}, &box);
+  const MeshConnectivity connectivity(topology);
+  std::vector<Index> all(topology.triangles.size());
+  std::iota(all.begin(), all.end(), Index(0));
+  SlicerScratch slicer;
+  PlaneConeScratch scratch;
+  std::size_t occluders_only = 0;
+  for (const SlicingPlane& plane : plan.planes) {
+    PlaneCones out;
+    slice_mesh(topology, connectivity, scene.frame(0), plane, all, slicer, out.slice);
+    const bool receives =
+        std::any_of(out.slice.vertices.begin(), out.slice.vertices.end(),
+                    [&](const SliceVertex& v) { return v.above < topology.num_receivers(); });
+    ASSERT_EQ(offer_plane_cones(topology.num_receivers(), plan.storage, scene.frame(0), scratch, out),
+              receives);
+    if (receives || out.slice.vertices.empty()) continue;
+    ++occluders_only;
+    EXPECT_TRUE(out.stored.empty());
+    ASSERT_EQ(out.cones.offsets.size(), 2 * out.slice.vertices.size() + 1);
+    for (Index v = 0; v < out.slice.vertices.size(); ++v)
+      for (Side side : kBothSides) EXPECT_TRUE(out.cones.cone(v, side).empty());
+  }
+  EXPECT_GT(occluders_only, 0u);  // the case is exercised
+  // The kinetic engine slices such planes afresh every frame (never carried) and equals the static one.
+  KineticVisibility kinetic(topology, plan, scene.frame(0));
+  std::size_t resliced = 0;
+  for (std::size_t f = 1; f < 6; ++f) {
+    const FrameVisibility& k = kinetic.advance(scene.frame(f));
+    resliced +=
+        kinetic.last_stats().rebuilt_because[static_cast<std::size_t>(kinetic::RebuildReason::no_cones)];
+    const FrameVisibility s = compute_visibility(topology, scene.frame(f), plan);
+    for (Side side : kBothSides)
+      for (Index v = 0; v < cloth.topology().num_vertices; ++v)
+        ASSERT_EQ(k.measure(side, v).sky_visibility, s.measure(side, v).sky_visibility)
+            << "frame " << f << " vertex " << v;
+    EXPECT_EQ(k.stats.regions, s.stats.regions);
+    EXPECT_EQ(k.stats.windows, s.stats.windows);
+  }
+  EXPECT_GT(resliced, 0u);  // (intervals the engine rebuilds as a whole count as frame_cost)
 }
 
 TEST(Occluders, ClothLyingOnOrThroughTheGroundIsFine) {

@@ -163,7 +163,11 @@ class KineticSlice {
                       const SlicingPlane& plane, std::span<const Index> faces,
                       std::span<const std::uint8_t> flat_edges, const KineticPolicy& policy,
                       KineticScratch& scratch);
-  void grow_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
+  /// The slice's offers to mesh vertices (offer_plane_cones); false when it offers none (it cuts occluders
+  /// only): it then needs no triangulation and is not carried.
+  bool offer_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
+  /// The 2D cones of the offered slice vertices, from the triangulation in `scratch`.
+  void grow_cones(KineticScratch& scratch);
   /// Step 2 of the header comment: certify every face at the next frame and take out the vertices of
   /// failed certificates, up to `budget` of them. Returns why the slice must be rebuilt, or none.
   RebuildReason certify_at_next_frame(std::size_t budget, KineticScratch& scratch, KineticCounts& counts);
@@ -180,7 +184,8 @@ class KineticSlice {
   /// 2D, no merged points, no crossings, and every chain edge one constrained edge (no chain touching another
   /// at a vertex inside its edge): the next interval can repair it.
   bool m_editable = false;
-  double m_cone_seconds = 0.0;  ///< of the last grow_cones
+  bool m_offers = true;         ///< the last offer_cones found some offer
+  double m_cone_seconds = 0.0;  ///< of the last offer_cones and grow_cones
   /// A run of outright rebuilds (KineticPolicy::retry_interval): how many are still to come, what started
   /// it (policy or cost), and how many times the next run's length will have doubled
   /// (KineticPolicy::max_retry_doublings).

@@ -60,12 +60,17 @@ struct PlaneConeScratch {
   std::vector<char> needed;
 };
 
-/// A plane's part of a frame once its slice (out.slice) is triangulated: its offers to mesh vertices
-/// (store_cones) and the 2D cones of the slice vertices offered — no other cone is ever read, so no other is
-/// computed (an occluder's slice vertices block sight lines and get none). Both engines call it for every
-/// plane they re-derive.
-void compute_plane_cones(Index num_receivers, ConeStorage storage, const Frame& frame,
-                         const SliceTriangulation& triangulation, PlaneConeScratch& scratch, PlaneCones& out);
+/// A plane's offers once its slice (out.slice) is cut: store_cones into out.stored, and which slice vertices
+/// need a 2D cone. Returns false when the plane offers none (its slice cuts occluders only): then out.cones
+/// holds every slice vertex's empty cones and the slice needs no triangulation — no cone of it is ever read.
+/// Both engines call it for every plane they re-derive, before triangulating.
+bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& frame,
+                       PlaneConeScratch& scratch, PlaneCones& out);
+
+/// The 2D cones of the slice vertices offer_plane_cones found needed, once the slice is triangulated — no
+/// other cone is ever read, so no other is computed (an occluder's slice vertices block sight lines and get
+/// none).
+void compute_plane_cones(const SliceTriangulation& triangulation, PlaneConeScratch& scratch, PlaneCones& out);
 
 /// Per-thread memory of nearest_sources.
 struct NearestSourceScratch {
