@@ -170,7 +170,8 @@ struct Workload {
     Slice next;
     std::vector<std::int32_t> next_of_edge(connectivity->num_edges(), -1);
     for (std::size_t p = 0; p < planes; ++p) {
-      at_k[p].build(topology, *connectivity, frame0, plan.planes[p], plan.storage, faces0[p], {}, scratch);
+      at_k[p].build(topology, *connectivity, frame0, plan.planes[p], plan.storage,
+                    split_faces(topology, faces0[p]), {}, scratch);
       const Slice& slice = at_k[p].cones().slice;
       slice_mesh(topology, *connectivity, frame1, plan.planes[p], faces1[p], slicer, next);
       slice_vertices0 += slice.vertices.size();
@@ -290,8 +291,8 @@ void rebuild_benchmark(benchmark::State& state, std::string name) {
   KineticScratch scratch;
   auto build_all = [&] {
     for (std::size_t p = 0; p < slices.size(); ++p)
-      slices[p].build(w.topology, *w.connectivity, w.frame1, w.plan.planes[p], w.plan.storage, w.faces1[p],
-                      {}, scratch);
+      slices[p].build(w.topology, *w.connectivity, w.frame1, w.plan.planes[p], w.plan.storage,
+                      split_faces(w.topology, w.faces1[p]), {}, scratch);
   };
   build_all();  // warm the slices' and the scratch's memory, as the engine's are after its first frame
   for (auto _ : state) {
@@ -310,14 +311,14 @@ void advance_benchmark(benchmark::State& state, std::string name, KineticPolicy 
   KineticCounts total;
   auto build_all = [&] {
     for (std::size_t p = 0; p < slices.size(); ++p)
-      slices[p].build(w.topology, *w.connectivity, w.frame0, w.plan.planes[p], w.plan.storage, w.faces0[p],
-                      {}, scratch);
+      slices[p].build(w.topology, *w.connectivity, w.frame0, w.plan.planes[p], w.plan.storage,
+                      split_faces(w.topology, w.faces0[p]), {}, scratch);
   };
   auto advance_all = [&] {
     total = {};
     for (std::size_t p = 0; p < slices.size(); ++p)
-      total += slices[p].advance(w.topology, *w.connectivity, w.frame1, w.plan.planes[p], w.faces1[p], {},
-                                 policy, scratch);
+      total += slices[p].advance(w.topology, *w.connectivity, w.frame1, w.plan.planes[p],
+                                 split_faces(w.topology, w.faces1[p]), {}, policy, scratch);
   };
   build_all();
   advance_all();  // warm

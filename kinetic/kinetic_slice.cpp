@@ -142,11 +142,13 @@ std::size_t find_fan_swaps(const Slice& old, const Slice& next, KineticScratch& 
 
 void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& connectivity,
                          const Frame& frame, const SlicingPlane& plane, ConeStorage storage,
-                         std::span<const Index> faces, std::span<const std::uint8_t> flat_edges,
+                         const PlaneFaces& faces, std::span<const std::uint8_t> flat_edges,
                          KineticScratch& scratch) {
   m_storage = storage;
   const auto start = std::chrono::steady_clock::now();
-  slice_mesh(topology, connectivity, frame, plane, faces, scratch.slicer, m_out.slice, flat_edges);
+  slice_mesh(topology, connectivity, frame, plane, faces.cloth, scratch.slicer, m_out.slice, flat_edges);
+  slice_mesh(topology, connectivity, frame, plane, faces.occluders, scratch.slicer, m_out.occluders,
+             flat_edges);
   try {
     finish_build(topology, frame, scratch, true);
     m_rebuild_cost = per_slice_vertex(seconds_since(start));
@@ -211,13 +213,15 @@ void KineticSlice::grow_cones(KineticScratch& scratch) {
 }
 
 KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConnectivity& connectivity,
-                                    const Frame& next, const SlicingPlane& plane,
-                                    std::span<const Index> faces, std::span<const std::uint8_t> flat_edges,
-                                    const KineticPolicy& policy, KineticScratch& scratch) {
+                                    const Frame& next, const SlicingPlane& plane, const PlaneFaces& faces,
+                                    std::span<const std::uint8_t> flat_edges, const KineticPolicy& policy,
+                                    KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
   KineticCounts counts;
   try {
-    counts = carry(topology, connectivity, next, plane, faces, flat_edges, policy, scratch);
+    slice_mesh(topology, connectivity, next, plane, faces.occluders, scratch.slicer, m_out.occluders,
+               flat_edges);
+    counts = carry(topology, connectivity, next, plane, faces.cloth, flat_edges, policy, scratch);
   } catch (...) {
     m_editable = false;  // perhaps half-edited: the next interval rebuilds it
     m_kept.release();
@@ -242,7 +246,7 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
 
 KineticCounts KineticSlice::rebuild_outright(const MeshTopology& topology,
                                              const MeshConnectivity& connectivity, const Frame& next,
-                                             const SlicingPlane& plane, std::span<const Index> faces,
+                                             const SlicingPlane& plane, const PlaneFaces& faces,
                                              std::span<const std::uint8_t> flat_edges, bool keep,
                                              KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
@@ -254,7 +258,9 @@ KineticCounts KineticSlice::rebuild_outright(const MeshTopology& topology,
   m_rebuilds_left = 0;  // the slice's own run of rebuilds is the engine's now
   m_carry_cost = -1.0;  // measured afresh when carried again
   try {
-    slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_out.slice, flat_edges);
+    slice_mesh(topology, connectivity, next, plane, faces.cloth, scratch.slicer, m_out.slice, flat_edges);
+    slice_mesh(topology, connectivity, next, plane, faces.occluders, scratch.slicer, m_out.occluders,
+               flat_edges);
     finish_build(topology, next, scratch, keep);
   } catch (...) {
     m_editable = false;

@@ -31,8 +31,8 @@ struct KineticVisibility::Impl {
     candidate_faces_per_plane(topology, first, plan, faces);
     flat_occluder_edges(topology, connectivity, first, flat_edges);
     for_each_plane([&](std::size_t p) {
-      slices[p].build(topology, connectivity, first, plan.planes[p], plan.storage, faces[p], flat_edges,
-                      local_scratch());
+      slices[p].build(topology, connectivity, first, plan.planes[p], plan.storage,
+                      split_faces(topology, faces[p]), flat_edges, local_scratch());
       check(p);
     });
     gather_and_assemble(first);
@@ -106,9 +106,10 @@ struct KineticVisibility::Impl {
     // A run's last rebuild keeps the triangulations: the next interval carries them.
     const bool keep = !rebuild_all || schedule.rebuilds_left <= 1;
     for_each_plane([&](std::size_t p) {
+      const PlaneFaces split = split_faces(topology, faces[p]);
       counts[p] = rebuild_all ? slices[p].rebuild_outright(topology, connectivity, next, plan.planes[p],
-                                                           faces[p], flat_edges, keep, local_scratch())
-                              : slices[p].advance(topology, connectivity, next, plan.planes[p], faces[p],
+                                                           split, flat_edges, keep, local_scratch())
+                              : slices[p].advance(topology, connectivity, next, plan.planes[p], split,
                                                   flat_edges, params.policy, local_scratch());
       check(p);
     });

@@ -57,6 +57,9 @@ bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& fr
 
 void compute_plane_cones(const SliceTriangulation& triangulation, PlaneConeScratch& s, PlaneCones& out) {
   compute_slice_cones(out.slice, triangulation, s.cones, out.cones, s.needed);
+  if (out.occluders.vertices.empty()) return;
+  gather_occluder_chains(out.occluders, s.shadows, s.chains);
+  cast_occluder_shadows(out.slice, s.chains, s.needed, s.shadows, out.cones);
 }
 
 void nearest_sources(const MeshConnectivity& connectivity, std::span<const double> edge_length,

@@ -208,6 +208,14 @@ std::vector<Index> cone_recipients(const MeshTopology& topology, const MeshConne
   return result;
 }
 
+PlaneFaces split_faces(const MeshTopology& topology, std::span<const Index> faces) {
+  const Index receivers = topology.num_receivers();
+  const auto first = std::partition_point(faces.begin(), faces.end(),
+                                          [&](Index f) { return topology.triangles[f][0] < receivers; });
+  const std::size_t cloth = static_cast<std::size_t>(first - faces.begin());
+  return {faces.first(cloth), faces.subspan(cloth)};
+}
+
 std::vector<std::vector<Index>> candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame,
                                                           const SlicingPlan& plan) {
   std::vector<std::vector<Index>> result;

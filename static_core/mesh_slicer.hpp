@@ -82,6 +82,14 @@ std::vector<std::vector<Index>> candidate_faces_per_plane(const MeshTopology& to
 void candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
                                std::vector<std::vector<Index>>& result);
 
+/// A plane's candidate faces (sorted, as candidate_faces_per_plane lists them) split into the cloth's and the
+/// occluders' (whose triangles follow the cloth's: MeshTopology). The cloth's are sliced and triangulated;
+/// the occluders' are sliced for their shadows (docs/method.md §3).
+struct PlaneFaces {
+  std::span<const Index> cloth, occluders;
+};
+PlaneFaces split_faces(const MeshTopology& topology, std::span<const Index> faces);
+
 /// Exact side of a point against a plane: true when on or above (dot(normal, p) >= offset). A floating-point
 /// filter decides whenever its error bound allows (almost always); CGAL's exact predicate the rest.
 bool on_or_above(const SlicingPlane& plane, const glm::dvec3& p);

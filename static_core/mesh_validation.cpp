@@ -57,7 +57,21 @@ void validate_topology(const MeshTopology& topology, const char* who) {
   }
   Index largest = 0;
   for (const Triangle& t : topology.triangles) largest = std::max({largest, t[0], t[1], t[2]});
-  if (topology.triangles.empty() || largest < topology.num_vertices) return;
+  if (topology.triangles.empty() || largest < topology.num_vertices) {
+    // The cloth's triangles first, over the cloth's vertices; then the occluders', over theirs.
+    const Index receivers = topology.num_receivers();
+    bool occluders = false;
+    for (std::size_t f = 0; f < topology.triangles.size(); ++f) {
+      const Triangle& t = topology.triangles[f];
+      const int of_occluders = (t[0] >= receivers) + (t[1] >= receivers) + (t[2] >= receivers);
+      if (of_occluders % 3 != 0)
+        throw InputError(who, "triangle " + std::to_string(f), "joins cloth and occluder vertices");
+      if (of_occluders == 0 && occluders)
+        throw InputError(who, "triangle " + std::to_string(f), "a cloth triangle after an occluder's");
+      occluders = occluders || of_occluders == 3;
+    }
+    return;
+  }
   for (std::size_t f = 0; f < topology.triangles.size(); ++f)
     for (Index v : topology.triangles[f])
       if (v >= topology.num_vertices)

@@ -24,7 +24,9 @@ struct Workspace {
 void process_plane(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                    const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
                    std::span<const std::uint8_t> flat_edges, Workspace& ws, PlaneCones& out) {
-  slice_mesh(topology, connectivity, frame, plane, faces, ws.slicer, out.slice, flat_edges);
+  const PlaneFaces split = split_faces(topology, faces);
+  slice_mesh(topology, connectivity, frame, plane, split.cloth, ws.slicer, out.slice, flat_edges);
+  slice_mesh(topology, connectivity, frame, plane, split.occluders, ws.slicer, out.occluders, flat_edges);
   out.crossings = 0;
   if (!offer_plane_cones(topology.num_receivers(), storage, frame, ws.cones, out)) return;
   ws.triangulation.build(out.slice);

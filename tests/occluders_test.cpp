@@ -172,13 +172,22 @@ TEST(Occluders, KineticEqualsStaticWithAMovingOccluderAndTheGround) {
     const FrameVisibility& k = kinetic.advance(frame);
     const FrameVisibility s = compute_visibility(scene.topology(), frame, plan);
     crossings += s.stats.chain_crossings;
+    // The quad hides part of the flag's sky in every frame (against the flag alone).
+    const FrameVisibility alone = compute_visibility(cloth.topology(), cloth.frame(f), plan);
+    double hidden = 0.0;
+    for (Index v = 0; v < cloth.topology().num_vertices; ++v)
+      hidden = std::max(
+          hidden, alone.measure(Side::Front, v).sky_visibility - s.measure(Side::Front, v).sky_visibility);
+    EXPECT_GT(hidden, 0.05) << "frame " << f;
     ASSERT_EQ(k.measures[0].size(), cloth.topology().num_vertices);
     for (Side side : kBothSides)
       for (Index v = 0; v < cloth.topology().num_vertices; ++v)
         ASSERT_EQ(k.measure(side, v).sky_visibility, s.measure(side, v).sky_visibility)
             << "frame " << f << " vertex " << v;
   }
-  EXPECT_GT(crossings, 0u);  // the quad cuts through the flag: crossings, counted, no failure
+  // The quad cuts through the flag, but an occluder is cast as a shadow, never triangulated with the cloth
+  // (docs/method.md §3): no chain crossing, no failure.
+  EXPECT_EQ(crossings, 0u);
 }
 
 TEST(Occluders, PlanesCuttingOnlyOccludersAreNotTriangulated) {
@@ -235,6 +244,29 @@ TEST(Occluders, PlanesCuttingOnlyOccludersAreNotTriangulated) {
     EXPECT_EQ(k.stats.windows, s.stats.windows);
   }
   EXPECT_GT(resliced, 0u);  // (intervals the engine rebuilds as a whole count as frame_cost)
+}
+
+TEST(Occluders, ATopologyMixingClothAndOccludersIsRefused) {
+  // The engines slice the cloth's triangles and the occluders' apart (split_faces): a triangle joining the
+  // two, or a cloth triangle after an occluder's, is named.
+  const Frame frame{0.0, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}}};
+  const MeshTopology joined{
+      .num_vertices = 6, .triangles = {{0, 1, 2}, {2, 3, 4}}, .num_occluder_vertices = 3};
+  const MeshTopology after{
+      .num_vertices = 6, .triangles = {{0, 1, 2}, {3, 4, 5}, {0, 2, 1}}, .num_occluder_vertices = 3};
+  const SlicingPlan plan =
+      make_diffuse_plan(MeshTopology{.num_vertices = 3, .triangles = {{0, 1, 2}}},
+                        Frame{0.0, {frame.positions.begin(), frame.positions.begin() + 3}}, {});
+  for (const auto& [topology, says] :
+       {std::pair{joined, "joins cloth and occluder vertices"}, std::pair{after, "after an occluder's"}}) {
+    try {
+      compute_visibility(topology, frame, plan);
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("triangle"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(Occluders, ClothLyingOnOrThroughTheGroundIsFine) {

@@ -125,13 +125,13 @@ class KineticSlice {
  public:
   /// The static build of `frame` (also the fallback). `storage` is the plan's rule (compute_plane_cones).
   void build(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
-             const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
+             const SlicingPlane& plane, ConeStorage storage, const PlaneFaces& faces,
              std::span<const std::uint8_t> flat_edges, KineticScratch& scratch);
   /// From the current frame to `next` (see the header comment). Returns what it did: one of
   /// slices_unchanged, slices_repaired or slices_rebuilt is 1 (and rebuilt_because the reason), and where its
   /// time went.
   KineticCounts advance(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& next,
-                        const SlicingPlane& plane, std::span<const Index> faces,
+                        const SlicingPlane& plane, const PlaneFaces& faces,
                         std::span<const std::uint8_t> flat_edges, const KineticPolicy& policy,
                         KineticScratch& scratch);
 
@@ -139,7 +139,7 @@ class KineticSlice {
   /// whole-interval policy (KineticPolicy::measured_cost); `keep`: keep the triangulation for the next
   /// interval to carry. Counted as rebuilt for frame_cost.
   KineticCounts rebuild_outright(const MeshTopology& topology, const MeshConnectivity& connectivity,
-                                 const Frame& next, const SlicingPlane& plane, std::span<const Index> faces,
+                                 const Frame& next, const SlicingPlane& plane, const PlaneFaces& faces,
                                  std::span<const std::uint8_t> flat_edges, bool keep,
                                  KineticScratch& scratch);
 

@@ -14,6 +14,7 @@
 #include <span>
 #include <vector>
 
+#include "static_core/internal/occluder_shadows.hpp"
 #include "static_core/internal/slice_cones.hpp"
 #include "static_core/internal/slice_triangulation.hpp"
 #include "static_core/mesh.hpp"
@@ -40,7 +41,8 @@ struct StoredCone {
 
 /// Everything one plane contributes to a frame.
 struct PlaneCones {
-  Slice slice;
+  Slice slice;                     ///< the cloth's: triangulated, its vertices' cones grown
+  Slice occluders;                 ///< the occluders': shadows on those cones (occluder_shadows.hpp)
   std::vector<StoredCone> stored;  ///< the cones the plane offers its mesh vertices (store_cones)
   SliceCones cones;                ///< of the slice vertices in `stored`; the others' are empty
   std::size_t crossings = 0;
@@ -56,6 +58,8 @@ void store_cones(Index num_receivers, ConeStorage storage, const Frame& frame, c
 /// Per-thread memory of compute_plane_cones.
 struct PlaneConeScratch {
   SliceConeScratch cones;
+  OccluderChains chains;
+  ShadowScratch shadows;
   std::vector<std::int64_t> best;
   std::vector<char> needed;
 };
@@ -67,9 +71,9 @@ struct PlaneConeScratch {
 bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& frame,
                        PlaneConeScratch& scratch, PlaneCones& out);
 
-/// The 2D cones of the slice vertices offer_plane_cones found needed, once the slice is triangulated — no
-/// other cone is ever read, so no other is computed (an occluder's slice vertices block sight lines and get
-/// none).
+/// The 2D cones of the slice vertices offer_plane_cones found needed, once the cloth's slice is triangulated,
+/// with the occluders' shadows taken out (cast_occluder_shadows) — no other cone is ever read, so no other is
+/// computed (occluders block sight lines and get none).
 void compute_plane_cones(const SliceTriangulation& triangulation, PlaneConeScratch& scratch, PlaneCones& out);
 
 /// Per-thread memory of nearest_sources.

@@ -1,0 +1,210 @@
+// Occluders as shadows (static_core/internal/occluder_shadows.hpp): the cloth's chains triangulated, the
+// occluders' chains cast as shadows, against the brute-force angular sweep over every chain of the slice —
+// random chains (nested loops, dangling pieces, collinear and duplicate points) split at random into cloth
+// and occluders, convex loops wrapped by the cloth (a sleeve on an arm), cloth in an occluder's pocket.
+#include "static_core/internal/occluder_shadows.hpp"
+
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "oracles/random_slices.hpp"
+#include "oracles/visibility_2d_oracle.hpp"
+#include "static_core/internal/slice_triangulation.hpp"
+
+namespace pleat {
+namespace {
+
+struct Chains {
+  std::vector<std::vector<glm::dvec2>> points;
+  std::vector<bool> closed;
+};
+
+/// The chains of a slice, walked along its edges.
+Chains chains_of(const Slice& slice) {
+  Chains out;
+  std::vector<char> seen(slice.vertices.size(), 0);
+  for (Index start = 0; start < slice.vertices.size(); ++start) {
+    if (seen[start]) continue;
+    Index first = start;
+    for (std::size_t steps = 0; steps < slice.vertices.size(); ++steps) {
+      const std::int32_t e = slice.in_edge[first];
+      if (e < 0 || slice.edges[e].from == start) break;
+      first = slice.edges[e].from;
+    }
+    std::vector<glm::dvec2> chain;
+    bool closed = false;
+    for (Index x = first; !seen[x];) {
+      seen[x] = 1;
+      chain.push_back(slice.vertices[x].point);
+      const std::int32_t e = slice.out_edge[x];
+      if (e < 0) break;
+      x = slice.edges[e].to;
+      closed = x == first;
+    }
+    out.points.push_back(std::move(chain));
+    out.closed.push_back(closed);
+  }
+  return out;
+}
+
+/// Total angle where two sets differ.
+double difference(const AngularSet& a, const AngularSet& b) {
+  return a.subtract(b).measure() + b.subtract(a).measure();
+}
+
+std::string describe(const AngularSet& s) {
+  std::ostringstream out;
+  for (const Wedge& w : s.wedges()) out << "[" << w.start << " +" << w.width << "] ";
+  return out.str();
+}
+
+std::size_t g_shadowed = 0;  // cones a shadow changed, over the comparisons
+
+/// The cloth's chains triangulated and the occluders' cast as shadows, against the oracle on the slice of
+/// both: "" when every cloth vertex's cones match on both sides.
+std::string compare(const Chains& cloth, const Chains& occluders) {
+  const Slice cloth_slice = test::make_slice(cloth.points, cloth.closed);
+  const Slice occluder_slice = test::make_slice(occluders.points, occluders.closed);
+  Chains both = cloth;
+  both.points.insert(both.points.end(), occluders.points.begin(), occluders.points.end());
+  both.closed.insert(both.closed.end(), occluders.closed.begin(), occluders.closed.end());
+  const auto expected = oracle::brute_force_slice_cones(test::make_slice(both.points, both.closed));
+  SliceTriangulation triangulation;
+  triangulation.build(cloth_slice);
+  SliceConeScratch scratch;
+  SliceCones cones;
+  compute_slice_cones(cloth_slice, triangulation, scratch, cones);
+  const SliceCones unshadowed = cones;
+  ShadowScratch shadow_scratch;
+  OccluderChains chains;
+  gather_occluder_chains(occluder_slice, shadow_scratch, chains);
+  cast_occluder_shadows(cloth_slice, chains, {}, shadow_scratch, cones);
+  for (Index x = 0; x < cloth_slice.vertices.size(); ++x)
+    for (Side side : kBothSides) {
+      const auto span = cones.cone(x, side);
+      const AngularSet fast = AngularSet::from_wedges({span.begin(), span.end()});
+      const AngularSet& slow = expected[x][static_cast<int>(side)];
+      const auto before = unshadowed.cone(x, side);
+      g_shadowed += difference(fast, AngularSet::from_wedges({before.begin(), before.end()})) > 1e-9;
+      if (difference(fast, slow) > 1e-9) {
+        std::ostringstream out;
+        out << "cloth vertex " << x << " at (" << cloth_slice.vertices[x].point.x << ", "
+            << cloth_slice.vertices[x].point.y << ") side " << static_cast<int>(side) << ": shadows "
+            << describe(fast) << " oracle " << describe(slow) << " (" << cloth.points.size()
+            << " cloth chains, " << occluders.points.size() << " occluder chains)";
+        return out.str();
+      }
+    }
+  return {};
+}
+
+/// A slice's chains split at random into cloth and occluders. A chain with a point in the same place as
+/// another chain's goes to the cloth: where cloth and occluder share a vertex, the slice of both bounds the
+/// cloth's side ranges by the occluder's edges there, while a shadow blocks only what the occluder's segments
+/// subtend (a measure-zero difference of conventions, never met by simulated cloth held off its colliders).
+std::string compare_split(const Slice& slice, std::mt19937_64& rng) {
+  const Chains all = chains_of(slice);
+  Chains cloth, occluders;
+  for (std::size_t c = 0; c < all.points.size(); ++c) {
+    bool shared = false;
+    for (std::size_t d = 0; d < all.points.size() && !shared; ++d)
+      for (const glm::dvec2& p : all.points[c])
+        shared = shared || (d != c && std::count(all.points[d].begin(), all.points[d].end(), p) > 0);
+    Chains& to = shared || rng() % 2 ? cloth : occluders;
+    to.points.push_back(all.points[c]);
+    to.closed.push_back(all.closed[c]);
+  }
+  return compare(cloth, occluders);
+}
+
+/// A regular n-gon of radius r about c, counter-clockwise.
+std::vector<glm::dvec2> polygon(glm::dvec2 c, double r, int n, double phase = 0.1) {
+  std::vector<glm::dvec2> out;
+  for (int i = 0; i < n; ++i) {
+    const double a = phase + 2 * M_PI * i / n;
+    out.push_back(c + r * glm::dvec2(std::cos(a), std::sin(a)));
+  }
+  return out;
+}
+
+TEST(OccluderShadows, ASleeveWrappedLooselyRoundAnArm) {
+  // A wrinkled sleeve round a 96-gon arm, open at one place, and a strip of cloth beside both.
+  std::vector<glm::dvec2> sleeve;
+  for (int i = 0; i < 60; ++i) {
+    const double a = 0.3 + 5.9 * i / 59.0;
+    const double r = 1.3 + 0.15 * std::sin(7 * a);
+    sleeve.push_back(r * glm::dvec2(std::cos(a), std::sin(a)));
+  }
+  const Chains cloth{{sleeve, {{2.0, -1.0}, {2.5, 0.0}, {2.1, 1.0}, {2.6, 2.0}}}, {false, false}};
+  const Chains arm{{polygon({0.0, 0.0}, 1.0, 96)}, {true}};
+  g_shadowed = 0;
+  EXPECT_EQ(compare(cloth, arm), "");
+  EXPECT_GT(g_shadowed, 5u);  // the arm shows through the sleeve's opening and from the strip
+}
+
+TEST(OccluderShadows, ClothInAPocketOfAnOccluder) {
+  // A U-shaped table section (a pocket under its top), cloth hanging into the pocket and over the top: some
+  // cloth vertices inside the occluder's hull (the union of its segments' ranges), some outside (tangents).
+  const std::vector<glm::dvec2> table = {{-2, 0},  {-2, 2},    {2, 2},      {2, 0},
+                                         {1.8, 0}, {1.8, 1.8}, {-1.8, 1.8}, {-1.8, 0}};
+  const std::vector<glm::dvec2> cloth_over = {{-2.5, 0.5}, {-2.1, 2.05}, {0, 2.1}, {1.0, 1.6}, {1.2, 0.4}};
+  const Chains cloth{{cloth_over, {{-1.0, 0.3}, {0.0, 1.0}, {1.0, 0.2}}}, {false, false}};
+  const Chains occluder{{table}, {true}};
+  g_shadowed = 0;
+  EXPECT_EQ(compare(cloth, occluder), "");
+  EXPECT_GT(g_shadowed, 3u);
+}
+
+TEST(OccluderShadows, DegenerateChainsBlockOnlyWhatTheyCover) {
+  // An occluder on one point, one along a line (collinear points), one passing close by a cloth vertex, two
+  // points in one place; cloth on the line's extension.
+  const Chains cloth{{{{-1, 0}, {0, 0}, {0.5, 1}}, {{3, 3}, {4, 3}}}, {false, false}};
+  const Chains occluders{
+      {{{1, 1}}, {{1, 0}, {2, 0}, {3, 0}}, {{0.5 + 1e-9, 0.5}, {0.5 + 1e-9, 2}}, {{5, 5}, {5, 5}}},
+      {false, false, false, false}};
+  EXPECT_EQ(compare(cloth, occluders), "");
+}
+
+TEST(OccluderShadows, ClothTouchingAnOccluderSeesAlongItsSurface) {
+  // A cloth strip standing on the top edge of a square occluder, its end vertex on that edge: the square
+  // blocks the open lower half-plane (its other segments), the edge through the vertex blocks nothing.
+  const Slice cloth = test::make_slice({{{0, 0}, {0, 1}}}, {false});
+  const Slice square = test::make_slice({{{-1, -1}, {1, -1}, {1, 0}, {-1, 0}}}, {true});
+  SliceTriangulation triangulation;
+  triangulation.build(cloth);
+  SliceConeScratch scratch;
+  SliceCones cones;
+  compute_slice_cones(cloth, triangulation, scratch, cones);
+  ShadowScratch shadow_scratch;
+  OccluderChains chains;
+  gather_occluder_chains(square, shadow_scratch, chains);
+  cast_occluder_shadows(cloth, chains, {}, shadow_scratch, cones);
+  const auto front = cones.cone(0, Side::Front), back = cones.cone(0, Side::Back);
+  AngularSet seen = AngularSet::from_wedges({front.begin(), front.end()});
+  seen = seen.unite(AngularSet::from_wedges({back.begin(), back.end()}));
+  EXPECT_LT(difference(seen, AngularSet::from_wedges({{0.0, M_PI}})), 1e-9) << describe(seen);
+}
+
+RC_GTEST_PROP(OccluderShadows, MatchTheAngularSweepOnRandomChains, ()) {
+  std::mt19937_64 rng(*rc::gen::arbitrary<std::uint64_t>());
+  for (int k = 0; k < 10; ++k) {
+    const std::string mismatch = compare_split(test::random_chain_slice(rng), rng);
+    RC_ASSERT(mismatch == "");
+  }
+}
+
+RC_GTEST_PROP(OccluderShadows, MatchTheAngularSweepOnSlicedSurfaces, ()) {
+  const auto seed = *rc::gen::arbitrary<std::uint64_t>();
+  std::mt19937_64 rng(seed);
+  for (const Slice& slice : test::random_surface_slices(seed, 10)) {
+    const std::string mismatch = compare_split(slice, rng);
+    RC_ASSERT(mismatch == "");
+  }
+}
+
+}  // namespace
+}  // namespace pleat
