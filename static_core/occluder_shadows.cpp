@@ -111,15 +111,19 @@ void gather_occluder_chains(const Slice& occluders, ShadowScratch& s, OccluderCh
     if (s.chain_of[root] < 0) s.chain_of[root] = static_cast<int>(chains++);
     s.chain_of[x] = s.chain_of[root];
   }
-  s.order.resize(n);
-  std::iota(s.order.begin(), s.order.end(), Index(0));
-  std::stable_sort(s.order.begin(), s.order.end(),
-                   [&](Index a, Index b) { return s.chain_of[a] < s.chain_of[b]; });
-  s.edge_order.resize(occluders.edges.size());
-  std::iota(s.edge_order.begin(), s.edge_order.end(), Index(0));
-  std::stable_sort(s.edge_order.begin(), s.edge_order.end(), [&](Index a, Index b) {
-    return s.chain_of[occluders.edges[a].from] < s.chain_of[occluders.edges[b].from];
-  });
+  // Vertices and edges grouped by chain, in their order within each (a counting sort).
+  auto group = [&](std::size_t count, auto chain_of_item, std::vector<Index>& order) {
+    s.first.assign(chains + 1, 0);
+    for (std::size_t i = 0; i < count; ++i) ++s.first[chain_of_item(i) + 1];
+    for (std::size_t c = 0; c < chains; ++c) s.first[c + 1] += s.first[c];
+    order.resize(count);
+    for (std::size_t i = 0; i < count; ++i) order[s.first[chain_of_item(i)]++] = static_cast<Index>(i);
+  };
+  group(
+      n, [&](std::size_t x) { return std::size_t(s.chain_of[x]); }, s.order);
+  group(
+      occluders.edges.size(), [&](std::size_t i) { return std::size_t(s.chain_of[occluders.edges[i].from]); },
+      s.edge_order);
   std::size_t v = 0, e = 0;
   for (std::size_t c = 0; c < chains; ++c) {
     OccluderChains::Chain chain;

@@ -48,6 +48,7 @@ struct OccluderChains {
 struct ShadowScratch {
   std::vector<int> parent, chain_of;     // per occluder slice vertex: union-find, its chain
   std::vector<Index> order, edge_order;  // vertices and edges by chain
+  std::vector<std::size_t> first;        // (the counting sort's)
   std::vector<glm::dvec2> points;        // of one chain
   std::vector<cgal::Point2> cgal_points, cgal_hull;
   std::vector<Wedge> blocked, united, visible, out;
