@@ -222,8 +222,7 @@ void run(const VisibilityOptions& options) {
   if (crossing_frames > 0)
     std::cerr
         << "pleat: warning: chains cross in " << crossing_frames
-        << " frames (the cloth self-intersects there or meets an occluder, or occluders meet, as a table "
-           "standing on the ground); crossing points were inserted and counted in --stats\n";
+        << " frames (the cloth self-intersects there); crossing points were inserted and counted in --stats\n";
 }
 
 }  // namespace
