@@ -51,17 +51,6 @@ Chains chains_of(const Slice& slice) {
   return out;
 }
 
-/// Total angle where two sets differ.
-double difference(const AngularSet& a, const AngularSet& b) {
-  return a.subtract(b).measure() + b.subtract(a).measure();
-}
-
-std::string describe(const AngularSet& s) {
-  std::ostringstream out;
-  for (const Wedge& w : s.wedges()) out << "[" << w.start << " +" << w.width << "] ";
-  return out.str();
-}
-
 std::size_t g_shadowed = 0;  // cones a shadow changed, over the comparisons
 
 /// The cloth's chains triangulated and the occluders' cast as shadows, against the oracle on the slice of
@@ -85,21 +74,12 @@ std::string compare(const Chains& cloth, const Chains& occluders) {
   cast_occluder_shadows(cloth_slice, chains, {}, shadow_scratch, cones);
   for (Index x = 0; x < cloth_slice.vertices.size(); ++x)
     for (Side side : kBothSides) {
-      const auto span = cones.cone(x, side);
-      const AngularSet fast = AngularSet::from_wedges({span.begin(), span.end()});
-      const AngularSet& slow = expected[x][static_cast<int>(side)];
-      const auto before = unshadowed.cone(x, side);
-      g_shadowed += difference(fast, AngularSet::from_wedges({before.begin(), before.end()})) > 1e-9;
-      if (difference(fast, slow) > 1e-9) {
-        std::ostringstream out;
-        out << "cloth vertex " << x << " at (" << cloth_slice.vertices[x].point.x << ", "
-            << cloth_slice.vertices[x].point.y << ") side " << static_cast<int>(side) << ": shadows "
-            << describe(fast) << " oracle " << describe(slow) << " (" << cloth.points.size()
-            << " cloth chains, " << occluders.points.size() << " occluder chains)";
-        return out.str();
-      }
+      const auto now = cones.cone(x, side), before = unshadowed.cone(x, side);
+      g_shadowed +=
+          oracle::angular_difference(AngularSet::from_wedges({now.begin(), now.end()}),
+                                     AngularSet::from_wedges({before.begin(), before.end()})) > 1e-9;
     }
-  return {};
+  return oracle::first_mismatch(cloth_slice, cones, expected, "shadows");
 }
 
 /// A slice's chains split at random into cloth and occluders. A chain with a point in the same place as
@@ -186,7 +166,7 @@ TEST(OccluderShadows, ClothTouchingAnOccluderSeesAlongItsSurface) {
   const auto front = cones.cone(0, Side::Front), back = cones.cone(0, Side::Back);
   AngularSet seen = AngularSet::from_wedges({front.begin(), front.end()});
   seen = seen.unite(AngularSet::from_wedges({back.begin(), back.end()}));
-  EXPECT_LT(difference(seen, AngularSet::from_wedges({{0.0, M_PI}})), 1e-9) << describe(seen);
+  EXPECT_LT(oracle::angular_difference(seen, AngularSet::from_wedges({{0.0, M_PI}})), 1e-9);
 }
 
 RC_GTEST_PROP(OccluderShadows, MatchTheAngularSweepOnRandomChains, ()) {

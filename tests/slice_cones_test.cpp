@@ -16,17 +16,6 @@
 namespace pleat {
 namespace {
 
-/// Total angle where the two sets differ.
-double difference(const AngularSet& a, const AngularSet& b) {
-  return a.subtract(b).measure() + b.subtract(a).measure();
-}
-
-std::string describe(const AngularSet& s) {
-  std::ostringstream out;
-  for (const Wedge& w : s.wedges()) out << "[" << w.start << " +" << w.width << "] ";
-  return out.str();
-}
-
 /// How many regions with holes (solved along sleeves) the comparisons met, and how many sights of a window
 /// through a sleeve they found there: the properties must exercise them.
 std::size_t g_regions_with_holes = 0;
@@ -43,22 +32,7 @@ std::string compare_with_oracle(const Slice& slice) {
   compute_slice_cones(slice, triangulation, scratch, cones);
   g_regions_with_holes += cones.regions_with_holes;
   g_sleeve_sights += scratch.sleeve_sights;
-  const auto expected = oracle::brute_force_slice_cones(slice);
-  for (Index x = 0; x < slice.vertices.size(); ++x)
-    for (Side side : kBothSides) {
-      const auto span = cones.cone(x, side);
-      const AngularSet fast = AngularSet::from_wedges({span.begin(), span.end()});
-      const AngularSet& slow = expected[x][static_cast<int>(side)];
-      if (difference(fast, slow) > 1e-9) {
-        std::ostringstream out;
-        out << "slice vertex " << x << " at (" << slice.vertices[x].point.x << ", "
-            << slice.vertices[x].point.y << ") side " << static_cast<int>(side) << ": funnel "
-            << describe(fast) << " oracle " << describe(slow) << " (" << slice.vertices.size()
-            << " vertices, " << slice.edges.size() << " edges)";
-        return out.str();
-      }
-    }
-  return {};
+  return oracle::first_mismatch(slice, cones, oracle::brute_force_slice_cones(slice), "funnel");
 }
 
 TEST(SliceCones, SingleSegmentSeesHalfPlanesPlusItsEnds) {

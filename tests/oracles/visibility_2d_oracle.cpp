@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace pleat::oracle {
 namespace {
@@ -105,6 +106,34 @@ std::vector<std::array<AngularSet, 2>> brute_force_slice_cones(const Slice& slic
     }
   }
   return result;
+}
+
+double angular_difference(const AngularSet& a, const AngularSet& b) {
+  return a.subtract(b).measure() + b.subtract(a).measure();
+}
+
+std::string first_mismatch(const Slice& slice, const SliceCones& cones,
+                           const std::vector<std::array<AngularSet, 2>>& expected, const std::string& who) {
+  auto describe = [](const AngularSet& set) {
+    std::ostringstream out;
+    for (const Wedge& w : set.wedges()) out << "[" << w.start << " +" << w.width << "] ";
+    return out.str();
+  };
+  for (Index x = 0; x < slice.vertices.size(); ++x)
+    for (Side side : kBothSides) {
+      const auto span = cones.cone(x, side);
+      const AngularSet fast = AngularSet::from_wedges({span.begin(), span.end()});
+      const AngularSet& slow = expected[x][static_cast<int>(side)];
+      if (angular_difference(fast, slow) > 1e-9) {
+        std::ostringstream out;
+        out << "slice vertex " << x << " at (" << slice.vertices[x].point.x << ", "
+            << slice.vertices[x].point.y << ") side " << static_cast<int>(side) << ": " << who << " "
+            << describe(fast) << " oracle " << describe(slow) << " (" << slice.vertices.size()
+            << " vertices, " << slice.edges.size() << " edges)";
+        return out.str();
+      }
+    }
+  return {};
 }
 
 }  // namespace pleat::oracle

@@ -8,14 +8,24 @@
 #pragma once
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "static_core/angular_set.hpp"
+#include "static_core/internal/slice_cones.hpp"
 #include "static_core/mesh_slicer.hpp"
 
 namespace pleat::oracle {
 
 /// cones[x][side] for every slice vertex x.
 std::vector<std::array<AngularSet, 2>> brute_force_slice_cones(const Slice& slice);
+
+/// The total angle where two sets differ.
+double angular_difference(const AngularSet& a, const AngularSet& b);
+
+/// The first slice vertex and side of `slice` whose cone in `cones` (what `who` computed) differs from
+/// `expected` by more than 1e-9 rad, described; "" when none does.
+std::string first_mismatch(const Slice& slice, const SliceCones& cones,
+                           const std::vector<std::array<AngularSet, 2>>& expected, const std::string& who);
 
 }  // namespace pleat::oracle
