@@ -220,9 +220,9 @@ void run(const VisibilityOptions& options) {
              << "\n";
   if (cones) report() << "wrote " << options.cones << ": the 3D cones of every frame\n";
   if (crossing_frames > 0)
-    std::cerr
-        << "pleat: warning: chains cross in " << crossing_frames
-        << " frames (the cloth self-intersects there); crossing points were inserted and counted in --stats\n";
+    std::cerr << "pleat: warning: chains cross in " << crossing_frames
+              << " frames (the cloth self-intersects there); crossing points were inserted and counted in "
+                 "--stats\n";
 }
 
 }  // namespace
