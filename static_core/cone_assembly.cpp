@@ -300,14 +300,36 @@ struct MeasureSums {
   }
 };
 
-/// True when one piece holds a vertex of the other strictly inside (the pieces' solid angles given).
+/// Within kTouchTolerance (radians) of a piece's boundary a direction touches it: pieces built from the same
+/// planes' wedge ends often share a vertex or put one on the other's edge, exactly but for rounding, and
+/// there a winding number is decided by the rounding (a fan triangle turns half a turn either way).
+constexpr double kTouchTolerance = 1e-9;
+
+/// Whether unit direction p lies within kTouchTolerance of the boundary of `piece`: of a vertex, or of an
+/// edge's arc (near its great circle and between its ends).
+bool touches_boundary(const SphericalPolygon& piece, const glm::dvec3& p) {
+  for (std::size_t i = 0; i < piece.size(); ++i) {
+    const glm::dvec3 &a = piece[i], &b = piece[(i + 1) % piece.size()];
+    if (glm::length(glm::cross(a, p)) < kTouchTolerance && glm::dot(a, p) > 0) return true;
+    const glm::dvec3 n = glm::cross(a, b);
+    const double length = glm::length(n);
+    if (!(length > 0)) continue;
+    if (std::abs(glm::dot(p, n)) < kTouchTolerance * length && glm::dot(glm::cross(a, p), n) >= 0 &&
+        glm::dot(glm::cross(p, b), n) >= 0)
+      return true;
+  }
+  return false;
+}
+
+/// True when one piece holds a vertex of the other strictly inside — not touching its boundary — (the pieces'
+/// solid angles given).
 bool pieces_overlap(const SphericalPolygon& a, double a_solid_angle, const SphericalPolygon& b,
                     double b_solid_angle) {
   if (a.size() < 3 || b.size() < 3) return false;
   for (const auto& p : a)
-    if (contains_direction(b, p, b_solid_angle)) return true;
+    if (contains_direction(b, p, b_solid_angle) && !touches_boundary(b, p)) return true;
   for (const auto& p : b)
-    if (contains_direction(a, p, a_solid_angle)) return true;
+    if (contains_direction(a, p, a_solid_angle) && !touches_boundary(a, p)) return true;
   return false;
 }
 
