@@ -181,17 +181,22 @@ RC_GTEST_PROP(FlatEdges, RunningThroughFlatCrossingsKeepsEveryChainsPointSet, ()
   check_run_through(s, connectivity, plane_through(normal, offset));
 }
 
-TEST(FlatEdges, ShadowsEqualThoseOfTheOccluderSlicedInFull) {
-  // Per plane, the sheet's 2D cones with the table's shadows cast from its slice run through the flat
-  // crossings, and from its slice in full: the same sets (the run-through chains are the same point sets),
-  // from fewer slice vertices.
-  const TableScene s = table_scene(24);
+/// The plan the CLI makes for the sheet of a table scene (a lattice over the sheet alone).
+SlicingPlan sheet_plan(const TableScene& s) {
   Bounds cloth_box;
   for (Index v = 0; v < s.cloth_vertices; ++v) cloth_box.add(s.frame.positions[v]);
   MeshTopology cloth{.num_vertices = s.cloth_vertices,
                      .triangles = {s.topology.triangles.begin(), s.topology.triangles.begin() + 2 * 13 * 13}};
   const Frame cloth_frame{0.0, {s.frame.positions.begin(), s.frame.positions.begin() + s.cloth_vertices}};
-  const SlicingPlan plan = make_diffuse_plan(cloth, cloth_frame, {}, &cloth_box);
+  return make_diffuse_plan(cloth, cloth_frame, {}, &cloth_box);
+}
+
+TEST(FlatEdges, ShadowsEqualThoseOfTheOccluderSlicedInFull) {
+  // Per plane, the sheet's 2D cones with the table's shadows cast from its slice run through the flat
+  // crossings, and from its slice in full: the same sets (the run-through chains are the same point sets),
+  // from fewer slice vertices.
+  const TableScene s = table_scene(24);
+  const SlicingPlan plan = sheet_plan(s);
   const MeshConnectivity connectivity(s.topology);
   std::vector<std::uint8_t> flat;
   flat_occluder_edges(s.topology, connectivity, s.frame, flat);
@@ -244,12 +249,7 @@ TEST(FlatEdges, TheSheetsValuesEqualThoseWithTheTableTriangulatedAsCloth) {
   // the 3D assembly keeps it so where pieces touch (a band's vertex on another's edge merged them by the
   // rounding: 1.4e-3).
   const TableScene s = table_scene(24);
-  Bounds cloth_box;
-  for (Index v = 0; v < s.cloth_vertices; ++v) cloth_box.add(s.frame.positions[v]);
-  MeshTopology cloth{.num_vertices = s.cloth_vertices,
-                     .triangles = {s.topology.triangles.begin(), s.topology.triangles.begin() + 2 * 13 * 13}};
-  const Frame cloth_frame{0.0, {s.frame.positions.begin(), s.frame.positions.begin() + s.cloth_vertices}};
-  const SlicingPlan plan = make_diffuse_plan(cloth, cloth_frame, {}, &cloth_box);
+  const SlicingPlan plan = sheet_plan(s);
   MeshTopology in_full = s.topology;
   in_full.num_occluder_vertices = 0;
   const FrameVisibility shadows = compute_visibility(s.topology, s.frame, plan);
