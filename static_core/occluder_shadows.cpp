@@ -244,6 +244,7 @@ void cast_occluder_shadows(const Slice& slice, const OccluderChains& chains, std
       blocked_by_chain(chains, c, p, s, s.united);  // once for both sides
       if (s.united.empty()) continue;
       s.visible.clear();  // built when a side needs it: the gaps between the blocked wedges
+      bool gaps_built = false;
       for (std::vector<Wedge>& cone : s.side_cone) {
         if (cone.empty() || (s.united.size() == 1 && !overlaps(s.united.front(), cone))) continue;
         if (s.united.size() == 1 && s.united.front().width > kAngleTolerance) {  // one range: cut it out
@@ -254,14 +255,17 @@ void cast_occluder_shadows(const Slice& slice, const OccluderChains& chains, std
           cone.swap(s.out);
           continue;
         }
-        for (std::size_t i = 0; s.visible.empty() && i < s.united.size(); ++i) {
-          const Wedge& w = s.united[i];  // (sorted; the last may wrap past 2pi)
-          const Wedge& next = s.united[(i + 1) % s.united.size()];
-          double gap = next.start - w.end();
-          while (gap < 0) gap += kTwoPi;
-          if (s.united.size() == 1) gap = kTwoPi - w.width;
-          if (gap > kAngleTolerance)
-            s.visible.push_back({wrap_angle(w.end()), gap, w.end_reach, next.start_reach});
+        if (!gaps_built) {  // every gap between the blocked wedges (sorted; the last may wrap past 2pi)
+          for (std::size_t i = 0; i < s.united.size(); ++i) {
+            const Wedge& w = s.united[i];
+            const Wedge& next = s.united[(i + 1) % s.united.size()];
+            double gap = next.start - w.end();
+            while (gap < 0) gap += kTwoPi;
+            if (s.united.size() == 1) gap = kTwoPi - w.width;
+            if (gap > kAngleTolerance)
+              s.visible.push_back({wrap_angle(w.end()), gap, w.end_reach, next.start_reach});
+          }
+          gaps_built = true;
         }
         if (s.visible.empty()) {  // blocked all round
           cone.clear();

@@ -139,6 +139,29 @@ TEST(OccluderShadows, ClothInAPocketOfAnOccluder) {
   EXPECT_GT(g_shadowed, 3u);
 }
 
+TEST(OccluderShadows, AClothPointOnAnOpenOccluderSeesBothWays) {
+  // A cloth strip hanging from a point on the flat bottom of an open occluder chain (a U with its arms up):
+  // the bottom through the point blocks nothing, the arms block a range each, and both gaps — between the
+  // arms, and the lower half-plane — stay visible.
+  const Slice cloth = test::make_slice({{{0, 0}, {0, -1}}}, {false});
+  const Slice u = test::make_slice({{{-2, 1}, {-1, 0}, {1, 0}, {2, 1}}}, {false});
+  SliceTriangulation triangulation;
+  triangulation.build(cloth);
+  SliceConeScratch scratch;
+  SliceCones cones;
+  compute_slice_cones(cloth, triangulation, scratch, cones);
+  ShadowScratch shadow_scratch;
+  OccluderChains chains;
+  gather_occluder_chains(u, shadow_scratch, chains);
+  cast_occluder_shadows(cloth, chains, {}, shadow_scratch, cones);
+  const auto front = cones.cone(0, Side::Front), back = cones.cone(0, Side::Back);
+  const AngularSet seen = AngularSet::from_wedges({front.begin(), front.end()})
+                              .unite(AngularSet::from_wedges({back.begin(), back.end()}));
+  const double arm = std::atan2(1.0, 2.0);  // the arms' far ends seen from the point
+  const AngularSet expected = AngularSet::from_wedges({{arm, M_PI - 2 * arm}, {M_PI, M_PI}});
+  EXPECT_LT(oracle::angular_difference(seen, expected), 1e-9);
+}
+
 TEST(OccluderShadows, DegenerateChainsBlockOnlyWhatTheyCover) {
   // An occluder on one point, one along a line (collinear points), one passing close by a cloth vertex, two
   // points in one place; cloth on the line's extension.
