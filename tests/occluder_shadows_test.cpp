@@ -139,12 +139,8 @@ TEST(OccluderShadows, ClothInAPocketOfAnOccluder) {
   EXPECT_GT(g_shadowed, 3u);
 }
 
-TEST(OccluderShadows, AClothPointOnAnOpenOccluderSeesBothWays) {
-  // A cloth strip hanging from a point on the flat bottom of an open occluder chain (a U with its arms up):
-  // the bottom through the point blocks nothing, the arms block a range each, and both gaps — between the
-  // arms, and the lower half-plane — stay visible.
-  const Slice cloth = test::make_slice({{{0, 0}, {0, -1}}}, {false});
-  const Slice u = test::make_slice({{{-2, 1}, {-1, 0}, {1, 0}, {2, 1}}}, {false});
+/// What the cloth's first slice vertex sees on either side, the occluders cast as shadows.
+AngularSet seen_from_first_vertex(const Slice& cloth, const Slice& occluders) {
   SliceTriangulation triangulation;
   triangulation.build(cloth);
   SliceConeScratch scratch;
@@ -152,11 +148,20 @@ TEST(OccluderShadows, AClothPointOnAnOpenOccluderSeesBothWays) {
   compute_slice_cones(cloth, triangulation, scratch, cones);
   ShadowScratch shadow_scratch;
   OccluderChains chains;
-  gather_occluder_chains(u, shadow_scratch, chains);
+  gather_occluder_chains(occluders, shadow_scratch, chains);
   cast_occluder_shadows(cloth, chains, {}, shadow_scratch, cones);
   const auto front = cones.cone(0, Side::Front), back = cones.cone(0, Side::Back);
-  const AngularSet seen = AngularSet::from_wedges({front.begin(), front.end()})
-                              .unite(AngularSet::from_wedges({back.begin(), back.end()}));
+  return AngularSet::from_wedges({front.begin(), front.end()})
+      .unite(AngularSet::from_wedges({back.begin(), back.end()}));
+}
+
+TEST(OccluderShadows, AClothPointOnAnOpenOccluderSeesBothWays) {
+  // A cloth strip hanging from a point on the flat bottom of an open occluder chain (a U with its arms up):
+  // the bottom through the point blocks nothing, the arms block a range each, and both gaps — between the
+  // arms, and the lower half-plane — stay visible.
+  const Slice cloth = test::make_slice({{{0, 0}, {0, -1}}}, {false});
+  const Slice u = test::make_slice({{{-2, 1}, {-1, 0}, {1, 0}, {2, 1}}}, {false});
+  const AngularSet seen = seen_from_first_vertex(cloth, u);
   const double arm = std::atan2(1.0, 2.0);  // the arms' far ends seen from the point
   const AngularSet expected = AngularSet::from_wedges({{arm, M_PI - 2 * arm}, {M_PI, M_PI}});
   EXPECT_LT(oracle::angular_difference(seen, expected), 1e-9);
@@ -177,19 +182,9 @@ TEST(OccluderShadows, ClothTouchingAnOccluderSeesAlongItsSurface) {
   // blocks the open lower half-plane (its other segments), the edge through the vertex blocks nothing.
   const Slice cloth = test::make_slice({{{0, 0}, {0, 1}}}, {false});
   const Slice square = test::make_slice({{{-1, -1}, {1, -1}, {1, 0}, {-1, 0}}}, {true});
-  SliceTriangulation triangulation;
-  triangulation.build(cloth);
-  SliceConeScratch scratch;
-  SliceCones cones;
-  compute_slice_cones(cloth, triangulation, scratch, cones);
-  ShadowScratch shadow_scratch;
-  OccluderChains chains;
-  gather_occluder_chains(square, shadow_scratch, chains);
-  cast_occluder_shadows(cloth, chains, {}, shadow_scratch, cones);
-  const auto front = cones.cone(0, Side::Front), back = cones.cone(0, Side::Back);
-  AngularSet seen = AngularSet::from_wedges({front.begin(), front.end()});
-  seen = seen.unite(AngularSet::from_wedges({back.begin(), back.end()}));
-  EXPECT_LT(oracle::angular_difference(seen, AngularSet::from_wedges({{0.0, M_PI}})), 1e-9);
+  EXPECT_LT(oracle::angular_difference(seen_from_first_vertex(cloth, square),
+                                       AngularSet::from_wedges({{0.0, M_PI}})),
+            1e-9);
 }
 
 RC_GTEST_PROP(OccluderShadows, MatchTheAngularSweepOnRandomChains, ()) {
