@@ -42,6 +42,14 @@ struct AngularInterval {
 double direction_angle(const glm::dvec2& d);
 /// An angle reduced to [0, 2pi).
 double wrap_angle(double a);
+/// A monotone stand-in for atan2(y, x) in (-2, 2] (the "diamond angle"): the same order of directions, no
+/// trigonometry. (0, 0) gives 0 only by convention.
+inline double pseudo_angle(double x, double y) {
+  const double sum = std::abs(x) + std::abs(y);
+  const double r = sum > 0 ? y / sum : 0.0;  // in [-1, 1]
+  if (x >= 0) return r;                      // (-pi/2, pi/2) -> (-1, 1)
+  return y >= 0 ? 2 - r : -2 - r;            // the left half-plane -> (1, 2] and (-2, -1)
+}
 /// The counter-clockwise wedge from direction `from` to direction `to`, of width in (0, 2pi): for ranges
 /// that may exceed a half-turn (exterior angles of the hull). The directions must not coincide.
 Wedge wedge_between(const glm::dvec2& from, const glm::dvec2& to);

@@ -115,13 +115,6 @@ bool same_region(const SpatialWedge& a, const SpatialWedge& b, double over) {
   return false;
 }
 
-/// A monotone stand-in for atan2(y, x) in (-2, 2] (the "diamond angle"): same order, no trigonometry.
-double pseudo_angle(double x, double y) {
-  const double r = y / (std::abs(x) + std::abs(y));  // in [-1, 1]
-  if (x >= 0) return r;                              // (-pi/2, pi/2) -> (-1, 1)
-  return y >= 0 ? 2 - r : -2 - r;                    // the left half-plane -> (1, 2] and (-2, -1)
-}
-
 /// One piece from a group of wedges: their bounding directions sorted radially about the group's mean
 /// direction c (the integral of the direction over its wedges), by azimuth in the projection about c. The
 /// paper sorts about the centroid of the points projected onto the tangent plane; that order breaks on the

@@ -28,12 +28,6 @@ bool strictly_outside(std::span<const glm::dvec2> hull, const glm::dvec2& p) {
 
 double distance2(const glm::dvec2& a, const glm::dvec2& b) { return glm::dot(a - b, a - b); }
 
-/// A monotone stand-in for direction_angle in [0, 4) (the "diamond angle"): same order, no trigonometry.
-double diamond_angle(const glm::dvec2& v) {
-  if (v.y >= 0) return v.x >= 0 ? v.y / (v.x + v.y) : 1 - v.x / (v.y - v.x);
-  return v.x < 0 ? 2 - v.y / (-v.x - v.y) : 3 + v.x / (v.x - v.y);
-}
-
 /// p's tangent to the convex polygon `hull` (p strictly outside it) on the clockwise side (`clockwise`) or
 /// the counter-clockwise one: the vertex every other one lies left of (right of) as seen from p, of several
 /// in that direction the nearer (a funnel's apex there, hence the wedge's reach). Walks from `from`: seen
@@ -159,7 +153,7 @@ void gather_occluder_chains(const Slice& occluders, ShadowScratch& s, OccluderCh
       chain.centre /= double(hull.size());
       chain.radius = 0.0;
       for (std::uint32_t i = chain.hull_begin; i < chain.hull_end; ++i) {
-        out.polar[i] = diamond_angle(out.hull[i] - chain.centre);
+        out.polar[i] = pseudo_angle(out.hull[i].x - chain.centre.x, out.hull[i].y - chain.centre.y);
         chain.radius += glm::length(out.hull[i] - chain.centre) / double(hull.size());
         if (out.polar[i] < out.polar[chain.hull_begin + chain.polar_first])
           chain.polar_first = i - chain.hull_begin;
@@ -189,7 +183,7 @@ void blocked_by_chain(const OccluderChains& chains, std::size_t c, const glm::dv
                    sine = std::sqrt(1 - cosine * cosine);
       const std::span<const double> polar(chains.polar.data() + chain.hull_begin, hull.size());
       auto nearest = [&](const glm::dvec2& direction) {
-        const double angle = diamond_angle(direction);
+        const double angle = pseudo_angle(direction.x, direction.y);
         std::uint32_t lo = 0, hi = static_cast<std::uint32_t>(polar.size());  // in the rotated order
         while (lo < hi) {
           const std::uint32_t mid = (lo + hi) / 2;

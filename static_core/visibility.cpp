@@ -26,9 +26,10 @@ void process_plane(const MeshTopology& topology, const MeshConnectivity& connect
                    std::span<const std::uint8_t> flat_edges, Workspace& ws, PlaneCones& out) {
   const PlaneFaces split = split_faces(topology, faces);
   slice_mesh(topology, connectivity, frame, plane, split.cloth, ws.slicer, out.slice, flat_edges);
-  slice_mesh(topology, connectivity, frame, plane, split.occluders, ws.slicer, out.occluders, flat_edges);
   out.crossings = 0;
+  out.occluders.clear();
   if (!offer_plane_cones(topology.num_receivers(), storage, frame, ws.cones, out)) return;
+  slice_mesh(topology, connectivity, frame, plane, split.occluders, ws.slicer, out.occluders, flat_edges);
   ws.triangulation.build(out.slice);
   out.crossings = ws.triangulation.crossings();
   compute_plane_cones(ws.triangulation, ws.cones, out);
