@@ -45,6 +45,10 @@
 //                            o orientations s average edges apart with that storage rule (plan_setting.hpp;
 //                            e.g. 12:0.5:aimed-on-fan), on the same frames and reference as the other rows,
 //                            with its own K* and pleat ÷ Embree(K*) (default: none)
+//   --vertex-errors          also write, per measurement at u = 1, every value the reference estimates:
+//                            frame_coherence_errors_<sequence>_<vertices>.csv in --out (frame, vertex, side,
+//                            position, the static engine's A and the reference's), for
+//                            bench/plot_vertex_errors.py: where the error is, not only how large
 // Exit status 1 and "frame_coherence: FAILED: ..." lines when any method failed or static and kinetic differ.
 // Plain executable: no Google Benchmark main.
 #include <tbb/global_control.h>
@@ -160,6 +164,32 @@ struct Run {
     }
   }
 
+  /// Every value the reference estimated, with the static engine's (--vertex-errors). sky[f] and reference[f]
+  /// are frames[f + 1]'s (frame 0 is not timed); values are the fronts, then the backs.
+  void write_vertex_errors(Measurement& m, const std::vector<Frame>& frames,
+                           const std::vector<SkyValues>& sky, const std::vector<SkyValues>& reference) {
+    std::string name = "frame_coherence_errors_";
+    name.append(m.sequence).append("_").append(std::to_string(m.vertices)).append(".csv");
+    const fs::path path = options.out / name;
+    std::ofstream out(path);
+    out << "frame,vertex,side,x,y,z,static,reference\n";
+    char line[256];
+    for (std::size_t f = 0; f < reference.size(); ++f)
+      for (std::size_t i = 0; i < reference[f].size(); ++i) {
+        if (!std::isfinite(reference[f][i])) continue;
+        const std::size_t vertex = i % m.vertices;
+        const glm::dvec3& p = frames[f + 1].positions[vertex];
+        std::snprintf(line, sizeof line, "%zu,%zu,%s,%.7g,%.7g,%.7g,%.9g,%.9g\n", f + 1, vertex,
+                      i < m.vertices ? "front" : "back", p.x, p.y, p.z, sky[f][i], reference[f][i]);
+        out << line;
+      }
+    out.close();
+    if (!out)
+      fail(m, "cannot write " + path.string());
+    else
+      progress(m, "wrote " + path.string());
+  }
+
   /// Error and flicker of every row that kept its sky values; static and kinetic compared.
   void accuracy(Measurement& m, const MeshTopology& topology, const std::vector<Frame>& frames) {
     m.reference_stride =
@@ -181,6 +211,8 @@ struct Run {
       row.flicker = flicker(row.sky, reference);
     }
     const MethodRow* s = m.row("static");
+    if (options.vertex_errors && s && s->ok() && s->sky.size() == reference.size())
+      write_vertex_errors(m, frames, s->sky, reference);
     const MethodRow* k = m.row("kinetic");
     if (s && k && s->ok() && k->ok()) {
       const double worst = max_difference(s->sky, k->sky);

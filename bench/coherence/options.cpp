@@ -97,6 +97,8 @@ Options parse_options(int argc, char** argv) {
       o.data = next();
     } else if (arg == "--cloth-alone") {
       o.cloth_alone = true;
+    } else if (arg == "--vertex-errors") {
+      o.vertex_errors = true;
     } else if (arg == "--kinetic-timeout") {
       o.kinetic_timeout_s = to_double(next());
     } else if (arg == "--worker") {
@@ -115,6 +117,7 @@ Options parse_options(int argc, char** argv) {
           "16]\n"
           "  [--reference-rays 4096] [--reference-sample 4000] [--data DIR] [--cloth-alone] "
           "[--kinetic-timeout S]\n"
+          "  [--vertex-errors]\n"
           "  [--plans orientations:spacing:storage[:spiral],...]\n");
       std::exit(0);
     } else {

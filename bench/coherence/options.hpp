@@ -29,6 +29,7 @@ struct Options {
   std::filesystem::path data;
   std::vector<Setting> plans;  // extra static-engine rows at u = 1 (the first thread count), one per plan
   bool cloth_alone = false;    // real sequences without the colliders they were simulated against
+  bool vertex_errors = false;  // write each measurement's per-value errors at u = 1 (write_vertex_errors)
   // Internal: this process is a cone-engine worker for one measurement, writing its rows here.
   std::filesystem::path worker_result;
   int worker_threads = 1;
