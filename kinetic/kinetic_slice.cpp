@@ -142,15 +142,15 @@ std::size_t find_fan_swaps(const Slice& old, const Slice& next, KineticScratch& 
 
 void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& connectivity,
                          const Frame& frame, const SlicingPlane& plane, ConeStorage storage,
-                         const PlaneFaces& faces, std::span<const std::uint8_t> flat_edges,
-                         KineticScratch& scratch) {
+                         const PlaneFaces& faces, const FrameMarks& marks, KineticScratch& scratch) {
   m_storage = storage;
   const auto start = std::chrono::steady_clock::now();
-  slice_mesh(topology, connectivity, frame, plane, faces.cloth, scratch.slicer, m_out.slice, flat_edges);
+  slice_mesh(topology, connectivity, frame, plane, faces.cloth, scratch.slicer, m_out.slice,
+             marks.flat_edges);
   slice_mesh(topology, connectivity, frame, plane, faces.occluders, scratch.slicer, m_out.occluders,
-             flat_edges);
+             marks.flat_edges);
   try {
-    finish_build(topology, frame, scratch, true);
+    finish_build(topology, frame, marks, scratch, true);
     m_rebuild_cost = per_slice_vertex(seconds_since(start));
     m_carry_cost = -1.0;
   } catch (...) {
@@ -160,11 +160,11 @@ void KineticSlice::build(const MeshTopology& topology, const MeshConnectivity& c
   }
 }
 
-void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch,
-                                bool keep) {
+void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame, const FrameMarks& marks,
+                                KineticScratch& scratch, bool keep) {
   SliceTriangulation& tri = scratch.triangulation;
   m_unkept_check.reset();
-  if (!offer_cones(topology, frame, scratch)) {  // occluders only: no triangulation, nothing kept
+  if (!offer_cones(topology, frame, marks, scratch)) {  // occluders only: no triangulation, nothing kept
     m_out.crossings = 0;
     m_editable = false;
     m_kept.release();
@@ -186,11 +186,12 @@ void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame
     m_kept.release();  // rebuilt at the next interval anyway (or not to be kept)
 }
 
-void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
+void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame, const FrameMarks& marks,
+                                KineticScratch& scratch) {
   std::swap(m_out.slice, scratch.next);
   scratch.triangulation.adopt_edits(m_out.slice);
   m_out.crossings = 0;
-  if (!offer_cones(topology, frame, scratch)) {  // carried into occluders only: not carried further
+  if (!offer_cones(topology, frame, marks, scratch)) {  // carried into occluders only: not carried further
     m_editable = false;
     m_kept.release();
     return;
@@ -199,9 +200,11 @@ void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame
   keep_triangulation(scratch.triangulation.cdt_for_editing(), m_kept);
 }
 
-bool KineticSlice::offer_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch) {
+bool KineticSlice::offer_cones(const MeshTopology& topology, const Frame& frame, const FrameMarks& marks,
+                               KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
-  m_offers = offer_plane_cones(topology.num_receivers(), m_storage, frame, scratch.cones, m_out);
+  m_offers =
+      offer_plane_cones(topology.num_receivers(), m_storage, frame, marks.sharp_fans, scratch.cones, m_out);
   m_cone_seconds = seconds_since(start);
   return m_offers;
 }
@@ -214,14 +217,14 @@ void KineticSlice::grow_cones(KineticScratch& scratch) {
 
 KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConnectivity& connectivity,
                                     const Frame& next, const SlicingPlane& plane, const PlaneFaces& faces,
-                                    std::span<const std::uint8_t> flat_edges, const KineticPolicy& policy,
+                                    const FrameMarks& marks, const KineticPolicy& policy,
                                     KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
   KineticCounts counts;
   try {
     slice_mesh(topology, connectivity, next, plane, faces.occluders, scratch.slicer, m_out.occluders,
-               flat_edges);
-    counts = carry(topology, connectivity, next, plane, faces.cloth, flat_edges, policy, scratch);
+               marks.flat_edges);
+    counts = carry(topology, connectivity, next, plane, faces.cloth, marks, policy, scratch);
   } catch (...) {
     m_editable = false;  // perhaps half-edited: the next interval rebuilds it
     m_kept.release();
@@ -247,8 +250,7 @@ KineticCounts KineticSlice::advance(const MeshTopology& topology, const MeshConn
 KineticCounts KineticSlice::rebuild_outright(const MeshTopology& topology,
                                              const MeshConnectivity& connectivity, const Frame& next,
                                              const SlicingPlane& plane, const PlaneFaces& faces,
-                                             std::span<const std::uint8_t> flat_edges, bool keep,
-                                             KineticScratch& scratch) {
+                                             const FrameMarks& marks, bool keep, KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
   KineticCounts counts;
   counts.slices_rebuilt = 1;
@@ -258,10 +260,11 @@ KineticCounts KineticSlice::rebuild_outright(const MeshTopology& topology,
   m_rebuilds_left = 0;  // the slice's own run of rebuilds is the engine's now
   m_carry_cost = -1.0;  // measured afresh when carried again
   try {
-    slice_mesh(topology, connectivity, next, plane, faces.cloth, scratch.slicer, m_out.slice, flat_edges);
+    slice_mesh(topology, connectivity, next, plane, faces.cloth, scratch.slicer, m_out.slice,
+               marks.flat_edges);
     slice_mesh(topology, connectivity, next, plane, faces.occluders, scratch.slicer, m_out.occluders,
-               flat_edges);
-    finish_build(topology, next, scratch, keep);
+               marks.flat_edges);
+    finish_build(topology, next, marks, scratch, keep);
   } catch (...) {
     m_editable = false;
     m_kept.release();
@@ -283,7 +286,7 @@ void KineticSlice::rederive_triangulation(SliceTriangulation& out) const {
 
 KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnectivity& connectivity,
                                   const Frame& next, const SlicingPlane& plane, std::span<const Index> faces,
-                                  std::span<const std::uint8_t> flat_edges, const KineticPolicy& policy,
+                                  const FrameMarks& marks, const KineticPolicy& policy,
                                   KineticScratch& scratch) {
   KineticCounts counts;
   m_changed_edges.clear();
@@ -309,9 +312,9 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     if (sliced)
       std::swap(m_out.slice, scratch.next);
     else  // into the slice's own buffer, as the static engine slices each plane into its own
-      slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_out.slice, flat_edges);
+      slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, m_out.slice, marks.flat_edges);
     // A slice the next interval rebuilds outright keeps nothing: it is built as the static engine builds it.
-    finish_build(topology, next, scratch, !(by_policy && m_rebuilds_left != 0));
+    finish_build(topology, next, marks, scratch, !(by_policy && m_rebuilds_left != 0));
     return counts;
   };
   // Rebuilt by the policy in the last interval(s): rebuilt outright until it is time to try again, for the
@@ -324,7 +327,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
     return rebuild(RebuildReason::cost);
   if (m_carried) m_backoff = 0;  // the last interval carried it, and (where measured) that paid
   m_attempted = true;
-  slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, scratch.next, flat_edges);
+  slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, scratch.next, marks.flat_edges);
   sliced = true;
 
   // Match slice vertices by mesh edge: survivors, and those that vanish or appear.
@@ -460,7 +463,7 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   // (A run that grew leaves a new vertex inserted: its unmarked closing edge is counted there.)
   const bool structure_changed = counts.removed + counts.inserted + counts.reinserted + counts.flipped > 0;
   ++(structure_changed ? counts.slices_repaired : counts.slices_unchanged);
-  finish_frame(topology, next, scratch);
+  finish_frame(topology, next, marks, scratch);
   return counts;
 }
 

@@ -29,10 +29,10 @@ struct KineticVisibility::Impl {
         previous(first),
         crossed_stamp(topology.num_vertices, 0) {
     candidate_faces_per_plane(topology, first, plan, faces);
-    flat_occluder_edges(topology, connectivity, first, flat_edges);
+    mark_frame(topology, connectivity, first, marks);
     for_each_plane([&](std::size_t p) {
       slices[p].build(topology, connectivity, first, plan.planes[p], plan.storage,
-                      split_faces(topology, faces[p]), flat_edges, local_scratch());
+                      split_faces(topology, faces[p]), marks, local_scratch());
       check(p);
     });
     gather_and_assemble(first);
@@ -98,7 +98,7 @@ struct KineticVisibility::Impl {
   void advance(const Frame& next) {
     const auto start = std::chrono::steady_clock::now();
     candidate_faces_per_plane(topology, next, plan, faces);
-    flat_occluder_edges(topology, connectivity, next, flat_edges);
+    mark_frame(topology, connectivity, next, marks);
     const bool engine_cost = params.policy.measured_cost;
     const bool rebuild_all =
         engine_cost && (schedule.rebuilds_left > 0 || schedule.carried >= Schedule::kProbeEvery ||
@@ -108,9 +108,9 @@ struct KineticVisibility::Impl {
     for_each_plane([&](std::size_t p) {
       const PlaneFaces split = split_faces(topology, faces[p]);
       counts[p] = rebuild_all ? slices[p].rebuild_outright(topology, connectivity, next, plan.planes[p],
-                                                           split, flat_edges, keep, local_scratch())
-                              : slices[p].advance(topology, connectivity, next, plan.planes[p], split,
-                                                  flat_edges, params.policy, local_scratch());
+                                                           split, marks, keep, local_scratch())
+                              : slices[p].advance(topology, connectivity, next, plan.planes[p], split, marks,
+                                                  params.policy, local_scratch());
       check(p);
     });
     if (engine_cost) update_schedule(rebuild_all, std::chrono::steady_clock::now() - start);
@@ -181,7 +181,7 @@ struct KineticVisibility::Impl {
   std::vector<KineticSlice> slices;
   std::vector<KineticCounts> counts;
   std::vector<std::vector<Index>> faces;
-  std::vector<std::uint8_t> flat_edges;  // per mesh edge, the frame's (flat_occluder_edges)
+  FrameMarks marks;  // the frame's (mark_frame)
   tbb::enumerable_thread_specific<KineticScratch> scratch;
   FrameAssembler assembler;
   std::vector<const PlaneCones*> plane_views;

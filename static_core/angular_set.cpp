@@ -30,9 +30,6 @@ Wedge thin_wedge_between(const glm::dvec2& from, const glm::dvec2& to) {
   return {direction_angle(from), width, float(glm::length(from)), float(glm::length(to))};
 }
 
-namespace {
-
-/// Splits wedges into linear intervals of [0, 2pi], sorted; a full turn gives [0, 2pi] alone.
 void split_into_intervals(std::span<const Wedge> wedges, std::vector<AngularInterval>& out) {
   out.clear();
   for (const Wedge& w : wedges) {
@@ -55,8 +52,6 @@ void split_into_intervals(std::span<const Wedge> wedges, std::vector<AngularInte
   });
 }
 
-/// Merges sorted intervals in place (touching within kAngleTolerance), then appends them to `out` as
-/// wedges, joining the interval that ends at 2pi with the one that starts at 0.
 void merge_into_wedges(std::vector<AngularInterval>& iv, std::vector<Wedge>& out) {
   std::size_t m = 0;
   for (std::size_t i = 0; i < iv.size(); ++i) {
@@ -80,8 +75,6 @@ void merge_into_wedges(std::vector<AngularInterval>& iv, std::vector<Wedge>& out
   }
   // Sorted by start: the intervals were, and the wrapping wedge is the last one.
 }
-
-}  // namespace
 
 void unite_wedges(std::span<const Wedge> wedges, std::vector<AngularInterval>& scratch,
                   std::vector<Wedge>& out) {
@@ -318,6 +311,21 @@ bool aim_wedges(std::span<const Wedge> a, const glm::dvec2& apex_a, std::span<co
   return blend_or_aim(a, b, t, &aim, s, out);
 }
 
+void complement_wedges(std::span<const Wedge> wedges, std::vector<Wedge>& out) {
+  if (wedges.empty()) {
+    out.push_back({0.0, kTwoPi});
+    return;
+  }
+  const std::size_t first = out.size();
+  for (std::size_t i = 0; i < wedges.size(); ++i) {
+    const double from = wedges[i].end();
+    const double to = i + 1 < wedges.size() ? wedges[i + 1].start : wedges.front().start + kTwoPi;
+    if (to - from > kAngleTolerance) out.push_back({wrap_angle(from), to - from});
+  }
+  std::sort(out.begin() + static_cast<long>(first), out.end(),
+            [](const Wedge& a, const Wedge& b) { return a.start < b.start; });
+}
+
 bool is_united(std::span<const Wedge> wedges) {
   for (std::size_t i = 0; i < wedges.size(); ++i) {
     if (!(wedges[i].width > 0) || wedges[i].start < 0 || wedges[i].start >= kTwoPi) return false;
@@ -389,15 +397,9 @@ AngularSet AngularSet::unite(const AngularSet& other) const {
 }
 
 AngularSet AngularSet::complement() const {
-  const auto iv = intervals();  // sorted and disjoint: m_wedges is normalized
-  std::vector<std::pair<double, double>> out;
-  double cursor = 0.0;
-  for (const auto& [a, b] : iv) {
-    if (a > cursor + kAngleTolerance) out.emplace_back(cursor, a);
-    cursor = std::max(cursor, b);
-  }
-  if (cursor < kTwoPi - kAngleTolerance) out.emplace_back(cursor, kTwoPi);
-  return from_intervals(std::move(out));
+  AngularSet set;
+  complement_wedges(m_wedges, set.m_wedges);
+  return set;
 }
 
 AngularSet AngularSet::intersect(const AngularSet& other) const {

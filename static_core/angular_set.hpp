@@ -64,6 +64,13 @@ Wedge thin_wedge_between(const glm::dvec2& from, const glm::dvec2& to);
 void unite_wedges(std::span<const Wedge> wedges, std::vector<AngularInterval>& scratch,
                   std::vector<Wedge>& out);
 
+/// Splits wedges into linear intervals of [0, 2pi] (a wedge past 2pi in two, its cut ends without reach),
+/// sorted by start; a full turn gives [0, 2pi] alone. The set operations work on these.
+void split_into_intervals(std::span<const Wedge> wedges, std::vector<AngularInterval>& out);
+/// Merges sorted intervals in place (touching within kAngleTolerance), then appends them to `out` as wedges,
+/// joining the interval that ends at 2pi with the one that starts at 0.
+void merge_into_wedges(std::vector<AngularInterval>& intervals, std::vector<Wedge>& out);
+
 /// Reusable buffers of intersect_wedges, blend_wedges and aim_wedges.
 struct WedgeScratch {
   std::vector<AngularInterval> intervals, x, y, z;
@@ -74,6 +81,10 @@ struct WedgeScratch {
 /// allocating once the buffers have grown. The one implementation of the intersection (AngularSet uses it).
 void intersect_wedges(std::span<const Wedge> a, std::span<const Wedge> b, WedgeScratch& scratch,
                       std::vector<Wedge>& out);
+
+/// Appends the rest of the turn outside `wedges` (is_united) to `out`: the gaps between them, sorted by
+/// start, their ends without reach. The one implementation of the complement (AngularSet uses it).
+void complement_wedges(std::span<const Wedge> wedges, std::vector<Wedge>& out);
 
 /// True when `wedges` are in the form unite_wedges gives: sorted by start in [0, 2pi), positive widths, and
 /// apart by more than kAngleTolerance (the last one may wrap past 2pi).

@@ -9,6 +9,7 @@
 
 #include "static_core/assert.hpp"
 #include "static_core/cone_assembly.hpp"
+#include "static_core/internal/fan_cone.hpp"
 
 namespace pleat {
 
@@ -41,9 +42,72 @@ void store_cones(Index num_receivers, ConeStorage storage, const Frame& frame, c
   for (const StoredCone& s : stored) best_of[2 * std::size_t(s.vertex) + s.side] = -1;
 }
 
-bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& frame, PlaneConeScratch& s,
-                       PlaneCones& out) {
+void mark_frame(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
+                FrameMarks& marks) {
+  flat_occluder_edges(topology, connectivity, frame, marks.flat_edges);
+  mark_sharp_fans(topology, frame, marks.sharp_fans);
+}
+
+void list_fan_cuts(Index num_receivers, const Frame& frame, const Slice& slice,
+                   std::span<const std::uint8_t> sharp_fans, std::vector<StoredCone>& stored,
+                   FanCutScratch& scratch, std::vector<Index>& fan_cuts) {
+  std::vector<std::int64_t>& slot_of = scratch.slot_of;
+  std::vector<FanCut>& entries = scratch.entries;
+  // Each stored vertex gets a slot (its first stored cone's index; both sides share its cuts); the cuts are
+  // counted into slots, placed, and each slot's few sorted by (distance, slice vertex).
+  if (slot_of.size() != 2 * std::size_t(num_receivers)) slot_of.assign(2 * std::size_t(num_receivers), -1);
+  auto sharp = [&](Index u) { return u < num_receivers && u < sharp_fans.size() && sharp_fans[u]; };
+  for (std::size_t i = 0; i < stored.size(); ++i) {
+    if (!sharp(stored[i].vertex)) continue;
+    std::int64_t& slot = slot_of[2 * std::size_t(stored[i].vertex)];
+    if (slot < 0) slot = static_cast<std::int64_t>(i);
+  }
+  std::vector<std::uint32_t>& first = scratch.first;
+  first.assign(stored.size() + 1, 0);
+  auto each_cut = [&](auto&& visit) {
+    for (Index x = 0; x < slice.vertices.size(); ++x) {
+      const SliceVertex& sv = slice.vertices[x];
+      if (!sharp(sv.above) && !sharp(sv.below)) continue;
+      const double length = glm::distance(frame.positions[sv.above], frame.positions[sv.below]);
+      if (sharp(sv.above)) visit(sv.above, sv.t * length, x);
+      if (sharp(sv.below)) visit(sv.below, (1.0 - sv.t) * length, x);
+    }
+  };
+  each_cut([&](Index u, double, Index) { ++first[slot_of[2 * std::size_t(u)] + 1]; });
+  for (std::size_t i = 0; i < stored.size(); ++i) first[i + 1] += first[i];
+  entries.resize(first[stored.size()]);
+  std::vector<std::uint32_t>& cursor = scratch.cursor;
+  cursor.assign(first.begin(), first.end() - 1);
+  each_cut([&](Index u, double distance, Index x) {
+    entries[cursor[slot_of[2 * std::size_t(u)]]++] = {u, distance, x};
+  });
+  fan_cuts.resize(entries.size());
+  for (std::size_t i = 0; i < stored.size(); ++i) {
+    const auto begin = entries.begin() + first[i], end = entries.begin() + first[i + 1];
+    std::sort(begin, end, [](const FanCut& a, const FanCut& b) {
+      return a.distance != b.distance ? a.distance < b.distance : a.slice_vertex < b.slice_vertex;
+    });
+    for (auto e = begin; e != end; ++e) fan_cuts[e - entries.begin()] = e->slice_vertex;
+  }
+  for (StoredCone& c : stored) {
+    if (!sharp(c.vertex)) {
+      c.cuts_begin = c.cuts_count = 0;
+      continue;
+    }
+    const std::int64_t slot = slot_of[2 * std::size_t(c.vertex)];
+    c.cuts_begin = first[slot];
+    c.cuts_count = first[slot + 1] - first[slot];
+    PLEAT_ASSERT(c.cuts_count > 0 && fan_cuts[c.cuts_begin] == c.slice_vertex,
+                 "list_fan_cuts: the nearest cut is not the stored one");
+  }
+  for (const StoredCone& c : stored) slot_of[2 * std::size_t(c.vertex)] = -1;
+}
+
+bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& frame,
+                       std::span<const std::uint8_t> sharp_fans, PlaneConeScratch& s, PlaneCones& out) {
   store_cones(num_receivers, storage, frame, out.slice, out.stored, s.best);
+  out.fan_cuts.clear();
+  out.chain_angles.clear();
   if (out.stored.empty()) {
     out.cones.wedges.clear();
     out.cones.offsets.assign(2 * out.slice.vertices.size() + 1, 0);
@@ -52,6 +116,14 @@ bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& fr
   }
   s.needed.assign(out.slice.vertices.size(), 0);
   for (const StoredCone& c : out.stored) s.needed[c.slice_vertex] = 1;
+  if (storage == ConeStorage::AimedOnFan) {
+    list_fan_cuts(num_receivers, frame, out.slice, sharp_fans, out.stored, s.fan_cuts, out.fan_cuts);
+    out.chain_angles.assign(out.slice.vertices.size(), glm::dvec2(INFINITY));
+    for (const Index x : out.fan_cuts) {
+      s.needed[x] = 1;
+      if (std::isinf(out.chain_angles[x].x)) out.chain_angles[x] = chain_edge_angles(out.slice, x);
+    }
+  }
   return true;
 }
 
@@ -121,6 +193,7 @@ struct FrameAssembler::Impl {
   struct Ref {
     std::uint32_t plane;
     std::uint32_t slice_vertex;
+    std::uint32_t cuts_begin, cuts_count;  ///< StoredCone's: the vertex's cuts in the plane (AimedOnFan)
   };
   /// What step 2 compares of an offer, beside its Ref in the CSR: the offers are read in CSR order, not
   /// gathered from the planes' lists (that gather was 2% of the 30k roll's frame).
@@ -140,6 +213,11 @@ struct FrameAssembler::Impl {
     std::vector<Blend> blends;
     WedgeScratch wedge_scratch;
     std::vector<glm::dvec3> half_spaces;  ///< the vertex's sides of the occluding planes
+    FanConeScratch fan;
+    /// Per orientation and side, the vertex's fan_local_ranges (ranges[2 o + side]; ranged[o]: it has them).
+    std::vector<std::vector<AngularInterval>> ranges;
+    std::vector<char> ranged;
+    std::vector<Wedge> fan_lo, fan_hi;  ///< the fan cones of one plane or two
   };
 
   Impl(const MeshTopology& topology, const MeshConnectivity& connectivity, const SlicingPlan& plan,
@@ -203,7 +281,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
   for (std::uint32_t p = 0; p < planes.size(); ++p)
     for (const StoredCone& c : stored(p)) {
       const std::uint32_t at = cursor[key_of(c.side, plan.planes[p].orientation, c.vertex)]++;
-      refs[at] = {p, c.slice_vertex};
+      refs[at] = {p, c.slice_vertex, c.cuts_begin, c.cuts_count};
       offer_keys[at] = {c.distance, c.vertex_above};
     }
   if (plan.storage != ConeStorage::NearerEndpoint) {
@@ -269,31 +347,53 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
   auto cone_of = [&](const Ref& r, int side) {
     return planes[r.plane]->cones.cone(r.slice_vertex, static_cast<Side>(side));
   };
+  // Under AimedOnFan, the cone of plane r at vertex v from v's own cuts is the cone of its fan
+  // (fan_cone.hpp); a borrowed cone (own false), or one whose fan gives no range, is the stored slice
+  // vertex's.
+  const bool fan = plan.storage == ConeStorage::AimedOnFan;
+  auto plane_cone = [&](const Ref& r, int side, bool own, Workspace& ws,
+                        std::vector<Wedge>& buffer) -> std::span<const Wedge> {
+    const int o = plan.planes[r.plane].orientation;
+    if (!fan || !own || r.cuts_count == 0 || !ws.ranged[o]) return cone_of(r, side);
+    const PlaneCones& plane = *planes[r.plane];
+    fan_cone({plane.fan_cuts.data() + r.cuts_begin, r.cuts_count}, plane.cones, plane.chain_angles,
+             static_cast<Side>(side), ws.ranges[2 * o + side], ws.fan, buffer);
+    return buffer;
+  };
+  // A cone of plane p gathered from a workspace buffer: copied to ws.blended, its span set once that stops
+  // growing (as a blend's).
+  auto place = [&](const SlicingPlane& p, std::span<const Wedge> wedges, Workspace& ws) {
+    ws.blends.push_back({ws.cones.size(), ws.blended.size(), wedges.size(), ws.tangents.size(), 0});
+    ws.blended.insert(ws.blended.end(), wedges.begin(), wedges.end());
+    ws.cones.push_back({&p, {}});
+  };
   // Under InterpolatedOnFan, a key with offers from a plane below the vertex (lo) and one above it (hi), of
   // parallel planes (step 2 kept only the nearer of a pencil's two): the blend of their cones at the vertex's
   // height, or, where they do not match, the nearer plane's cone. Under AimedOnFan the blend is of the two
   // planes' horizon points, aimed at from the vertex itself (aim_wedges, docs/method.md §7). Appends to
-  // ws.cones (a blended cone's wedges are placed once ws.blended stops growing).
+  // ws.cones (a blended cone's wedges are placed once ws.blended stops growing). `v` is the vertex whose
+  // cone this is, `own` whether the cuts are on its edges (not borrowed from the vertex at `position`).
   auto blend_at_vertex = [&](const glm::dvec3& position, const Ref& lo, const Ref& hi, int side, bool aim,
-                             Workspace& ws) {
+                             bool own, Workspace& ws) {
     const SlicingPlane &below = plan.planes[lo.plane], &above = plan.planes[hi.plane];
     const double t = std::clamp(
         (glm::dot(below.normal, position) - below.offset) / (above.offset - below.offset), 0.0, 1.0);
     auto apex = [&](const Ref& r) { return planes[r.plane]->slice.vertices[r.slice_vertex].point; };
     const glm::dvec2 eye(glm::dot(below.u, position), glm::dot(below.w, position));
+    const std::span<const Wedge> a = plane_cone(lo, side, own, ws, ws.fan_lo);
+    const std::span<const Wedge> b = plane_cone(hi, side, own, ws, ws.fan_hi);
     const std::size_t begin = ws.blended.size(), tangents_begin = ws.tangents.size();
-    const bool blended =
-        aim ? aim_wedges(cone_of(lo, side), apex(lo), cone_of(hi, side), apex(hi), t, eye, ws.wedge_scratch,
-                         ws.blended, above.offset - below.offset, &ws.tangents)
-            : blend_wedges(cone_of(lo, side), cone_of(hi, side), t, ws.wedge_scratch, ws.blended);
+    const bool blended = aim ? aim_wedges(a, apex(lo), b, apex(hi), t, eye, ws.wedge_scratch, ws.blended,
+                                          above.offset - below.offset, &ws.tangents)
+                             : blend_wedges(a, b, t, ws.wedge_scratch, ws.blended);
     if (blended) {
       ws.blends.push_back({ws.cones.size(), begin, ws.blended.size() - begin, tangents_begin,
                            ws.tangents.size() - tangents_begin});
       ws.cones.push_back({&below, {}});
     } else {
       ws.tangents.resize(tangents_begin);
-      const Ref& nearer = t <= 0.5 ? lo : hi;
-      ws.cones.push_back({&plan.planes[nearer.plane], cone_of(nearer, side)});
+      const bool lower = t <= 0.5;
+      place(lower ? below : above, lower ? a : b, ws);
     }
   };
   const bool aim = plan.storage == ConeStorage::AimedOnFan;
@@ -303,6 +403,17 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
     ws.half_spaces.clear();  // the side of each occluding plane the vertex is on (a vertex on it: above)
     for (const OccludingPlane& p : topology.planes)
       ws.half_spaces.push_back(glm::dot(p.normal, frame.positions[v]) >= p.offset ? p.normal : -p.normal);
+    if (fan) {  // the vertex's own fan in each orientation's plane through it (fan_cone.hpp)
+      ws.ranges.resize(2 * orientations);
+      ws.ranged.assign(orientations, 0);
+      for (std::size_t o = 0; o < orientations; ++o) {
+        const std::size_t k = key_of(0, o, static_cast<Index>(v));
+        if (first[k + 1] == first[k] || refs[first[k]].cuts_count == 0) continue;  // no fan cuts listed
+        const SlicingPlane& plane = plan.planes[refs[first[k]].plane];
+        ws.ranged[o] = fan_local_ranges(topology, connectivity, frame, static_cast<Index>(v), plane,
+                                        ws.ranges[2 * o], ws.ranges[2 * o + 1]);
+      }
+    }
     for (int side = 0; side < 2; ++side) {
       ws.cones.clear();
       ws.blended.clear();
@@ -313,12 +424,18 @@ void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCon
         if (from < 0) continue;
         const std::size_t k = key_of(side, o, static_cast<Index>(from));
         const std::uint32_t count = first[k + 1] - first[k];
+        const bool own = from == static_cast<std::int32_t>(v);
         if (blend && count == 2) {  // at the height of the vertex whose cuts these are
-          blend_at_vertex(frame.positions[from], refs[first[k]], refs[first[k] + 1], side, aim, ws);
+          blend_at_vertex(frame.positions[from], refs[first[k]], refs[first[k] + 1], side, aim, own, ws);
           continue;
         }
-        for (std::uint32_t i = first[k]; i < first[k + 1]; ++i)
-          ws.cones.push_back({&plan.planes[refs[i].plane], cone_of(refs[i], side)});
+        for (std::uint32_t i = first[k]; i < first[k + 1]; ++i) {
+          const Ref& r = refs[i];
+          if (fan && own)
+            place(plan.planes[r.plane], plane_cone(r, side, own, ws, ws.fan_lo), ws);
+          else
+            ws.cones.push_back({&plan.planes[r.plane], cone_of(r, side)});
+        }
       }
       for (const Blend& b : ws.blends) {  // ws.blended and ws.tangents have stopped growing
         ws.cones[b.cone].wedges = {ws.blended.data() + b.begin, b.count};

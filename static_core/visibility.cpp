@@ -23,13 +23,14 @@ struct Workspace {
 
 void process_plane(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                    const SlicingPlane& plane, ConeStorage storage, std::span<const Index> faces,
-                   std::span<const std::uint8_t> flat_edges, Workspace& ws, PlaneCones& out) {
+                   const FrameMarks& marks, Workspace& ws, PlaneCones& out) {
   const PlaneFaces split = split_faces(topology, faces);
-  slice_mesh(topology, connectivity, frame, plane, split.cloth, ws.slicer, out.slice, flat_edges);
+  slice_mesh(topology, connectivity, frame, plane, split.cloth, ws.slicer, out.slice, marks.flat_edges);
   out.crossings = 0;
   out.occluders.clear();
-  if (!offer_plane_cones(topology.num_receivers(), storage, frame, ws.cones, out)) return;
-  slice_mesh(topology, connectivity, frame, plane, split.occluders, ws.slicer, out.occluders, flat_edges);
+  if (!offer_plane_cones(topology.num_receivers(), storage, frame, marks.sharp_fans, ws.cones, out)) return;
+  slice_mesh(topology, connectivity, frame, plane, split.occluders, ws.slicer, out.occluders,
+             marks.flat_edges);
   ws.triangulation.build(out.slice);
   out.crossings = ws.triangulation.crossings();
   compute_plane_cones(ws.triangulation, ws.cones, out);
@@ -77,7 +78,7 @@ struct StaticVisibility::Impl {
   std::vector<PlaneCones> planes;
   std::vector<const PlaneCones*> plane_views;  // the assembler's view of `planes`
   std::vector<std::vector<Index>> faces;       // candidate faces per plane
-  std::vector<std::uint8_t> flat_edges;        // per mesh edge, this frame's (flat_occluder_edges)
+  FrameMarks marks;                            // this frame's (mark_frame)
   tbb::enumerable_thread_specific<Workspace> workspaces;
   FrameAssembler assembler;
   FrameVisibility result;
@@ -85,10 +86,10 @@ struct StaticVisibility::Impl {
 
 void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result) {
   candidate_faces_per_plane(topology, frame, plan, faces);
-  flat_occluder_edges(topology, connectivity, frame, flat_edges);
+  mark_frame(topology, connectivity, frame, marks);
   // Every plane on its own: slice, triangulate, shortest-path trees, 2D cones.
   auto run = [&](std::size_t p) {
-    process_plane(topology, connectivity, frame, plan.planes[p], plan.storage, faces[p], flat_edges,
+    process_plane(topology, connectivity, frame, plan.planes[p], plan.storage, faces[p], marks,
                   workspaces.local(), planes[p]);
   };
   if (params.parallel)

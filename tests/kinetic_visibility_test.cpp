@@ -109,7 +109,10 @@ std::string compare_slice(const KineticVisibility& kinetic, std::size_t p, const
   SliceTriangulation st;
   st.build(fresh.slice);
   PlaneConeScratch scratch;
-  if (offer_plane_cones(topology.num_receivers(), kinetic.plan().storage, frame, scratch, fresh))
+  FrameMarks marks;
+  mark_frame(topology, connectivity, frame, marks);
+  if (offer_plane_cones(topology.num_receivers(), kinetic.plan().storage, frame, marks.sharp_fans, scratch,
+                        fresh))
     compute_plane_cones(st, scratch, fresh);
   const Slice& slice = fresh.slice;
   const SliceCones& cones = fresh.cones;

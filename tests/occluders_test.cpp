@@ -211,6 +211,8 @@ TEST(Occluders, PlanesCuttingOnlyOccludersAreNotTriangulated) {
   std::iota(all.begin(), all.end(), Index(0));
   SlicerScratch slicer;
   PlaneConeScratch scratch;
+  FrameMarks marks;
+  mark_frame(topology, connectivity, scene.frame(0), marks);
   std::size_t occluders_only = 0;
   for (const SlicingPlane& plane : plan.planes) {
     PlaneCones out;
@@ -218,7 +220,8 @@ TEST(Occluders, PlanesCuttingOnlyOccludersAreNotTriangulated) {
     const bool receives =
         std::any_of(out.slice.vertices.begin(), out.slice.vertices.end(),
                     [&](const SliceVertex& v) { return v.above < topology.num_receivers(); });
-    ASSERT_EQ(offer_plane_cones(topology.num_receivers(), plan.storage, scene.frame(0), scratch, out),
+    ASSERT_EQ(offer_plane_cones(topology.num_receivers(), plan.storage, scene.frame(0), marks.sharp_fans,
+                                scratch, out),
               receives);
     if (receives || out.slice.vertices.empty()) continue;
     ++occluders_only;

@@ -125,23 +125,21 @@ class KineticSlice {
  public:
   /// The static build of `frame` (also the fallback). `storage` is the plan's rule (compute_plane_cones).
   void build(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
-             const SlicingPlane& plane, ConeStorage storage, const PlaneFaces& faces,
-             std::span<const std::uint8_t> flat_edges, KineticScratch& scratch);
+             const SlicingPlane& plane, ConeStorage storage, const PlaneFaces& faces, const FrameMarks& marks,
+             KineticScratch& scratch);
   /// From the current frame to `next` (see the header comment). Returns what it did: one of
   /// slices_unchanged, slices_repaired or slices_rebuilt is 1 (and rebuilt_because the reason), and where its
   /// time went.
   KineticCounts advance(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& next,
-                        const SlicingPlane& plane, const PlaneFaces& faces,
-                        std::span<const std::uint8_t> flat_edges, const KineticPolicy& policy,
-                        KineticScratch& scratch);
+                        const SlicingPlane& plane, const PlaneFaces& faces, const FrameMarks& marks,
+                        const KineticPolicy& policy, KineticScratch& scratch);
 
   /// To `next` by the static build, as the static engine does it (no attempt to carry), for the engine's
   /// whole-interval policy (KineticPolicy::measured_cost); `keep`: keep the triangulation for the next
   /// interval to carry. Counted as rebuilt for frame_cost.
   KineticCounts rebuild_outright(const MeshTopology& topology, const MeshConnectivity& connectivity,
                                  const Frame& next, const SlicingPlane& plane, const PlaneFaces& faces,
-                                 std::span<const std::uint8_t> flat_edges, bool keep,
-                                 KineticScratch& scratch);
+                                 const FrameMarks& marks, bool keep, KineticScratch& scratch);
 
   const PlaneCones& cones() const { return m_out; }
   /// The mesh edges that started or stopped crossing the plane in the last advance() (local edits only).
@@ -156,16 +154,18 @@ class KineticSlice {
  private:
   /// The static build of the slice in m_out; `keep`: as an editable slice, its triangulation kept when it can
   /// be (else not checked, not kept: the next interval rebuilds it).
-  void finish_build(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch, bool keep);
-  void finish_frame(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
+  void finish_build(const MeshTopology& topology, const Frame& frame, const FrameMarks& marks,
+                    KineticScratch& scratch, bool keep);
+  void finish_frame(const MeshTopology& topology, const Frame& frame, const FrameMarks& marks,
+                    KineticScratch& scratch);
   /// advance() but its timing.
   KineticCounts carry(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& next,
-                      const SlicingPlane& plane, std::span<const Index> faces,
-                      std::span<const std::uint8_t> flat_edges, const KineticPolicy& policy,
-                      KineticScratch& scratch);
+                      const SlicingPlane& plane, std::span<const Index> faces, const FrameMarks& marks,
+                      const KineticPolicy& policy, KineticScratch& scratch);
   /// The slice's offers to mesh vertices (offer_plane_cones); false when it offers none (it cuts occluders
   /// only): it then needs no triangulation and is not carried.
-  bool offer_cones(const MeshTopology& topology, const Frame& frame, KineticScratch& scratch);
+  bool offer_cones(const MeshTopology& topology, const Frame& frame, const FrameMarks& marks,
+                   KineticScratch& scratch);
   /// The 2D cones of the offered slice vertices, from the triangulation in `scratch`.
   void grow_cones(KineticScratch& scratch);
   /// Step 2 of the header comment: certify every face at the next frame and take out the vertices of
