@@ -171,7 +171,7 @@ TEST(VisibilityAccuracy, SharpFansAgreeWithRayCastingOnTheRuckedSleeve) {
     for (Index v = 0; v < cloth.topology().num_vertices; ++v)
       if (marks.sharp_fans[v])
         errors.push_back(std::abs(vis.measures[s][v].sky_visibility - rays.sky_visibility[s][v]));
-  ASSERT_GT(errors.size(), cloth.topology().num_vertices / 2);  // most of the sleeve: both sides of a third
+  ASSERT_GT(errors.size(), cloth.topology().num_vertices);  // most of the sleeve: both sides of over half
   std::sort(errors.begin(), errors.end());
   double mean = 0;
   for (double e : errors) mean += e;
@@ -180,7 +180,7 @@ TEST(VisibilityAccuracy, SharpFansAgreeWithRayCastingOnTheRuckedSleeve) {
   std::printf("rucked sharp fans: %zu sides, mean |A_cone - A_rays| %.4f  p95 %.4f\n", errors.size(), mean,
               p95);
   EXPECT_LT(mean, 0.0115);
-  EXPECT_LT(p95, 0.036);
+  EXPECT_LT(p95, 0.038);
 }
 
 }  // namespace

@@ -47,7 +47,7 @@ glm::dvec2 chain_edge_angles(const Slice& slice, Index x);
 /// range misses much of the vertex's own). Elsewhere the nearest cut's cone is kept as the vertex's: within
 /// 1% of assembling every fan's cone on the bundled cloth, at a fraction of the cost (docs/benchmarks.md,
 /// "The cone of the fan").
-inline constexpr double kSharpFan = 0.85;
+inline constexpr double kSharpFan = 0.7;
 /// Per vertex, 1 where its fan is sharp (see kSharpFan), into `sharp`. O(triangles), once per frame.
 void mark_sharp_fans(const MeshTopology& topology, const Frame& frame, std::vector<std::uint8_t>& sharp);
 
