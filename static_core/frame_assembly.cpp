@@ -79,7 +79,7 @@ void list_fan_cuts(Index num_receivers, const Frame& frame, const Slice& slice,
   std::vector<std::uint32_t>& cursor = scratch.cursor;
   cursor.assign(first.begin(), first.end() - 1);
   each_cut([&](Index u, double distance, Index x) {
-    entries[cursor[slot_of[2 * std::size_t(u)]]++] = {u, distance, x};
+    entries[cursor[slot_of[2 * std::size_t(u)]]++] = {distance, x};
   });
   fan_cuts.resize(entries.size());
   for (std::size_t i = 0; i < stored.size(); ++i) {

@@ -71,9 +71,8 @@ struct PlaneCones {
 void store_cones(Index num_receivers, ConeStorage storage, const Frame& frame, const Slice& slice,
                  std::vector<StoredCone>& stored, std::vector<std::int64_t>& best);
 
-/// One cut of a mesh vertex's edge (list_fan_cuts).
+/// One cut of a mesh vertex's edge (list_fan_cuts): its distance from the vertex along the edge.
 struct FanCut {
-  Index vertex;
   double distance;
   Index slice_vertex;
 };
