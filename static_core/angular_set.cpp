@@ -92,15 +92,20 @@ void intersect_wedges(std::span<const Wedge> a, std::span<const Wedge> b, WedgeS
   unite_wedges(b, s.intervals, s.b);
   split_into_intervals(s.b, s.y);
   s.z.clear();
+  intersect_intervals(s.x, s.y, s.z);
+  merge_into_wedges(s.z, out);
+}
+
+void intersect_intervals(std::span<const AngularInterval> a, std::span<const AngularInterval> b,
+                         std::vector<AngularInterval>& out) {
   std::size_t i = 0, j = 0;
-  while (i < s.x.size() && j < s.y.size()) {
-    const AngularInterval &x = s.x[i], &y = s.y[j];
+  while (i < a.size() && j < b.size()) {
+    const AngularInterval &x = a[i], &y = b[j];
     const AngularInterval& from = x.lo >= y.lo ? x : y;
     const AngularInterval& to = x.hi <= y.hi ? x : y;
-    if (to.hi - from.lo > kAngleTolerance) s.z.push_back({from.lo, to.hi, from.lo_reach, to.hi_reach});
+    if (to.hi - from.lo > kAngleTolerance) out.push_back({from.lo, to.hi, from.lo_reach, to.hi_reach});
     (x.hi < y.hi) ? ++i : ++j;
   }
-  merge_into_wedges(s.z, out);
 }
 
 namespace {

@@ -67,6 +67,10 @@ void unite_wedges(std::span<const Wedge> wedges, std::vector<AngularInterval>& s
 /// Splits wedges into linear intervals of [0, 2pi] (a wedge past 2pi in two, its cut ends without reach),
 /// sorted by start; a full turn gives [0, 2pi] alone. The set operations work on these.
 void split_into_intervals(std::span<const Wedge> wedges, std::vector<AngularInterval>& out);
+/// Appends a ∩ b (sorted, disjoint intervals) to `out`, sorted; each end keeps the reach of the interval that
+/// bounds it. The one implementation of the intersection's sweep (intersect_wedges uses it).
+void intersect_intervals(std::span<const AngularInterval> a, std::span<const AngularInterval> b,
+                         std::vector<AngularInterval>& out);
 /// Merges sorted intervals in place (touching within kAngleTolerance), then appends them to `out` as wedges,
 /// joining the interval that ends at 2pi with the one that starts at 0.
 void merge_into_wedges(std::vector<AngularInterval>& intervals, std::vector<Wedge>& out);

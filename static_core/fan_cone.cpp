@@ -70,42 +70,20 @@ glm::dvec2 chain_edge_angles(const Slice& slice, Index x) {
           direction_angle(slice.vertices[slice.edges[incoming].from].point - at)};
 }
 
-void mark_sharp_fans(const MeshTopology& topology, const Frame& frame, std::vector<std::uint8_t>& sharp) {
-  // The area-weighted normals (as the engines' area_weighted_normals), then each triangle's turn from them.
-  std::vector<glm::dvec3> normal(topology.num_vertices, glm::dvec3(0.0));
-  for (const Triangle& t : topology.triangles) {
-    const glm::dvec3& a = frame.positions[t[0]];
-    const glm::dvec3 c = glm::cross(frame.positions[t[1]] - a, frame.positions[t[2]] - a);
-    for (const Index v : t) normal[v] += c;
-  }
+void mark_sharp_fans(const MeshTopology& topology, const Frame& frame, std::span<const glm::dvec3> normals,
+                     std::vector<std::uint8_t>& sharp) {
   sharp.assign(topology.num_vertices, 0);
   for (const Triangle& t : topology.triangles) {
     const glm::dvec3& a = frame.positions[t[0]];
     const glm::dvec3 c = glm::cross(frame.positions[t[1]] - a, frame.positions[t[2]] - a);
     const double area = glm::length(c);
     if (!(area > 0)) continue;
-    for (const Index v : t) {
-      const double length = glm::length(normal[v]);
-      if (length > 0 && glm::dot(c, normal[v]) < kSharpFan * area * length) sharp[v] = 1;
-    }
+    for (const Index v : t)
+      if (glm::dot(c, normals[v]) < kSharpFan * area) sharp[v] = 1;
   }
 }
 
 namespace {
-
-/// Appends a ∩ b (sorted, disjoint intervals) to `out`, sorted; each end keeps the reach of the interval
-/// that bounds it.
-void intersect(std::span<const AngularInterval> a, std::span<const AngularInterval> b,
-               std::vector<AngularInterval>& out) {
-  std::size_t i = 0, j = 0;
-  while (i < a.size() && j < b.size()) {
-    const AngularInterval &x = a[i], &y = b[j];
-    const AngularInterval& from = x.lo >= y.lo ? x : y;
-    const AngularInterval& to = x.hi <= y.hi ? x : y;
-    if (to.hi - from.lo > kAngleTolerance) out.push_back({from.lo, to.hi, from.lo_reach, to.hi_reach});
-    (x.hi < y.hi) ? ++i : ++j;
-  }
-}
 
 /// The intervals of `wedges` (split_into_intervals), without its sort where they are united already: the
 /// one that wraps past 2pi is the last wedge, its piece from 0 the first interval.
@@ -159,8 +137,8 @@ void fan_cone(std::span<const Index> cuts, const SliceCones& cones, std::span<co
     to_intervals(std::span<const Wedge>(&range, 1), s.range);
     to_intervals(cones.cone(x, side), s.cone);
     s.next.clear();
-    intersect(s.range, s.todo, s.next);  // the directions this cut gives
-    intersect(s.cone, s.next, s.seen);
+    intersect_intervals(s.range, s.todo, s.next);  // the directions this cut gives
+    intersect_intervals(s.cone, s.next, s.seen);
     subtract(s.todo, s.range, s.next);
     s.todo.swap(s.next);
   }

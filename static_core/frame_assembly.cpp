@@ -45,7 +45,7 @@ void store_cones(Index num_receivers, ConeStorage storage, const Frame& frame, c
 void mark_frame(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                 FrameMarks& marks) {
   flat_occluder_edges(topology, connectivity, frame, marks.flat_edges);
-  mark_sharp_fans(topology, frame, marks.sharp_fans);
+  mark_sharp_fans(topology, frame, area_weighted_normals(topology, frame), marks.sharp_fans);
 }
 
 void list_fan_cuts(Index num_receivers, const Frame& frame, const Slice& slice,

@@ -267,7 +267,8 @@ TEST(FanCone, ACreaseAndItsRidgeKeepTheirClosedForms) {
   for (double alpha : {kPi / 6, kPi / 4, kPi / 3}) {
     const auto fold = test::v_fold(alpha, 41, 21, 20.0, 10.0);
     FrameMarks marks;
-    mark_sharp_fans(fold.topology, fold.frame, marks.sharp_fans);
+    mark_sharp_fans(fold.topology, fold.frame, area_weighted_normals(fold.topology, fold.frame),
+                    marks.sharp_fans);
     EXPECT_EQ(marks.sharp_fans[fold.marked_vertex] != 0, std::sin(alpha) < kSharpFan) << alpha;
     const SlicingPlan plan = make_diffuse_plan(fold.topology, fold.frame, {});
     const FrameVisibility vis = compute_visibility(fold.topology, fold.frame, plan);

@@ -165,7 +165,7 @@ TEST(VisibilityAccuracy, SharpFansAgreeWithRayCastingOnTheRuckedSleeve) {
   const RayVisibility rays =
       ray_cast_visibility(scene, cloth.topology(), frame, vis.normals, {4096, 11, true});
   FrameMarks marks;
-  mark_sharp_fans(cloth.topology(), frame, marks.sharp_fans);
+  mark_sharp_fans(cloth.topology(), frame, area_weighted_normals(cloth.topology(), frame), marks.sharp_fans);
   std::vector<double> errors;
   for (int s = 0; s < 2; ++s)
     for (Index v = 0; v < cloth.topology().num_vertices; ++v)

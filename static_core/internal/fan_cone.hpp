@@ -15,6 +15,7 @@
 #pragma once
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <span>
 #include <vector>
 
@@ -48,8 +49,10 @@ glm::dvec2 chain_edge_angles(const Slice& slice, Index x);
 /// 1% of assembling every fan's cone on the bundled cloth, at a fraction of the cost (docs/benchmarks.md,
 /// "The cone of the fan").
 inline constexpr double kSharpFan = 0.7;
-/// Per vertex, 1 where its fan is sharp (see kSharpFan), into `sharp`. O(triangles), once per frame.
-void mark_sharp_fans(const MeshTopology& topology, const Frame& frame, std::vector<std::uint8_t>& sharp);
+/// Per vertex, 1 where its fan is sharp (see kSharpFan) about its unit normal (`normals`: the engines'
+/// area_weighted_normals), into `sharp`. O(triangles), once per frame.
+void mark_sharp_fans(const MeshTopology& topology, const Frame& frame, std::span<const glm::dvec3> normals,
+                     std::vector<std::uint8_t>& sharp);
 
 /// Reusable memory of fan_cone.
 struct FanConeScratch {
