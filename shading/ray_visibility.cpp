@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "static_core/spherical_polygon.hpp"
+
 namespace pleat {
 
 namespace {
@@ -67,25 +69,73 @@ void tangent_basis(const glm::dvec3& m, glm::dvec3& t1, glm::dvec3& t2) {
 void VertexFan::build(const MeshTopology& topology, const Frame& frame, std::span<const Index> ring, Index v,
                       const glm::dvec3& n) {
   m_wedges.clear();
+  m_edges.clear();
   const glm::dvec3& p = frame.positions[v];
   for (Index t : ring) {
     const Triangle& tri = topology.triangles[t];
     const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    m_edges.push_back({tri[(k + 1) % 3], tri[(k + 2) % 3]});
     const glm::dvec3 ea = frame.positions[tri[(k + 1) % 3]] - p;
     const glm::dvec3 eb = frame.positions[tri[(k + 2) % 3]] - p;
     const glm::dvec3 normal = glm::cross(ea, eb);
     const double length = glm::length(normal);
     if (!(length > 0.0)) continue;  // degenerate: no plane, no side
     const double projected = glm::dot(normal, n);
-    if (projected == 0.0) continue;  // seen edge-on along n: its sector is empty
-    m_wedges.push_back({glm::cross(n, ea), glm::cross(eb, n), normal / length, projected < 0.0});
+    m_wedges.push_back(
+        {glm::cross(n, ea), glm::cross(eb, n), normal / length, projected < 0.0, projected == 0.0});
   }
+  // The link: follow the far edges a -> b from one that no other edge enters (an open ring's first) or from
+  // any (a closed one). One chain through every edge, closed or open; anything else is non-manifold.
+  m_ring = Ring::NonManifold;
+  m_link.clear();
+  const std::size_t count = m_edges.size();
+  auto edge_from = [&](Index a) -> std::size_t {
+    std::size_t found = count;
+    for (std::size_t i = 0; i < count; ++i)
+      if (m_edges[i][0] == a) {
+        if (found != count) return count + 1;  // two edges leave a: non-manifold
+        found = i;
+      }
+    return found;
+  };
+  std::size_t start = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    bool entered = false;
+    for (std::size_t j = 0; j < count && !entered; ++j) entered = m_edges[j][1] == m_edges[i][0];
+    if (!entered) {
+      start = i;
+      break;
+    }
+  }
+  if (count == 0) return;
+  std::size_t steps = 0, at = start;
+  while (at < count && steps <= count) {
+    const glm::dvec3 d = frame.positions[m_edges[at][0]] - p;
+    const double length = glm::length(d);
+    if (!(length > 0.0)) return;  // a ring vertex on v: no direction
+    m_link.push_back(d / length);
+    ++steps;
+    const Index b = m_edges[at][1];
+    if (b == m_edges[start][0]) {  // back at the start: closed, if every edge was walked once
+      if (steps == count) m_ring = Ring::Closed;
+      break;
+    }
+    at = edge_from(b);
+    if (at == count) {  // nothing leaves b: the boundary, if every edge was walked once
+      if (steps == count) m_ring = Ring::Open;
+      break;
+    }
+  }
+  if (m_ring == Ring::Closed) m_link_solid_angle = solid_angle(m_link);
 }
 
 int VertexFan::side_of(const glm::dvec3& w) const {
+  if (m_ring == Ring::Closed) return contains_direction(m_link, w, m_link_solid_angle) ? 1 : -1;
+  if (m_ring == Ring::Open) return 0;
   double nearest = std::numeric_limits<double>::infinity();
   int side = 0;
   for (const Wedge& f : m_wedges) {
+    if (f.edge_on) continue;  // seen edge-on along n: its sector is empty
     const double s1 = glm::dot(w, f.sector_a);
     const double s2 = glm::dot(w, f.sector_b);
     const bool inside = f.flipped ? (s1 <= 0.0 && s2 <= 0.0) : (s1 >= 0.0 && s2 >= 0.0);
@@ -100,8 +150,10 @@ int VertexFan::side_of(const glm::dvec3& w) const {
 }
 
 bool VertexFan::enters_cloth(const glm::dvec3& w, Side side) const {
+  if (m_ring == Ring::Open) return false;
   const double sign = side_sign(side);
-  // Fast path: a direction on the wanted side of every ring triangle's plane cannot be blocked.
+  // Fast path: a direction on the wanted side of every ring triangle's plane lies on that side of the link
+  // (were it on the other, the link arc nearest to it would have it on its other side).
   bool all_on_side = true;
   for (const Wedge& f : m_wedges) all_on_side &= sign * glm::dot(w, f.unit_normal) >= 0.0;
   if (all_on_side) return false;

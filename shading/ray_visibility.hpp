@@ -18,12 +18,18 @@
 //  1. Hits on the one-ring triangles are ignored (an Embree context filter); they can only be round-off.
 //  2. tnear = 1e-6 × scene diameter skips hits at the origin on non-incident triangles (unwelded seams);
 //     cloth layers are never that close.
-//  3. Whether a direction leaves on the wanted side is decided locally, from the one-ring itself: the ring
-//     triangles are projected along n(v); among those whose angular sector contains ω's projection, the one
-//     whose plane is nearest to ω (smallest |ω·N̂|) tells the side (sign of ω·N, N in the input winding).
-//     A direction that crosses the surface at its origin (e.g. at the bottom of a crease, directions of
-//     the hemisphere beyond the two faces) counts as blocked without casting it. For a fan that is a height
-//     field over the plane ⊥ n this is exact; a direction over no sector (past a boundary) is free.
+//  3. Whether a direction leaves on the wanted side is decided locally, from the one-ring itself, exactly:
+//     the ring triangles, seen from v, are the arcs of a closed spherical polygon (the link: the directions
+//     from v to its one-ring, in winding order), simple wherever the fan does not intersect itself, with the
+//     front on its left; ω leaves on the front iff the link winds about it (contains_direction). A direction
+//     that crosses the surface at its origin (e.g. at the bottom of a crease, directions of the hemisphere
+//     beyond the two faces) counts as blocked without casting it. At a vertex on the mesh's boundary the link
+//     is open and nothing is blocked locally (the two sides meet around the boundary); at a non-manifold
+//     vertex the ring triangles are projected along n(v) and the one whose plane is nearest to ω among those
+//     whose sector contains its projection tells the side — exact only where the fan is a height field over
+//     the plane ⊥ n. (Before 2026-11-28 that projection was the rule everywhere; on sharp ridges, where the
+//     fan folds over in projection, it blocked directions the vertex sees: docs/benchmarks.md, "The
+//     reference's one-ring test".)
 // Without step 3, the hemisphere about the vertex normal at a crease would see "through" the adjacent
 // faces, and a V-fold's bottom would get A = 1 instead of sin α.
 //
@@ -81,13 +87,14 @@ std::array<std::vector<double>, 2> ray_cast_sky_visibility(EmbreeScene& scene, c
                                                            const RayVisibilityParams& params = {});
 
 /// The one-ring of a vertex, prepared to tell on which side of the cloth a direction leaves the vertex
-/// ("Self-hits", step 3 above). build() once per vertex (reuses its buffer), then O(ring size) per query.
+/// ("Self-hits", step 3 above). build() once per vertex (reuses its buffers), then O(ring size) per query.
 class VertexFan {
  public:
   /// `ring`: the triangles incident to v (EmbreeScene::incident_triangles); `n`: the unit normal n(v).
   void build(const MeshTopology& topology, const Frame& frame, std::span<const Index> ring, Index v,
              const glm::dvec3& n);
-  /// +1 if w leaves v on the front, -1 on the back, 0 if it passes over no ring triangle (past a boundary).
+  /// +1 if w leaves v on the front, -1 on the back, 0 if it leaves on neither alone (v on the boundary, or,
+  /// at a non-manifold vertex, w passing over no ring triangle).
   int side_of(const glm::dvec3& w) const;
   /// True if a ray from v along w, wanted on `side`, crosses the cloth at its origin.
   bool enters_cloth(const glm::dvec3& w, Side side) const;
@@ -98,7 +105,15 @@ class VertexFan {
     glm::dvec3 sector_b;     // eb × n: w·(eb × n) = (w × eb)·n
     glm::dvec3 unit_normal;  // (ea × eb) normalized: the input winding's front
     bool flipped;            // (ea × eb)·n < 0: w's projection is in the sector iff both dots are <= 0
+    bool edge_on;            // (ea × eb)·n == 0: seen edge-on along n, its sector is empty
   };
+  enum class Ring { Closed, Open, NonManifold };
+  /// The link of a closed ring (unit directions from v, in winding order) and its solid angle; the
+  /// projection rule's wedges are used at a non-manifold vertex only (and their normals by the fast path).
+  Ring m_ring = Ring::Open;
+  std::vector<glm::dvec3> m_link;
+  double m_link_solid_angle = 0.0;
+  std::vector<std::array<Index, 2>> m_edges;  // build()'s scratch: the far edge of each ring triangle
   std::vector<Wedge> m_wedges;
 };
 

@@ -1,14 +1,18 @@
 // Ray-cast sky visibility (shading/ray_visibility) against closed forms: a flat sheet (A = 1 on both sides),
 // a closed sphere (inside 0, outside ≈ 1), and a V-fold (A = sin α at the bottom of the fold, sin² α on its
-// faces); determinism for a fixed seed; refit vs rebuild; the EmbreeScene queries themselves.
+// faces); determinism for a fixed seed; refit vs rebuild; the EmbreeScene queries themselves; the one-ring
+// side test against a height field's exact sides on random steep fans.
 #include "shading/ray_visibility.hpp"
 
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/glm.hpp>
 #include <map>
 #include <numbers>
+#include <random>
 
 #include "oracles/test_meshes.hpp"
 #include "shading/embree_scene.hpp"
@@ -184,6 +188,90 @@ TEST(RayVisibility, VertexFanTellsTheSideAtACrease) {
     EXPECT_FALSE(fan.enters_cloth(direction(45.0, z), Side::Back));
     EXPECT_FALSE(fan.enters_cloth(direction(10.0, z), Side::Front));
     EXPECT_TRUE(fan.enters_cloth(direction(10.0, z), Side::Back));
+  }
+}
+
+/// A random fan around vertex 0: k ring vertices at increasing azimuths about `up`, at random distances and
+/// heights along `up` up to `steepness` times their distance (a height field over the plane ⊥ up, so its
+/// sides are known exactly: a direction over ring triangle i leaves on the side its normal faces), turned
+/// so that `up` is random. Closed (triangles (0, i, i + 1) all round) or open (the last one left out).
+struct RandomFan {
+  MeshTopology topology;
+  Frame frame;
+  glm::dvec3 up;
+  std::vector<Index> ring;  // the triangles
+};
+
+RandomFan random_fan(bool closed, double steepness) {
+  const int k = *rc::gen::inRange(3, 9);
+  std::vector<double> cuts;
+  for (int i = 0; i < k; ++i) cuts.push_back(*rc::gen::inRange(0, 1000000) / 1e6);
+  std::sort(cuts.begin(), cuts.end());
+  // Azimuths: the sorted cuts spread so that neighbours stay at least 10 degrees and less than 170 apart.
+  std::vector<double> azimuth;
+  const double step = 2 * std::numbers::pi / k;
+  for (int i = 0; i < k; ++i) azimuth.push_back(step * (i + 0.2 + 0.6 * cuts[static_cast<std::size_t>(i)]));
+  const glm::dvec3 axis = glm::normalize(
+      glm::dvec3(*rc::gen::inRange(-1000, 1001), *rc::gen::inRange(-1000, 1001), *rc::gen::inRange(1, 1001)));
+  const glm::dvec3 e1 =
+      glm::normalize(glm::cross(axis, std::abs(axis.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+  const glm::dvec3 e2 = glm::cross(axis, e1);
+  RandomFan fan;
+  fan.up = axis;
+  fan.frame.positions.push_back(glm::dvec3(0.3, -0.2, 0.7));
+  for (int i = 0; i < k; ++i) {
+    const double r = 0.2 + *rc::gen::inRange(0, 1000) / 1000.0;
+    const double h = steepness * r * (*rc::gen::inRange(-1000, 1001) / 1000.0);
+    const double a = azimuth[static_cast<std::size_t>(i)];
+    fan.frame.positions.push_back(fan.frame.positions[0] + r * (std::cos(a) * e1 + std::sin(a) * e2) +
+                                  h * axis);
+  }
+  fan.topology.num_vertices = static_cast<Index>(k + 1);
+  for (int i = 0; i < (closed ? k : k - 1); ++i) {
+    fan.topology.triangles.push_back({0, static_cast<Index>(i + 1), static_cast<Index>((i + 1) % k + 1)});
+    fan.ring.push_back(static_cast<Index>(i));
+  }
+  return fan;
+}
+
+/// The side of a direction over a height field fan: the normal of the ring triangle whose sector (about `up`)
+/// holds w's projection; 0 over none.
+int height_field_side(const RandomFan& fan, const glm::dvec3& w) {
+  const glm::dvec3& p = fan.frame.positions[0];
+  for (const Triangle& t : fan.topology.triangles) {
+    const glm::dvec3 a = fan.frame.positions[t[1]] - p, b = fan.frame.positions[t[2]] - p;
+    if (glm::dot(glm::cross(a, w), fan.up) >= 0 && glm::dot(glm::cross(w, b), fan.up) >= 0) {
+      const double d = glm::dot(w, glm::cross(a, b));
+      return d > 0 ? 1 : d < 0 ? -1 : 0;
+    }
+  }
+  return 0;
+}
+
+// The side test decides from the fan's own shape, not from a projection along n(v): on steep fans that fold
+// over in the plane of n (sharp ridges, a third to half of the cases here) the rule before 2026-11-28 was
+// wrong.
+RC_GTEST_PROP(RayVisibility, VertexFanTellsTheSideOfEveryDirectionOnSteepFans, ()) {
+  const double steepness = *rc::gen::element(0.5, 2.0, 8.0);
+  const bool closed = *rc::gen::element(true, false);
+  const RandomFan fan = random_fan(closed, steepness);
+  const glm::dvec3 n = vertex_normals(fan.topology, fan.frame)[0];
+  VertexFan tested;
+  tested.build(fan.topology, fan.frame, fan.ring, 0, n);
+  bool folds_over_n = false;  // some ring triangle faces away from n: not a height field over its plane
+  for (const Triangle& t : fan.topology.triangles) {
+    const glm::dvec3& p = fan.frame.positions[0];
+    folds_over_n |=
+        glm::dot(glm::cross(fan.frame.positions[t[1]] - p, fan.frame.positions[t[2]] - p), n) <= 0;
+  }
+  RC_TAG(folds_over_n ? "folds over in the plane of n" : "a height field over the plane of n");
+  std::mt19937 random(*rc::gen::arbitrary<std::uint32_t>());
+  std::normal_distribution<double> normal;
+  for (int i = 0; i < 200; ++i) {
+    const glm::dvec3 w = glm::normalize(glm::dvec3(normal(random), normal(random), normal(random)));
+    const int side = closed ? height_field_side(fan, w) : 0;  // an open fan's sides meet round its boundary
+    RC_ASSERT(tested.side_of(w) == side);
+    for (Side s : kBothSides) RC_ASSERT(tested.enters_cloth(w, s) == (side == -side_sign(s)));
   }
 }
 
