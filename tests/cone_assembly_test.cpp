@@ -4,7 +4,9 @@
 // vertex. Chords between the ends cut inside the rounded boundary; following the tangents to where they meet
 // and taking the parabolic arc's point there at least halves that error, and with only every other circle's
 // tangents the one-sided parabolas still gain; the pieces stay valid. Also: an end on the side's horizon and
-// one on an occluding plane's boundary meet where the two planes do.
+// one on an occluding plane's boundary meet where the two planes do. And a ring of sky round a blocked cap
+// (the view from inside a sleeve's cuff), which a polygon about the group's centre would fill: the pieces
+// hold the planes' blocked samples, and the nearest-circle rule rebuilds the cone.
 #include "static_core/cone_assembly.hpp"
 
 #include <gtest/gtest.h>
@@ -99,6 +101,47 @@ RC_GTEST_PROP(ConeAssembly, HorizonTangentsHalveTheChordsErrorOnARoundOpening, (
   RC_ASSERT(tangents.pieces.size() == 1u);
   for (const glm::dvec3& d : tangents.pieces[0]) RC_ASSERT(glm::dot(d, m) >= 0);
   RC_ASSERT(std::abs(measure_cone(tangents, m).sky_visibility - a_tangents) < 1e-12);
+}
+
+RC_GTEST_PROP(ConeAssembly, ARingOfSkyRoundABlockedCapIsNotFilled, ()) {
+  // Everything is seen but the cap of angular radius rho about the side normal m: A = 1 - sin²rho = cos²rho.
+  // Eight circles through the vertex at spread orientations, each passing within 0.7 rho of m and seeing its
+  // complement of the cap: in the hemisphere, an arc at each end of its half-turn. One group of arcs all
+  // round the horizon, whose polygon about its centre (m) would be the whole hemisphere (A = 1).
+  const glm::dvec3 m = test::gen_unit_direction();
+  const double rho = *rc::gen::inRange(700, 1400) / 1000.0;
+  const glm::dvec3 x =
+      glm::normalize(glm::cross(m, std::abs(m.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+  const glm::dvec3 y = glm::cross(m, x);
+  std::vector<SlicingPlane> planes;
+  std::vector<std::vector<Wedge>> wedges;
+  for (int k = 0; k < 8; ++k) {
+    const double a = kPi * (k + *rc::gen::inRange(0, 500) / 1000.0) / 8;
+    const double tilt = std::tan(0.7 * rho * *rc::gen::inRange(-1000, 1001) / 1000.0);  // cuts the cap
+    planes.push_back(make_plane(glm::normalize(std::cos(a) * x + std::sin(a) * y + tilt * m), 0.0, k));
+  }
+  for (const SlicingPlane& p : planes) {
+    // d(φ)·m = R cos(φ − φ0) is at least cos rho on the blocked arc [φ0 − δ, φ0 + δ].
+    const double mu = glm::dot(p.u, m), mw = glm::dot(p.w, m);
+    const double r = std::hypot(mu, mw);
+    if (!(r > std::cos(rho) + 1e-6)) {
+      wedges.push_back({{0.0, kTwoPi}});
+      continue;
+    }
+    const double phi0 = std::atan2(mw, mu), delta = std::acos(std::cos(rho) / r);
+    wedges.push_back({{wrap_angle(phi0 + delta), kTwoPi - 2 * delta}});
+  }
+  std::vector<PlanarCone> cones;
+  for (std::size_t i = 0; i < planes.size(); ++i) cones.push_back({&planes[i], wedges[i]});
+  ConeAssemblyScratch scratch;
+  VisibilityCone cone;
+  ConeMeasures measures;
+  assemble_and_measure_cone(cones, m, scratch, cone, &measures);
+  const double truth = std::cos(rho) * std::cos(rho);
+  RC_ASSERT(std::abs(measures.sky_visibility - truth) < 0.05);
+  // The pieces leave m (the middle of the cap) out, and their measures are the cone's.
+  for (const SphericalPolygon& piece : cone.pieces) RC_ASSERT(!contains_direction(piece, m));
+  RC_ASSERT(std::abs(measure_cone(cone, m).sky_visibility - measures.sky_visibility) < 1e-9);
 }
 
 TEST(ConeAssembly, AnEndOnTheHorizonAndOneOnTheGroundMeetWhereTheirPlanesDo) {
