@@ -103,7 +103,13 @@ void intersect_intervals(std::span<const AngularInterval> a, std::span<const Ang
     const AngularInterval &x = a[i], &y = b[j];
     const AngularInterval& from = x.lo >= y.lo ? x : y;
     const AngularInterval& to = x.hi <= y.hi ? x : y;
-    if (to.hi - from.lo > kAngleTolerance) out.push_back({from.lo, to.hi, from.lo_reach, to.hi_reach});
+    // Ends that coincide to within the tolerance are one end: it keeps a horizon's reach if either has one
+    // (INFINITY: none), whichever rounding put further in.
+    const float lo_reach =
+        std::abs(x.lo - y.lo) <= kAngleTolerance ? std::min(x.lo_reach, y.lo_reach) : from.lo_reach;
+    const float hi_reach =
+        std::abs(x.hi - y.hi) <= kAngleTolerance ? std::min(x.hi_reach, y.hi_reach) : to.hi_reach;
+    if (to.hi - from.lo > kAngleTolerance) out.push_back({from.lo, to.hi, lo_reach, hi_reach});
     (x.hi < y.hi) ? ++i : ++j;
   }
 }
