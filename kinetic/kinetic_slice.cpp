@@ -204,7 +204,7 @@ bool KineticSlice::offer_cones(const MeshTopology& topology, const Frame& frame,
                                KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
   m_offers =
-      offer_plane_cones(topology.num_receivers(), m_storage, frame, marks.sharp_fans, scratch.cones, m_out);
+      offer_plane_cones(topology.num_receivers(), m_storage, frame, marks.whole_fans, scratch.cones, m_out);
   m_cone_seconds = seconds_since(start);
   return m_offers;
 }

@@ -12,6 +12,11 @@ bool fan_local_ranges(const MeshTopology& topology, const MeshConnectivity& conn
                       std::vector<AngularInterval>& back) {
   front.clear();
   back.clear();
+  if (!connectivity.has_closed_fan(v)) {
+    front.push_back({0.0, kTwoPi});
+    back.push_back({0.0, kTwoPi});
+    return true;
+  }
   // Each triangle (v, a, b) whose far edge crosses the plane through v bounds the sides along the ray from v
   // to the crossing; the triangle's normal, projected into the plane, points to the front side of that ray.
   struct Crossing {
@@ -70,16 +75,18 @@ glm::dvec2 chain_edge_angles(const Slice& slice, Index x) {
           direction_angle(slice.vertices[slice.edges[incoming].from].point - at)};
 }
 
-void mark_sharp_fans(const MeshTopology& topology, const Frame& frame, std::span<const glm::dvec3> normals,
-                     std::vector<std::uint8_t>& sharp) {
-  sharp.assign(topology.num_vertices, 0);
+void mark_whole_fans(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
+                     std::span<const glm::dvec3> normals, std::vector<std::uint8_t>& whole) {
+  whole.assign(topology.num_vertices, 0);
+  for (Index v = 0; v < topology.num_vertices; ++v)
+    whole[v] = !connectivity.has_closed_fan(v) && !connectivity.is_isolated(v);
   for (const Triangle& t : topology.triangles) {
     const glm::dvec3& a = frame.positions[t[0]];
     const glm::dvec3 c = glm::cross(frame.positions[t[1]] - a, frame.positions[t[2]] - a);
     const double area = glm::length(c);
     if (!(area > 0)) continue;
     for (const Index v : t)
-      if (glm::dot(c, normals[v]) < kSharpFan * area) sharp[v] = 1;
+      if (glm::dot(c, normals[v]) < kSharpFan * area) whole[v] = 1;
   }
 }
 
@@ -130,10 +137,10 @@ void fan_cone(std::span<const Index> cuts, const SliceCones& cones, std::span<co
   for (const Index x : cuts) {
     if (s.todo.empty()) break;
     const glm::dvec2 angles = chain_angles[x];
-    if (std::isnan(angles.x)) continue;
     const double from = side == Side::Front ? angles.x : angles.y,
                  to = side == Side::Front ? angles.y : angles.x;
-    const Wedge range{from, to > from ? to - from : to - from + kTwoPi};
+    const Wedge range = std::isnan(from) ? Wedge{0.0, kTwoPi}  // a chain's end
+                                         : Wedge{from, to > from ? to - from : to - from + kTwoPi};
     to_intervals(std::span<const Wedge>(&range, 1), s.range);
     to_intervals(cones.cone(x, side), s.cone);
     s.next.clear();

@@ -45,20 +45,20 @@ void store_cones(Index num_receivers, ConeStorage storage, const Frame& frame, c
 void mark_frame(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                 FrameMarks& marks) {
   flat_occluder_edges(topology, connectivity, frame, marks.flat_edges);
-  mark_sharp_fans(topology, frame, area_weighted_normals(topology, frame), marks.sharp_fans);
+  mark_whole_fans(topology, connectivity, frame, area_weighted_normals(topology, frame), marks.whole_fans);
 }
 
 void list_fan_cuts(Index num_receivers, const Frame& frame, const Slice& slice,
-                   std::span<const std::uint8_t> sharp_fans, std::vector<StoredCone>& stored,
+                   std::span<const std::uint8_t> whole_fans, std::vector<StoredCone>& stored,
                    FanCutScratch& scratch, std::vector<Index>& fan_cuts) {
   std::vector<std::int64_t>& slot_of = scratch.slot_of;
   std::vector<FanCut>& entries = scratch.entries;
   // Each stored vertex gets a slot (its first stored cone's index; both sides share its cuts); the cuts are
   // counted into slots, placed, and each slot's few sorted by (distance, slice vertex).
   if (slot_of.size() != 2 * std::size_t(num_receivers)) slot_of.assign(2 * std::size_t(num_receivers), -1);
-  auto sharp = [&](Index u) { return u < num_receivers && u < sharp_fans.size() && sharp_fans[u]; };
+  auto whole = [&](Index u) { return u < num_receivers && u < whole_fans.size() && whole_fans[u]; };
   for (std::size_t i = 0; i < stored.size(); ++i) {
-    if (!sharp(stored[i].vertex)) continue;
+    if (!whole(stored[i].vertex)) continue;
     std::int64_t& slot = slot_of[2 * std::size_t(stored[i].vertex)];
     if (slot < 0) slot = static_cast<std::int64_t>(i);
   }
@@ -67,10 +67,10 @@ void list_fan_cuts(Index num_receivers, const Frame& frame, const Slice& slice,
   auto each_cut = [&](auto&& visit) {
     for (Index x = 0; x < slice.vertices.size(); ++x) {
       const SliceVertex& sv = slice.vertices[x];
-      if (!sharp(sv.above) && !sharp(sv.below)) continue;
+      if (!whole(sv.above) && !whole(sv.below)) continue;
       const double length = glm::distance(frame.positions[sv.above], frame.positions[sv.below]);
-      if (sharp(sv.above)) visit(sv.above, sv.t * length, x);
-      if (sharp(sv.below)) visit(sv.below, (1.0 - sv.t) * length, x);
+      if (whole(sv.above)) visit(sv.above, sv.t * length, x);
+      if (whole(sv.below)) visit(sv.below, (1.0 - sv.t) * length, x);
     }
   };
   each_cut([&](Index u, double, Index) { ++first[slot_of[2 * std::size_t(u)] + 1]; });
@@ -90,7 +90,7 @@ void list_fan_cuts(Index num_receivers, const Frame& frame, const Slice& slice,
     for (auto e = begin; e != end; ++e) fan_cuts[e - entries.begin()] = e->slice_vertex;
   }
   for (StoredCone& c : stored) {
-    if (!sharp(c.vertex)) {
+    if (!whole(c.vertex)) {
       c.cuts_begin = c.cuts_count = 0;
       continue;
     }
@@ -104,7 +104,7 @@ void list_fan_cuts(Index num_receivers, const Frame& frame, const Slice& slice,
 }
 
 bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& frame,
-                       std::span<const std::uint8_t> sharp_fans, PlaneConeScratch& s, PlaneCones& out) {
+                       std::span<const std::uint8_t> whole_fans, PlaneConeScratch& s, PlaneCones& out) {
   store_cones(num_receivers, storage, frame, out.slice, out.stored, s.best);
   out.fan_cuts.clear();
   out.chain_angles.clear();
@@ -117,7 +117,7 @@ bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& fr
   s.needed.assign(out.slice.vertices.size(), 0);
   for (const StoredCone& c : out.stored) s.needed[c.slice_vertex] = 1;
   if (storage == ConeStorage::AimedOnFan) {
-    list_fan_cuts(num_receivers, frame, out.slice, sharp_fans, out.stored, s.fan_cuts, out.fan_cuts);
+    list_fan_cuts(num_receivers, frame, out.slice, whole_fans, out.stored, s.fan_cuts, out.fan_cuts);
     out.chain_angles.assign(out.slice.vertices.size(), glm::dvec2(INFINITY));
     for (const Index x : out.fan_cuts) {
       s.needed[x] = 1;

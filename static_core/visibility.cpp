@@ -28,7 +28,7 @@ void process_plane(const MeshTopology& topology, const MeshConnectivity& connect
   slice_mesh(topology, connectivity, frame, plane, split.cloth, ws.slicer, out.slice, marks.flat_edges);
   out.crossings = 0;
   out.occluders.clear();
-  if (!offer_plane_cones(topology.num_receivers(), storage, frame, marks.sharp_fans, ws.cones, out)) return;
+  if (!offer_plane_cones(topology.num_receivers(), storage, frame, marks.whole_fans, ws.cones, out)) return;
   slice_mesh(topology, connectivity, frame, plane, split.occluders, ws.slicer, out.occluders,
              marks.flat_edges);
   ws.triangulation.build(out.slice);

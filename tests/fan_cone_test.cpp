@@ -126,6 +126,31 @@ RC_GTEST_PROP(FanLocalRanges, ARandomFansTwoSidesAreTheDirectionsAboveAndBelowIt
   }
 }
 
+TEST(FanLocalRanges, AnOpenFanBoundsNeitherSide) {
+  // The fan of a vertex on the mesh's boundary (one triangle of a closed fan left out): its two sides meet
+  // round the boundary, every direction of every plane is in both ranges.
+  Fan fan = make_fan({0, 1.5, 3, 4.5}, {1, 1, 1, 1}, {0, 0, 0, 0});
+  fan.topology.triangles.pop_back();
+  const MeshConnectivity connectivity(fan.topology);
+  ASSERT_FALSE(connectivity.has_closed_fan(0));
+  std::vector<AngularInterval> front, back;
+  for (const glm::dvec3& normal : {glm::dvec3(0, 0, 1), glm::dvec3(1, 0, 0), glm::dvec3(0.3, -0.5, 0.8)}) {
+    ASSERT_TRUE(fan_local_ranges(fan.topology, connectivity, fan.frame, 0,
+                                 make_plane(glm::normalize(normal), 0.0, 0), front, back));
+    ASSERT_EQ(front.size(), 1u);
+    ASSERT_EQ(back.size(), 1u);
+    EXPECT_EQ(front[0].lo, 0.0);
+    EXPECT_EQ(front[0].hi, 2 * kPi);
+    EXPECT_EQ(back[0].lo, 0.0);
+    EXPECT_EQ(back[0].hi, 2 * kPi);
+  }
+  // mark_whole_fans takes it, flat as it is (no triangle turns far from its normal).
+  std::vector<std::uint8_t> whole;
+  mark_whole_fans(fan.topology, connectivity, fan.frame, area_weighted_normals(fan.topology, fan.frame),
+                  whole);
+  EXPECT_EQ(whole[0], 1);
+}
+
 TEST(FanLocalRanges, AFanThePlaneOnlyTouchesGivesNone) {
   // A cone's apex: every neighbour below the horizontal plane through it.
   const Fan fan = make_fan({0, 2, 4}, {1, 1, 1}, {-0.5, -0.2, -0.9});
@@ -225,7 +250,10 @@ RC_GTEST_PROP(FanCone, EachDirectionTakesTheNearestCutWhoseRangeHoldsIt, ()) {
         bool expected = false;
         if (contains(c.vertex_range, angle))
           for (int x = 0; x < k; ++x) {
-            if (std::isnan(c.angles[x].x)) continue;
+            if (std::isnan(c.angles[x].x)) {  // a chain's end ranges over the whole turn
+              expected = contains(c.cones.cone(Index(x), side), angle);
+              break;
+            }
             const double from = side == Side::Front ? c.angles[x].x : c.angles[x].y;
             const double to = side == Side::Front ? c.angles[x].y : c.angles[x].x;
             if (!(wrap_angle(angle - from) <= wrap_angle(to - from))) continue;
@@ -267,9 +295,9 @@ TEST(FanCone, ACreaseAndItsRidgeKeepTheirClosedForms) {
   for (double alpha : {kPi / 6, kPi / 4, kPi / 3}) {
     const auto fold = test::v_fold(alpha, 41, 21, 20.0, 10.0);
     FrameMarks marks;
-    mark_sharp_fans(fold.topology, fold.frame, area_weighted_normals(fold.topology, fold.frame),
-                    marks.sharp_fans);
-    EXPECT_EQ(marks.sharp_fans[fold.marked_vertex] != 0, std::sin(alpha) < kSharpFan) << alpha;
+    mark_whole_fans(fold.topology, MeshConnectivity(fold.topology), fold.frame,
+                    area_weighted_normals(fold.topology, fold.frame), marks.whole_fans);
+    EXPECT_EQ(marks.whole_fans[fold.marked_vertex] != 0, std::sin(alpha) < kSharpFan) << alpha;
     const SlicingPlan plan = make_diffuse_plan(fold.topology, fold.frame, {});
     const FrameVisibility vis = compute_visibility(fold.topology, fold.frame, plan);
     EXPECT_NEAR(vis.measure(Side::Back, fold.marked_vertex).sky_visibility, 1.0, 2e-3) << alpha;

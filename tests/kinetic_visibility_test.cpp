@@ -111,7 +111,7 @@ std::string compare_slice(const KineticVisibility& kinetic, std::size_t p, const
   PlaneConeScratch scratch;
   FrameMarks marks;
   mark_frame(topology, connectivity, frame, marks);
-  if (offer_plane_cones(topology.num_receivers(), kinetic.plan().storage, frame, marks.sharp_fans, scratch,
+  if (offer_plane_cones(topology.num_receivers(), kinetic.plan().storage, frame, marks.whole_fans, scratch,
                         fresh))
     compute_plane_cones(st, scratch, fresh);
   const Slice& slice = fresh.slice;

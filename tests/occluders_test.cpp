@@ -220,7 +220,7 @@ TEST(Occluders, PlanesCuttingOnlyOccludersAreNotTriangulated) {
     const bool receives =
         std::any_of(out.slice.vertices.begin(), out.slice.vertices.end(),
                     [&](const SliceVertex& v) { return v.above < topology.num_receivers(); });
-    ASSERT_EQ(offer_plane_cones(topology.num_receivers(), plan.storage, scene.frame(0), marks.sharp_fans,
+    ASSERT_EQ(offer_plane_cones(topology.num_receivers(), plan.storage, scene.frame(0), marks.whole_fans,
                                 scratch, out),
               receives);
     if (receives || out.slice.vertices.empty()) continue;

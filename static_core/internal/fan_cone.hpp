@@ -31,16 +31,19 @@ namespace pleat {
 /// The local ranges of mesh vertex v on both sides within its fan, in the plane through v parallel to
 /// `plane` (its (u, w) frame), as sorted linear intervals of [0, 2pi] (split_into_intervals' form): where the
 /// fan's triangles cross that plane they bound them, the front side being the one their (input-winding)
-/// normals face. False, and the outputs cleared, where the crossings do not alternate between the sides (the
-/// fan only touches the plane at v, ends at the mesh's boundary, or folds there): the fan then gives no
-/// range. Floating-point decisions: the range is a sample of the visible set, not a topology.
+/// normals face. An open fan (v on the mesh's boundary, or a bow-tie: MeshConnectivity::has_closed_fan false)
+/// bounds neither side: both ranges are the whole turn, its two sides meeting round the boundary. False, and
+/// the outputs cleared, where a closed fan's crossings do not alternate between the sides (it only touches
+/// the plane at v, or folds there): the fan then gives no range. Floating-point decisions: the range is a
+/// sample of the visible set, not a topology.
 bool fan_local_ranges(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                       Index v, const SlicingPlane& plane, std::vector<AngularInterval>& front,
                       std::vector<AngularInterval>& back);
 
 /// The angles of slice vertex x's outgoing and incoming chain edges (towards the next and the previous slice
 /// vertex), in [0, 2pi); NaN at a chain's end. Its front local range runs counter-clockwise from the first to
-/// the second, its back range from the second to the first: where its 2D cones lie.
+/// the second, its back range from the second to the first: where its 2D cones lie. At a chain's end both
+/// cones lie anywhere in the whole turn.
 glm::dvec2 chain_edge_angles(const Slice& slice, Index x);
 
 /// Whether a vertex's fan is sharp enough for fan_cone: one of its triangles turns from the vertex's
@@ -49,10 +52,13 @@ glm::dvec2 chain_edge_angles(const Slice& slice, Index x);
 /// 1% of assembling every fan's cone on the bundled cloth, at a fraction of the cost (docs/benchmarks.md,
 /// "The cone of the fan").
 inline constexpr double kSharpFan = 0.7;
-/// Per vertex, 1 where its fan is sharp (see kSharpFan) about its unit normal (`normals`: the engines'
-/// area_weighted_normals), into `sharp`. O(triangles), once per frame.
-void mark_sharp_fans(const MeshTopology& topology, const Frame& frame, std::span<const glm::dvec3> normals,
-                     std::vector<std::uint8_t>& sharp);
+/// Per vertex, 1 where its cone in a plane is to be assembled from its whole fan (fan_cone) into `whole`:
+/// where the fan is sharp (see kSharpFan) about its unit normal (`normals`: the engines'
+/// area_weighted_normals), and where it is open (on the mesh's boundary: the vertex sees round the edge,
+/// which a cut inside the chain, its range on one side of it, does not; docs/benchmarks.md, "Open fans").
+/// O(triangles + vertices), once per frame.
+void mark_whole_fans(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
+                     std::span<const glm::dvec3> normals, std::vector<std::uint8_t>& whole);
 
 /// Reusable memory of fan_cone.
 struct FanConeScratch {
@@ -62,8 +68,8 @@ struct FanConeScratch {
 /// v's cone on `side` in one plane, into `out` (cleared first): the cones of the plane's cuts of v's edges
 /// (`cuts`, nearest first; their cones in `cones`, their chain_edge_angles in `chain_angles`, per slice
 /// vertex), each over the part of its local range no nearer cut covered, within `vertex_range`
-/// (fan_local_ranges). Cuts at a chain's end are passed over; ends keep their reaches. Stops once the cuts
-/// cover `vertex_range`.
+/// (fan_local_ranges); a cut at a chain's end ranges over the whole turn. Ends keep their reaches. Stops once
+/// the cuts cover `vertex_range`.
 void fan_cone(std::span<const Index> cuts, const SliceCones& cones, std::span<const glm::dvec2> chain_angles,
               Side side, std::span<const AngularInterval> vertex_range, FanConeScratch& scratch,
               std::vector<Wedge>& out);

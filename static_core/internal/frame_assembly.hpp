@@ -30,11 +30,11 @@ namespace pleat {
 std::vector<glm::dvec3> area_weighted_normals(const MeshTopology& topology, const Frame& frame);
 
 /// What a frame marks on the mesh for every plane, once per frame (mark_frame): the flat occluder edges
-/// slice_mesh runs through (flat_occluder_edges), and the vertices whose fans are sharp (mark_sharp_fans in
-/// fan_cone.hpp: their cones in a plane come from every cut of the fan).
+/// slice_mesh runs through (flat_occluder_edges), and the vertices whose cones in a plane come from every cut
+/// of their fan: sharp fans and open ones (mark_whole_fans in fan_cone.hpp).
 struct FrameMarks {
   std::vector<std::uint8_t> flat_edges;  ///< per mesh edge
-  std::vector<std::uint8_t> sharp_fans;  ///< per mesh vertex
+  std::vector<std::uint8_t> whole_fans;  ///< per mesh vertex
 };
 void mark_frame(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                 FrameMarks& marks);
@@ -47,9 +47,9 @@ struct StoredCone {
   Index slice_vertex = 0;
   double distance = 0.0;
   bool vertex_above = false;
-  /// Under AimedOnFan, for a vertex with a sharp fan (FrameMarks), every slice vertex on its edges, nearest
-  /// first (slice_vertex the first): PlaneCones::fan_cuts[cuts_begin, cuts_begin + cuts_count), whose cones
-  /// make the vertex's (fan_cone.hpp); none for the others.
+  /// Under AimedOnFan, for a vertex marked in FrameMarks::whole_fans, every slice vertex on its edges,
+  /// nearest first (slice_vertex the first): PlaneCones::fan_cuts[cuts_begin, cuts_begin + cuts_count), whose
+  /// cones make the vertex's (fan_cone.hpp); none for the others.
   std::uint32_t cuts_begin = 0, cuts_count = 0;
 };
 
@@ -84,12 +84,12 @@ struct FanCutScratch {
   std::vector<std::uint32_t> first, cursor;
 };
 
-/// Under AimedOnFan: for every stored cone (store_cones' output) of a vertex with a sharp fan (`sharp_fans`,
+/// Under AimedOnFan: for every stored cone (store_cones' output) of a vertex marked in `whole_fans` (
 /// per vertex; empty: none), the slice vertices on its vertex's edges, nearest along the edge first (ties:
 /// the lower index, as store_cones breaks them), into `fan_cuts` and the cones' cuts_begin and cuts_count;
 /// the other cones get none. O(slice vertices).
 void list_fan_cuts(Index num_receivers, const Frame& frame, const Slice& slice,
-                   std::span<const std::uint8_t> sharp_fans, std::vector<StoredCone>& stored,
+                   std::span<const std::uint8_t> whole_fans, std::vector<StoredCone>& stored,
                    FanCutScratch& scratch, std::vector<Index>& fan_cuts);
 
 /// Per-thread memory of compute_plane_cones.
@@ -103,12 +103,12 @@ struct PlaneConeScratch {
 };
 
 /// A plane's offers once its slice (out.slice) is cut: store_cones into out.stored, under AimedOnFan the
-/// sharp fans' cuts (list_fan_cuts, `sharp_fans` from FrameMarks) and their chain_edge_angles, and which
+/// marked vertices' cuts (list_fan_cuts, `whole_fans` from FrameMarks) and their chain_edge_angles, and which
 /// slice vertices need a 2D cone. Returns false when the plane offers none (its slice cuts occluders only):
 /// then out.cones holds every slice vertex's empty cones and the slice needs no triangulation — no cone of it
 /// is ever read. Both engines call it for every plane they re-derive, before triangulating.
 bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& frame,
-                       std::span<const std::uint8_t> sharp_fans, PlaneConeScratch& scratch, PlaneCones& out);
+                       std::span<const std::uint8_t> whole_fans, PlaneConeScratch& scratch, PlaneCones& out);
 
 /// The 2D cones of the slice vertices offer_plane_cones found needed, once the cloth's slice is triangulated,
 /// with the occluders' shadows taken out (cast_occluder_shadows) — no other cone is ever read, so no other is
