@@ -98,6 +98,7 @@ void VertexFan::build(const MeshTopology& topology, const Frame& frame, std::spa
       }
     return found;
   };
+  if (count == 0) return;
   std::size_t start = 0;
   for (std::size_t i = 0; i < count; ++i) {
     bool entered = false;
@@ -107,7 +108,6 @@ void VertexFan::build(const MeshTopology& topology, const Frame& frame, std::spa
       break;
     }
   }
-  if (count == 0) return;
   std::size_t steps = 0, at = start;
   while (at < count && steps <= count) {
     const glm::dvec3 d = frame.positions[m_edges[at][0]] - p;

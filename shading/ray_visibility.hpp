@@ -28,8 +28,8 @@
 //     vertex the ring triangles are projected along n(v) and the one whose plane is nearest to ω among those
 //     whose sector contains its projection tells the side — exact only where the fan is a height field over
 //     the plane ⊥ n. (Before 2026-11-28 that projection was the rule everywhere; on sharp ridges, where the
-//     fan folds over in projection, it blocked directions the vertex sees: docs/benchmarks.md, "The
-//     reference's one-ring test".)
+//     fan folds over in projection, it blocked directions the vertex sees: docs/benchmarks.md, "Open fans,
+//     rings of sky, and an exact reference".)
 // Without step 3, the hemisphere about the vertex normal at a crease would see "through" the adjacent
 // faces, and a V-fold's bottom would get A = 1 instead of sin α.
 //

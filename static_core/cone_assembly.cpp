@@ -352,10 +352,9 @@ namespace {
 /// rounding sliver, or a blocked sample too thin to matter.
 constexpr double kMinGap = 1e-3;
 /// The share of the visible arcs' length that the gaps the pieces hold must reach before the nearest-circle
-/// rule rebuilds a cone. Measured (docs/benchmarks.md, "Rings of sky"): with every held gap, the rucked
-/// sleeve's mean error 0.0076 -> 0.0067 but the pile's +1.3% (a small obstacle's single blocked sample, which
-/// the nearest-circle rule widens to its whole cell); 0.1 keeps the sleeve's gain (0.0066) and changes the
-/// others by less than 1%.
+/// rule rebuilds a cone. Rebuilding wherever a gap is held widens a small obstacle's single blocked sample to
+/// its whole cell; a tenth keeps the rings of sky and leaves those (measured: docs/benchmarks.md, "Open
+/// fans, rings of sky, and an exact reference").
 constexpr double kHeldShare = 0.1;
 
 /// Whether the first `count` pieces hold gaps between consecutive visible arcs of the planes' great circles

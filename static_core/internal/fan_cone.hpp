@@ -55,7 +55,8 @@ inline constexpr double kSharpFan = 0.7;
 /// Per vertex, 1 where its cone in a plane is to be assembled from its whole fan (fan_cone) into `whole`:
 /// where the fan is sharp (see kSharpFan) about its unit normal (`normals`: the engines'
 /// area_weighted_normals), and where it is open (on the mesh's boundary: the vertex sees round the edge,
-/// which a cut inside the chain, its range on one side of it, does not; docs/benchmarks.md, "Open fans").
+/// which a cut inside the chain, its range on one side of it, does not; docs/benchmarks.md, "Open fans, rings
+/// of sky, and an exact reference").
 /// O(triangles + vertices), once per frame.
 void mark_whole_fans(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                      std::span<const glm::dvec3> normals, std::vector<std::uint8_t>& whole);
