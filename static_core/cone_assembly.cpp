@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <memory>
 #include <numeric>
 
@@ -339,6 +340,7 @@ struct ConeAssemblyScratch::Buffers {
   std::vector<Bound> order;
   std::vector<glm::dvec3> keep;                 // the side normal and the half-spaces
   std::vector<std::size_t> cone_begin;          // per cone, its first lifted wedge
+  std::vector<double> cone_horizon;             // per cone, where its side's half-turn starts (NaN: none)
   std::vector<std::pair<double, double>> arcs;  // one plane's clipped wedges: offset from its horizon, end
   std::vector<SphericalPolygon> pieces;         // capacity kept across calls
   std::vector<double> piece_solid_angle;
@@ -358,19 +360,16 @@ constexpr double kMinGap = 1e-3;
 constexpr double kHeldShare = 0.1;
 
 /// Whether the first `count` pieces hold gaps between consecutive visible arcs of the planes' great circles
-/// (b.wedges, per cone from b.cone_begin: the arcs clipped to the side's hemisphere) — the gaps' middles —
-/// adding up to kHeldShare of the visible arcs' length.
-bool holds_gaps(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
-                ConeAssemblyScratch::Buffers& b, std::size_t count) {
+/// (b.wedges, per cone from b.cone_begin: the arcs clipped to the half-turn in the side's hemisphere that
+/// starts at b.cone_horizon) — the gaps' middles — adding up to kHeldShare of the visible arcs' length.
+bool holds_gaps(std::span<const PlanarCone> cones, ConeAssemblyScratch::Buffers& b, std::size_t count) {
   double held = 0.0;
   for (std::size_t c = 0; c < cones.size(); ++c) {
     const std::size_t begin = b.cone_begin[c],
                       end = c + 1 < cones.size() ? b.cone_begin[c + 1] : b.wedges.size();
-    if (end - begin < 2) continue;
+    const double horizon = b.cone_horizon[c];
+    if (end - begin < 2 || std::isnan(horizon)) continue;
     const SlicingPlane& plane = *cones[c].plane;
-    const glm::dvec2 m(glm::dot(plane.u, side_normal), glm::dot(plane.w, side_normal));
-    if (!(glm::length(m) > 1e-9)) continue;
-    const double horizon = wrap_angle(direction_angle(m) - kHalfPi);  // where the clip's half-turn starts
     b.arcs.clear();
     for (std::size_t i = begin; i < end; ++i) {
       const double from = wrap_angle(b.wedges[i].start - horizon);
@@ -426,13 +425,17 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
   }
   // In a plane, the half-space {d : dot(d, h) >= 0} is the half-turn of directions within a quarter turn of
   // h's projection; a plane perpendicular to h lies on its boundary and keeps every direction.
+  // Returns where the kept half-turn starts (NaN: the whole turn is kept).
   auto clip = [&](const SlicingPlane& plane, const glm::dvec3& h, std::span<const Wedge> in,
                   std::vector<Wedge>& out) {
     const glm::dvec2 m(glm::dot(plane.u, h), glm::dot(plane.w, h));
-    if (glm::length(m) > 1e-9)
-      clip_to_half_turn(in, wrap_angle(direction_angle(m) - kHalfPi), out);
-    else
+    if (!(glm::length(m) > 1e-9)) {
       out.assign(in.begin(), in.end());
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    const double start = wrap_angle(direction_angle(m) - kHalfPi);
+    clip_to_half_turn(in, start, out);
+    return start;
   };
   b.keep.assign(1, side_normal);
   b.keep.insert(b.keep.end(), half_spaces.begin(), half_spaces.end());
@@ -455,6 +458,7 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
   // 1. Clip every wedge to the side's half-space (and the planes') and lift it into space.
   b.wedges.clear();
   b.cone_begin.clear();
+  b.cone_horizon.clear();
   for (const PlanarCone& cone : cones) {
     b.cone_begin.push_back(b.wedges.size());
     const SlicingPlane& plane = *cone.plane;
@@ -465,7 +469,7 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
       wedges = b.united;
     }
     b.clipped.clear();
-    clip(plane, side_normal, wedges, b.clipped);
+    b.cone_horizon.push_back(clip(plane, side_normal, wedges, b.clipped));
     for (const glm::dvec3& h : half_spaces) {
       b.swap.clear();
       clip(plane, h, b.clipped, b.swap);
@@ -543,7 +547,7 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
   //    that fills the middle of the view, as inside a sleeve's cuff — and a polygon about the group's centre
   //    cannot leave that region out: the nearest-circle rule, which keeps every plane's samples whatever
   //    their shape, rebuilds the cone.
-  if (count > 0 && holds_gaps(cones, side_normal, b, count)) {
+  if (count > 0 && holds_gaps(cones, b, count)) {
     nearest_circle();
     return;
   }

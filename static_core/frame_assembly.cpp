@@ -64,21 +64,22 @@ void list_fan_cuts(Index num_receivers, const Frame& frame, const Slice& slice,
   }
   std::vector<std::uint32_t>& first = scratch.first;
   first.assign(stored.size() + 1, 0);
-  auto each_cut = [&](auto&& visit) {
+  auto each_cut = [&](bool with_distance, auto&& visit) {
     for (Index x = 0; x < slice.vertices.size(); ++x) {
       const SliceVertex& sv = slice.vertices[x];
       if (!whole(sv.above) && !whole(sv.below)) continue;
-      const double length = glm::distance(frame.positions[sv.above], frame.positions[sv.below]);
+      const double length =
+          with_distance ? glm::distance(frame.positions[sv.above], frame.positions[sv.below]) : 0.0;
       if (whole(sv.above)) visit(sv.above, sv.t * length, x);
       if (whole(sv.below)) visit(sv.below, (1.0 - sv.t) * length, x);
     }
   };
-  each_cut([&](Index u, double, Index) { ++first[slot_of[2 * std::size_t(u)] + 1]; });
+  each_cut(false, [&](Index u, double, Index) { ++first[slot_of[2 * std::size_t(u)] + 1]; });
   for (std::size_t i = 0; i < stored.size(); ++i) first[i + 1] += first[i];
   entries.resize(first[stored.size()]);
   std::vector<std::uint32_t>& cursor = scratch.cursor;
   cursor.assign(first.begin(), first.end() - 1);
-  each_cut([&](Index u, double distance, Index x) {
+  each_cut(true, [&](Index u, double distance, Index x) {
     entries[cursor[slot_of[2 * std::size_t(u)]]++] = {distance, x};
   });
   fan_cuts.resize(entries.size());
