@@ -171,7 +171,7 @@ struct KineticVisibility::Impl {
   void gather_and_assemble(const Frame& frame) {
     plane_views.resize(slices.size());
     for (std::size_t p = 0; p < slices.size(); ++p) plane_views[p] = &slices[p].cones();
-    assembler.assemble(frame, plane_views, result);
+    assembler.assemble(frame, marks, plane_views, result);
   }
 
   const MeshTopology& topology;

@@ -68,7 +68,8 @@ void unite_wedges(std::span<const Wedge> wedges, std::vector<AngularInterval>& s
 /// sorted by start; a full turn gives [0, 2pi] alone. The set operations work on these.
 void split_into_intervals(std::span<const Wedge> wedges, std::vector<AngularInterval>& out);
 /// Appends a ∩ b (sorted, disjoint intervals) to `out`, sorted; each end keeps the reach of the interval that
-/// bounds it. The one implementation of the intersection's sweep (intersect_wedges uses it).
+/// bounds it, or, where both bound it to within kAngleTolerance, the horizon's reach of either (the lesser).
+/// The one implementation of the intersection's sweep (intersect_wedges uses it).
 void intersect_intervals(std::span<const AngularInterval> a, std::span<const AngularInterval> b,
                          std::vector<AngularInterval>& out);
 /// Merges sorted intervals in place (touching within kAngleTolerance), then appends them to `out` as wedges,

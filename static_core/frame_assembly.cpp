@@ -45,7 +45,8 @@ void store_cones(Index num_receivers, ConeStorage storage, const Frame& frame, c
 void mark_frame(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                 FrameMarks& marks) {
   flat_occluder_edges(topology, connectivity, frame, marks.flat_edges);
-  mark_whole_fans(topology, connectivity, frame, area_weighted_normals(topology, frame), marks.whole_fans);
+  marks.normals = area_weighted_normals(topology, frame);
+  mark_whole_fans(topology, connectivity, frame, marks.normals, marks.whole_fans);
 }
 
 void list_fan_cuts(Index num_receivers, const Frame& frame, const Slice& slice,
@@ -225,7 +226,8 @@ struct FrameAssembler::Impl {
        const VisibilityParams& params)
       : topology(topology), connectivity(connectivity), plan(plan), params(params) {}
 
-  void assemble(const Frame& frame, std::span<const PlaneCones* const> planes, FrameVisibility& result);
+  void assemble(const Frame& frame, const FrameMarks& marks, std::span<const PlaneCones* const> planes,
+                FrameVisibility& result);
 
   const MeshTopology& topology;
   const MeshConnectivity& connectivity;
@@ -242,12 +244,11 @@ struct FrameAssembler::Impl {
   NearestSourceScratch fill;
 };
 
-void FrameAssembler::Impl::assemble(const Frame& frame, std::span<const PlaneCones* const> planes,
-                                    FrameVisibility& result) {
+void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
+                                    std::span<const PlaneCones* const> planes, FrameVisibility& result) {
   const std::size_t n = topology.num_vertices;
   const Index receivers = topology.num_receivers();  // the result holds theirs only: occluders get no cone
-  result.normals = area_weighted_normals(topology, frame);
-  result.normals.resize(receivers);
+  result.normals.assign(marks.normals.begin(), marks.normals.begin() + receivers);
 
   VisibilityStats& stats = result.stats;
   stats = {};
@@ -458,9 +459,9 @@ FrameAssembler::FrameAssembler(const MeshTopology& topology, const MeshConnectiv
     : m_impl(std::make_unique<Impl>(topology, connectivity, plan, params)) {}
 FrameAssembler::~FrameAssembler() = default;
 
-void FrameAssembler::assemble(const Frame& frame, std::span<const PlaneCones* const> planes,
-                              FrameVisibility& result) {
-  m_impl->assemble(frame, planes, result);
+void FrameAssembler::assemble(const Frame& frame, const FrameMarks& marks,
+                              std::span<const PlaneCones* const> planes, FrameVisibility& result) {
+  m_impl->assemble(frame, marks, planes, result);
 }
 
 }  // namespace pleat

@@ -97,7 +97,7 @@ void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result
   else
     for (std::size_t p = 0; p < planes.size(); ++p) run(p);
   for (std::size_t p = 0; p < planes.size(); ++p) plane_views[p] = &planes[p];
-  assembler.assemble(frame, plane_views, result);
+  assembler.assemble(frame, marks, plane_views, result);
 }
 
 StaticVisibility::StaticVisibility(const MeshTopology& topology, SlicingPlan plan,

@@ -29,10 +29,12 @@ namespace pleat {
 /// where they entered.
 std::vector<glm::dvec3> area_weighted_normals(const MeshTopology& topology, const Frame& frame);
 
-/// What a frame marks on the mesh for every plane, once per frame (mark_frame): the flat occluder edges
-/// slice_mesh runs through (flat_occluder_edges), and the vertices whose cones in a plane come from every cut
-/// of their fan: sharp fans and open ones (mark_whole_fans in fan_cone.hpp).
+/// What a frame marks on the mesh, once per frame (mark_frame): the vertex normals (area_weighted_normals,
+/// which the whole fans and the 3D assembly both use), the flat occluder edges slice_mesh runs through
+/// (flat_occluder_edges), and the vertices whose cones in a plane come from every cut of their fan: sharp
+/// fans and open ones (mark_whole_fans in fan_cone.hpp).
 struct FrameMarks {
+  std::vector<glm::dvec3> normals;       ///< per mesh vertex
   std::vector<std::uint8_t> flat_edges;  ///< per mesh edge
   std::vector<std::uint8_t> whole_fans;  ///< per mesh vertex
 };
@@ -84,8 +86,8 @@ struct FanCutScratch {
   std::vector<std::uint32_t> first, cursor;
 };
 
-/// Under AimedOnFan: for every stored cone (store_cones' output) of a vertex marked in `whole_fans` (
-/// per vertex; empty: none), the slice vertices on its vertex's edges, nearest along the edge first (ties:
+/// Under AimedOnFan: for every stored cone (store_cones' output) of a vertex marked in `whole_fans` (per
+/// vertex; empty: none), the slice vertices on its vertex's edges, nearest along the edge first (ties:
 /// the lower index, as store_cones breaks them), into `fan_cuts` and the cones' cuts_begin and cuts_count;
 /// the other cones get none. O(slice vertices).
 void list_fan_cuts(Index num_receivers, const Frame& frame, const Slice& slice,
@@ -136,7 +138,8 @@ class FrameAssembler {
                  const VisibilityParams& params);
   ~FrameAssembler();
   /// Writes normals, cones, measures and the static counters of `result`.
-  void assemble(const Frame& frame, std::span<const PlaneCones* const> planes, FrameVisibility& result);
+  void assemble(const Frame& frame, const FrameMarks& marks, std::span<const PlaneCones* const> planes,
+                FrameVisibility& result);
 
   struct Impl;
 
