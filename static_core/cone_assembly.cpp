@@ -317,15 +317,22 @@ bool touches_boundary(const SphericalPolygon& piece, const glm::dvec3& p) {
   return false;
 }
 
+/// Whether `piece` (its solid angle and bounding cap given) holds direction p strictly inside, not touching
+/// its boundary.
+bool holds_inside(const SphericalPolygon& piece, double solid_angle, const BoundingCap& cap,
+                  const glm::dvec3& p) {
+  return may_contain(cap, p) && contains_direction(piece, p, solid_angle) && !touches_boundary(piece, p);
+}
+
 /// True when one piece holds a vertex of the other strictly inside — not touching its boundary — (the pieces'
-/// solid angles given).
-bool pieces_overlap(const SphericalPolygon& a, double a_solid_angle, const SphericalPolygon& b,
-                    double b_solid_angle) {
+/// solid angles and bounding caps given).
+bool pieces_overlap(const SphericalPolygon& a, double a_solid_angle, const BoundingCap& a_cap,
+                    const SphericalPolygon& b, double b_solid_angle, const BoundingCap& b_cap) {
   if (a.size() < 3 || b.size() < 3) return false;
   for (const auto& p : a)
-    if (contains_direction(b, p, b_solid_angle) && !touches_boundary(b, p)) return true;
+    if (holds_inside(b, b_solid_angle, b_cap, p)) return true;
   for (const auto& p : b)
-    if (contains_direction(a, p, a_solid_angle) && !touches_boundary(a, p)) return true;
+    if (holds_inside(a, a_solid_angle, a_cap, p)) return true;
   return false;
 }
 
@@ -345,6 +352,7 @@ struct ConeAssemblyScratch::Buffers {
   std::vector<SphericalPolygon> pieces;         // capacity kept across calls
   std::vector<double> piece_solid_angle;
   std::vector<glm::dvec3> piece_irradiance;
+  std::vector<BoundingCap> piece_cap;
   NearestCircleAssembler nearest_circle;
 };
 
@@ -382,8 +390,7 @@ bool holds_gaps(std::span<const PlanarCone> cones, ConeAssemblyScratch::Buffers&
       const double middle = horizon + 0.5 * (gap_from + gap_to);
       const glm::dvec3 d = std::cos(middle) * plane.u + std::sin(middle) * plane.w;
       for (std::size_t k = 0; k < count; ++k)
-        if (b.pieces[k].size() >= 3 && contains_direction(b.pieces[k], d, b.piece_solid_angle[k]) &&
-            !touches_boundary(b.pieces[k], d)) {
+        if (b.pieces[k].size() >= 3 && holds_inside(b.pieces[k], b.piece_solid_angle[k], b.piece_cap[k], d)) {
           held += gap_to - gap_from;
           break;
         }
@@ -518,17 +525,20 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
       if (b.group_of[i] == b.roots[r]) b.members.push_back(&b.wedges[i]);
     b.piece_irradiance[r] = build_piece(b.members, side_normal, b.keep, b.order, b.pieces[r]);
     b.piece_solid_angle[r] = solid_angle(b.pieces[r], b.piece_irradiance[r]);
+    b.piece_cap[r] = bounding_cap(b.pieces[r], b.piece_solid_angle[r]);
   };
   if (b.pieces.size() < b.roots.size()) b.pieces.resize(b.roots.size());
   b.piece_solid_angle.resize(b.roots.size());
   b.piece_irradiance.resize(b.roots.size());
+  b.piece_cap.resize(b.roots.size());
   for (std::size_t r = 0; r < b.roots.size(); ++r) build(r);
   std::size_t count = b.roots.size();
   for (bool merged = count > 1; merged;) {
     merged = false;
     for (std::size_t i = 0; i < count && !merged; ++i)
       for (std::size_t j = i + 1; j < count && !merged; ++j)
-        if (pieces_overlap(b.pieces[i], b.piece_solid_angle[i], b.pieces[j], b.piece_solid_angle[j])) {
+        if (pieces_overlap(b.pieces[i], b.piece_solid_angle[i], b.piece_cap[i], b.pieces[j],
+                           b.piece_solid_angle[j], b.piece_cap[j])) {
           for (int& g : b.group_of)
             if (g == b.roots[j]) g = b.roots[i];
           build(i);
@@ -536,6 +546,7 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
             std::swap(b.pieces[t], b.pieces[t + 1]);
             std::swap(b.piece_solid_angle[t], b.piece_solid_angle[t + 1]);
             std::swap(b.piece_irradiance[t], b.piece_irradiance[t + 1]);
+            std::swap(b.piece_cap[t], b.piece_cap[t + 1]);
           }
           b.roots.erase(b.roots.begin() + static_cast<long>(j));
           --count;

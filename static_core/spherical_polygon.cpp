@@ -374,6 +374,22 @@ double solid_angle(const SphericalPolygon& poly, const glm::dvec3& irradiance) {
   return std::max(0.0, omega);
 }
 
+BoundingCap bounding_cap(const SphericalPolygon& poly, double poly_solid_angle) {
+  // A cap narrower than a hemisphere is convex: it holds the minor arcs between its points, so the whole
+  // boundary, and the winding count is constant (0 for the polygon about its small side) beyond it. The
+  // polygon is about its small side when its solid angle is at most the cap's, 2 pi (1 - min_cos); 1e-3
+  // keeps the cap clear of a hemisphere, where that count would be decided by rounding (a fan sum near 2 pi).
+  constexpr double kMinCos = 1e-3;
+  glm::dvec3 sum(0.0);
+  for (const glm::dvec3& p : poly) sum += p;
+  const double length = glm::length(sum);
+  if (poly.size() < 3 || !(length > 0)) return {};
+  BoundingCap cap{sum / length, 1.0};
+  for (const glm::dvec3& p : poly) cap.min_cos = std::min(cap.min_cos, glm::dot(p, cap.centre));
+  if (!(cap.min_cos > kMinCos) || !(poly_solid_angle <= kTwoPi * (1.0 - cap.min_cos) + 1e-9)) return {};
+  return cap;
+}
+
 bool contains_direction(const SphericalPolygon& poly, const glm::dvec3& w) {
   return contains_direction(poly, w, solid_angle(poly));
 }

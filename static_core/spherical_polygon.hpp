@@ -76,6 +76,22 @@ bool contains_direction(const SphericalPolygon& poly, const glm::dvec3& w);
 /// The same with the polygon's solid_angle already known.
 bool contains_direction(const SphericalPolygon& poly, const glm::dvec3& w, double poly_solid_angle);
 
+/// A cap {w : dot(w, centre) >= min_cos} round the vertices of a polygon that, with its minor-arc edges and
+/// its interior, it holds — a quick test before contains_direction. The whole sphere (min_cos = -1) where no
+/// such cap is known: the vertices not within a cap narrower than a hemisphere, or a solid angle larger than
+/// the cap's (the polygon then encloses the rest of the sphere).
+struct BoundingCap {
+  glm::dvec3 centre{0.0, 0.0, 1.0};
+  double min_cos = -1.0;
+};
+/// The cap of `poly` (its solid_angle given) about the mean of its vertices. O(#vertices).
+BoundingCap bounding_cap(const SphericalPolygon& poly, double poly_solid_angle);
+/// False only where contains_direction(poly, w) is false for the polygon whose cap this is: w lies beyond the
+/// cap by more than rounding (1e-9), where the boundary is far and the winding count exactly 0.
+inline bool may_contain(const BoundingCap& cap, const glm::dvec3& w) {
+  return cap.centre.x * w.x + cap.centre.y * w.y + cap.centre.z * w.z >= cap.min_cos - 1e-9;
+}
+
 /// The horizon of n as a spherical polygon (four quarter arcs, counter-clockwise about n): the hemisphere.
 SphericalPolygon hemisphere_polygon(const glm::dvec3& n);
 

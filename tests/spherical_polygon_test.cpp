@@ -252,6 +252,84 @@ TEST(SphericalPolygon, RandomPolygonsAgainstQuadrature) {
   }
 }
 
+/// The bounding cap never rules out a direction the polygon holds (random stars, small, up to a hemisphere
+/// and beyond; the same stars reversed, which enclose the rest of the sphere; directions on and next to
+/// the boundary and near the cap's rim), and it rules out most directions beyond a small polygon.
+TEST(SphericalPolygon, BoundingCapHoldsEveryDirectionThePolygonHolds) {
+  std::mt19937 rng(20261128);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::size_t ruled_out = 0, beyond_small = 0, random_small = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const double max_radius = trial % 4 == 0 ? 2.5 : trial % 4 == 1 ? kPi / 2 : trial % 4 == 2 ? 1.2 : 0.4;
+    const StarPolygon s = random_star(rng, max_radius);
+    for (const bool reversed : {false, true}) {
+      SphericalPolygon poly = s.vertices;
+      if (reversed) std::reverse(poly.begin(), poly.end());
+      const double area = solid_angle(poly);
+      const BoundingCap cap = bounding_cap(poly, area);
+      SCOPED_TRACE(::testing::Message() << "trial " << trial << (reversed ? " reversed" : ""));
+      auto check = [&](const glm::dvec3& w, bool random = false) {
+        const bool small = random && !reversed && max_radius < 1;
+        random_small += small;
+        const bool inside = contains_direction(poly, w, area);
+        if (!may_contain(cap, w)) {
+          ++ruled_out;
+          beyond_small += small;
+          ASSERT_FALSE(inside) << "the cap rules out a direction the polygon holds";
+        }
+      };
+      for (int k = 0; k < 40; ++k) check(random_unit(rng), true);
+      for (std::size_t i = 0; i < poly.size(); ++i) {  // the boundary: vertices, points on and beside edges
+        const glm::dvec3 a = poly[i], b = poly[(i + 1) % poly.size()];
+        check(a);
+        const glm::dvec3 on = glm::normalize(a + unit(rng) * (b - a));
+        check(on);
+        const glm::dvec3 g = glm::normalize(glm::cross(a, b));
+        for (double step : {1e-12, 1e-9, 1e-6}) {
+          check(glm::normalize(on + step * g));
+          check(glm::normalize(on - step * g));
+        }
+      }
+      if (cap.min_cos > -1.0) {  // beside the cap's rim, inside and out
+        glm::dvec3 t1, t2;
+        frame_about(cap.centre, t1, t2);
+        const double r = std::acos(cap.min_cos);
+        for (double dr : {-1e-9, -1e-12, 0.0, 1e-12, 1e-9, 1e-6}) {
+          const double psi = 2 * kPi * unit(rng);
+          check(std::cos(r + dr) * cap.centre + std::sin(r + dr) * (std::cos(psi) * t1 + std::sin(psi) * t2));
+        }
+      }
+      if (area > 2 * kPi) EXPECT_EQ(cap.min_cos, -1.0) << "a polygon about its large side has no cap";
+    }
+  }
+  // Not vacuous: most random directions lie beyond a small polygon's cap.
+  EXPECT_GT(beyond_small, random_small * 3 / 4);
+  EXPECT_GT(ruled_out, beyond_small);
+}
+
+TEST(SphericalPolygon, BoundingCapOfDegeneratePolygons) {
+  const glm::dvec3 z(0, 0, 1);
+  // Fewer than three vertices, repeated vertices, a hemisphere (vertices on the horizon), an octant.
+  EXPECT_EQ(bounding_cap({}, 0.0).min_cos, -1.0);
+  EXPECT_EQ(bounding_cap({z, z}, 0.0).min_cos, -1.0);
+  const SphericalPolygon h = hemisphere_polygon(z);
+  EXPECT_EQ(bounding_cap(h, solid_angle(h)).min_cos, -1.0);
+  const SphericalPolygon o = octant();
+  const BoundingCap cap = bounding_cap(o, solid_angle(o));
+  ASSERT_GT(cap.min_cos, 0.0);
+  for (const glm::dvec3& v : o) EXPECT_TRUE(may_contain(cap, v));
+  EXPECT_TRUE(may_contain(cap, glm::normalize(glm::dvec3(1, 1, 1))));
+  EXPECT_FALSE(may_contain(cap, glm::normalize(glm::dvec3(-1, -1, -1))));
+  // A sliver: three nearly collinear vertices.
+  const SphericalPolygon sliver = {glm::normalize(glm::dvec3(1, 0, 1)),
+                                   glm::normalize(glm::dvec3(0, 1e-14, 1)),
+                                   glm::normalize(glm::dvec3(-1, 0, 1))};
+  const BoundingCap thin = bounding_cap(sliver, solid_angle(sliver));
+  for (const glm::dvec3& v : sliver) EXPECT_TRUE(may_contain(thin, v));
+  EXPECT_FALSE(contains_direction(sliver, -z));
+  EXPECT_FALSE(may_contain(thin, -z));
+}
+
 /// Checks clip_to_hemisphere and HemisphereClipper against quadrature of the clipped integrands.
 void check_clip(const StarPolygon& s, const glm::dvec3& n, int expected_pieces = -1) {
   static const GaussLegendre gl(4);
