@@ -76,10 +76,10 @@ bool contains_direction(const SphericalPolygon& poly, const glm::dvec3& w);
 /// The same with the polygon's solid_angle already known.
 bool contains_direction(const SphericalPolygon& poly, const glm::dvec3& w, double poly_solid_angle);
 
-/// A cap {w : dot(w, centre) >= min_cos} round the vertices of a polygon that, with its minor-arc edges and
-/// its interior, it holds — a quick test before contains_direction. The whole sphere (min_cos = -1) where no
-/// such cap is known: the vertices not within a cap narrower than a hemisphere, or a solid angle larger than
-/// the cap's (the polygon then encloses the rest of the sphere).
+/// A cap {w : dot(w, centre) >= min_cos} that holds a polygon — its vertices, its minor-arc edges and its
+/// interior —: a quick test before contains_direction. The whole sphere (min_cos = -1) where no such cap is
+/// known: the vertices not within a cap narrower than a hemisphere, or a solid angle larger than the cap's
+/// (the polygon then encloses the rest of the sphere).
 struct BoundingCap {
   glm::dvec3 centre{0.0, 0.0, 1.0};
   double min_cos = -1.0;

@@ -1,7 +1,8 @@
 // Spherical polygons: Lambert's formula, vector irradiance, the cosine-weighted moment, the solid angle,
-// hemisphere clipping and the point-in-polygon test, against closed forms (octant, hemisphere) and against
-// numeric integration over random star-shaped polygons (Gauss–Legendre in polar coordinates about the
-// star centre, an integrator that shares nothing with the edge sums under test). Seeds are fixed.
+// hemisphere clipping, the point-in-polygon test and its bounding cap, against closed forms (octant,
+// hemisphere) and against numeric integration over random star-shaped polygons (Gauss–Legendre in polar
+// coordinates about the star centre, an integrator that shares nothing with the edge sums under test). Seeds
+// are fixed.
 #include "static_core/spherical_polygon.hpp"
 
 #include <gtest/gtest.h>
