@@ -148,7 +148,7 @@ struct Run {
       return;
     }
     progress(m, "Embree configuration: " + describe(best) +
-                    format(" (%.1f ms at %d rays; %zu tried)", m.peer_sweep.front().ms, options.sweep_rays,
+                    format(" (%.1f CPU ms at %d rays; %zu tried)", m.peer_sweep.front().ms, options.sweep_rays,
                            m.peer_sweep.size()));
     for (int threads : options.threads)
       for (int rays : options.rays) {

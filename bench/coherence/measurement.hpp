@@ -59,7 +59,7 @@ struct MethodRow {
 
 struct PeerTrial {
   std::string config;
-  double ms = NAN;  ///< median time per frame at Options::sweep_rays, one thread
+  double ms = NAN;  ///< median CPU time per frame at Options::sweep_rays, one thread (least of its runs)
 };
 
 struct Measurement {

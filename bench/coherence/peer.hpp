@@ -8,9 +8,10 @@
 // The configuration sweep (one thread, Options::sweep_rays rays, the measurement's frames) tries, greedily:
 // every ray call (1M streams, 4/8/16-wide packets, single rays) on a refitted robust BVH; then the fastest
 // with the coherent-rays hint; then without RTC_SCENE_FLAG_ROBUST; then with a rebuilt BVH per frame. Each
-// step is kept when it is faster. The ladder then runs with the winner. Every configuration casts the same
-// rays (tests/ray_visibility_test: EveryRayCallGivesTheSameAnswers), except that a non-robust BVH may let a
-// ray through a shared edge: its error is measured like every other.
+// step is kept when it is faster: judged by process CPU time per frame (median over the frames), the least of
+// two runs of each candidate made in turn with the others of its step. The ladder then runs with the winner.
+// Every configuration casts the same rays (tests/ray_visibility_test: EveryRayCallGivesTheSameAnswers),
+// except that a non-robust BVH may let a ray through a shared edge: its error is measured like every other.
 #pragma once
 
 #include <string>

@@ -388,8 +388,9 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
 
   out << "## The peer's configuration\n\nPer sequence and size, the configurations tried (one thread, "
       << options.sweep_rays
-      << " rays per vertex and side, median ms per frame), fastest first; the first is used.\n\n";
-  out << "| sequence | vertices | configurations tried (ms per frame) |\n|---|---|---|\n";
+      << " rays per vertex and side; the median process CPU ms per frame, the least of two runs made in turn "
+         "with the step's other candidates), fastest first; the first is used.\n\n";
+  out << "| sequence | vertices | configurations tried (CPU ms per frame) |\n|---|---|---|\n";
   for (const auto& m : all) {
     if (m.peer_sweep.empty()) continue;
     out << "| " << m.sequence << " | " << m.vertices << " | ";
