@@ -148,8 +148,8 @@ struct Run {
       return;
     }
     progress(m, "Embree configuration: " + describe(best) +
-                    format(" (%.1f CPU ms at %d rays; %zu tried)", m.peer_sweep.front().ms, options.sweep_rays,
-                           m.peer_sweep.size()));
+                    format(" (%.1f CPU ms at %d rays; %zu tried)", m.peer_sweep.front().ms,
+                           options.sweep_rays, m.peer_sweep.size()));
     for (int threads : options.threads)
       for (int rays : options.rays) {
         MethodRow row = run_embree(topology, frames, best, rays, false, threads, threads == 1);
