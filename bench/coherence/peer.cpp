@@ -76,7 +76,7 @@ EmbreeSceneParams fastest_peer(const MeshTopology& topology, const std::vector<F
   trials.clear();
   // Each step's candidates run kSweepRounds times in turn and keep their least median CPU ms per frame: one
   // run's spike on the shared machine then cannot decide a step (it once put single rays first on the
-  // layered plies, 43% slower at their K* than streams).
+  // layered plies, 43% slower than streams at 32 rays).
   constexpr int kSweepRounds = 2;
   auto measure = [&](const std::vector<EmbreeSceneParams>& candidates) {
     std::vector<double> ms(candidates.size(), INFINITY);
