@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/glm.hpp>
 #include <limits>
@@ -217,12 +218,16 @@ RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topolo
     std::vector<glm::dvec3> world;
     std::vector<glm::vec3> to_cast;
     std::vector<std::uint8_t> escaped;
+    std::vector<glm::dvec3> half_spaces;
     world.reserve(static_cast<std::size_t>(k));
     to_cast.reserve(static_cast<std::size_t>(k));
     for (Index v = begin; v < end; ++v) {
       if (v % stride != 0) continue;
       const glm::dvec3 n = glm::length(normals[v]) > 0.0 ? normals[v] : glm::dvec3(0.0, 0.0, 1.0);
       fan.build(topology, frame, scene.incident_triangles(v), v, n);
+      half_spaces.clear();  // the vertex's side of each infinite plane (on it: above), as the engines take it
+      for (const OccludingPlane& p : topology.planes)
+        half_spaces.push_back(glm::dot(p.normal, frame.positions[v]) >= p.offset ? p.normal : -p.normal);
       for (Side side : kBothSides) {
         const int si = static_cast<int>(side);
         const glm::dvec3 axis = side_sign(side) * n;
@@ -234,6 +239,9 @@ RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topolo
         for (const glm::dvec3& l : local) {
           const glm::dvec3 w = l.x * t1 + l.y * t2 + l.z * axis;
           if (fan.enters_cloth(w, side)) continue;  // crosses the cloth at its origin
+          if (std::any_of(half_spaces.begin(), half_spaces.end(),
+                          [&](const glm::dvec3& h) { return glm::dot(w, h) < 0.0; }))
+            continue;  // meets an infinite plane (its square, cast, would let it pass beyond the edge)
           world.push_back(w);
           to_cast.emplace_back(w);
         }

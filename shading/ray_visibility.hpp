@@ -33,6 +33,12 @@
 // Without step 3, the hemisphere about the vertex normal at a crease would see "through" the adjacent
 // faces, and a V-fold's bottom would get A = 1 instead of sin α.
 //
+// Infinite planes (MeshTopology::planes: the ground). A direction into a plane from the vertex's side of it
+// (a vertex on it: above, as the engines take it) is blocked without casting it. The plane's square, which
+// the scene holds for rendering, ends 50 cloth diagonals away: cast at it alone, rays just below the horizon
+// passed beyond its edge (an upright sheet 10 units over the ground read A = 0.74 instead of 0.5; the
+// drape's front sides up to 0.005 too high, 0.001 on average).
+//
 // Cost: K rays per vertex and side; Embree streams of 64 rays (faster than rtcOccluded1 loops), TBB-parallel
 // over vertices; 1–6% of the samples are decided by the one-ring test without a ray. Rays per second:
 // docs/benchmarks.md, "Against Embree at matched error".

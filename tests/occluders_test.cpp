@@ -77,6 +77,28 @@ TEST(Occluders, AnUprightSheetOverTheGroundSeesHalfItsHemisphereOnEachSide) {
   EXPECT_LT(worst, 0.005);
 }
 
+TEST(Occluders, RayCastingTakesTheGroundAsAnInfinitePlane) {
+  // A small upright sheet high over the ground z = 0: the ground's square (50 cloth diagonals to each side)
+  // is seen from it under 0.5 rad below the horizon, so rays cast at the square alone would let a band of
+  // sky through beyond its edge (A about 0.74 instead of 0.5). The reference takes the plane exactly, as
+  // the engines do.
+  auto sheet = test::flat_sheet(4, 4, 0.1);
+  for (auto& p : sheet.frame.positions) p = {p.x, 0.0, 10.0 + p.y};
+  const MeshSequence cloth = sequence_of(sheet);
+  const Scene grounded(cloth, std::vector<OccluderSpec>{}, {parse_ground_plane("z=0")});
+  const Frame frame = grounded.frame(0);
+  const FrameVisibility vis = cones_in(grounded, cloth);
+  EmbreeScene rays(grounded.topology(), frame);
+  RayVisibilityParams params;
+  params.rays_per_vertex = 1024;
+  const auto truth = ray_cast_sky_visibility(rays, grounded.topology(), frame, vis.normals, params);
+  for (Side side : kBothSides)
+    for (Index v = 0; v < cloth.topology().num_vertices; ++v) {
+      EXPECT_NEAR(truth[int(side)][v], 0.5, 0.01) << v;
+      EXPECT_NEAR(vis.measure(side, v).sky_visibility, 0.5, 0.005) << v;
+    }
+}
+
 TEST(Occluders, AnInfiniteWallBesideASheetHidesHalfOfEachSide) {
   // A vertical wall x = 1 (two triangles a thousand units wide) beside a sheet over [0, 0.7]^2 at z = 0:
   // every direction with a positive x component meets it, half of each hemisphere's cosine-weighted sky.
