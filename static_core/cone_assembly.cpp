@@ -164,15 +164,27 @@ glm::dvec3 parabolic(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3&
 }
 
 /// The corner between `from` and `to`: 1 where their great circles meet (exactly for two planes' boundaries,
-/// else the parabolic point); failing that, 2 from each known tangent of a curved horizon alone, the parabola
+/// else the parabolic point), 2 there exactly where one end lies on an occluding plane's boundary and the
+/// other on a curved horizon; failing that, 2 from each known tangent of a curved horizon alone, the parabola
 /// through both ends with that tangent (averaged where both give one); 0 where nothing is known or no corner
-/// lies between them.
+/// lies between them. `keep` holds the side's normal first, then the occluding planes' (assemble_cone).
 int silhouette_corner(const Bound& from, const Bound& to, std::span<const glm::dvec3> keep,
                       glm::dvec3& corner) {
   const glm::dvec3 &a = from.direction, &b = to.direction, &na = from.silhouette, &nb = to.silhouette;
   const bool known_a = glm::dot(na, na) > 0, known_b = glm::dot(nb, nb) > 0;
   glm::dvec3 x;
   if (known_a && known_b && meet(a, b, na, nb, keep, x)) {
+    // An occluding plane (the ground) cuts the view: past the end on its boundary the visible set follows
+    // that great circle until the curved horizon meets it, at an angle, where the horizon's tangent does.
+    // That corner lies beyond the parabola's: kept only inside the bounds' sector, so the piece stays
+    // star-shaped. (At the side's own horizon the cloth curves away smoothly: the parabola.)
+    auto on_occluding_plane = [&](const Bound& q) {
+      return q.on_plane && !(glm::dot(q.silhouette, keep.front()) > 1 - 1e-12);
+    };
+    if (from.on_plane != to.on_plane && (on_occluding_plane(from) || on_occluding_plane(to))) {
+      corner = x;
+      return 2;
+    }
     // Between two planes' boundaries the corner is exact; a curved horizon bulges as a parabola.
     corner = from.on_plane && to.on_plane ? x : parabolic(a, b, x);
     return 1;

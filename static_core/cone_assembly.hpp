@@ -12,8 +12,9 @@
 // folds — see cone_assembly.cpp.) Between two consecutive bounding directions whose horizon great circles are
 // known (PlanarCone::tangents from aim_wedges; the side's horizon and the occluding planes where an end was
 // clipped to them), the piece follows the horizon instead of the chord: a corner where the two great circles
-// meet, exact between two planes, and for a curved horizon 2/3 of the way from the chord's middle (a
-// parabolic arc's bulge). Cost: O(k^2) for k wedges at the vertex (k is a few dozen).
+// meet — exactly there between two planes' boundaries and where an occluding plane's (the ground's) meets a
+// curved horizon, else 2/3 of the way from the chord's middle (a parabolic arc's bulge). Cost: O(k^2) for k
+// wedges at the vertex (k is a few dozen).
 #pragma once
 
 #include <memory>

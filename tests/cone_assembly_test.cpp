@@ -4,7 +4,8 @@
 // vertex. Chords between the ends cut inside the rounded boundary; following the tangents to where they meet
 // and taking the parabolic arc's point there at least halves that error, and with only every other circle's
 // tangents the one-sided parabolas still gain; the pieces stay valid. Also: an end on the side's horizon and
-// one on an occluding plane's boundary meet where the two planes do. And a ring of sky round a blocked cap
+// one on an occluding plane's boundary meet where the two planes do, and a straight silhouette standing on
+// the ground meets the ground's horizon at its corner. And a ring of sky round a blocked cap
 // (the view from inside a sleeve's cuff), which a polygon about the group's centre would fill: the pieces
 // hold the planes' blocked samples, and the nearest-circle rule rebuilds the cone.
 #include "static_core/cone_assembly.hpp"
@@ -164,6 +165,44 @@ TEST(ConeAssembly, AnEndOnTheHorizonAndOneOnTheGroundMeetWhereTheirPlanesDo) {
   ConeMeasures measures;
   assemble_and_measure_cone(cones, m, scratch, cone, &measures, ground);
   EXPECT_NEAR(measures.sky_visibility, 0.5, 1e-9);
+}
+
+TEST(ConeAssembly, AStraightSilhouetteMeetsTheGroundAtACorner) {
+  // A vertex on a wall x = 0 facing +x (m), above a ground z >= 0, beside an occluder whose straight vertical
+  // edge bounds the view at azimuth beta: the open set is {d.x >= 0, d.z >= 0, d.y <= d.x tan(beta)}, a lune
+  // between azimuths -90 degrees and beta over the ground, A = (1 + sin beta) / 4. Twelve circles through
+  // the vertex see the edge's side as a half-turn whose ends carry the edge's great circle (aim_wedges gives
+  // such tangents); the assembly clips them to the wall's and the ground's half-spaces. Where an end on the
+  // ground's boundary neighbours one on the edge, the set follows the ground's circle to where the edge's
+  // meets it: the corner (cos beta, sin beta, 0), which a parabola between the two ends would cut.
+  const glm::dvec3 m(1, 0, 0);
+  const std::vector<glm::dvec3> ground{{0, 0, 1}};
+  for (const double beta_degrees : {10.0, 30.0, 60.0}) {
+    const double beta = beta_degrees * kPi / 180;
+    const glm::dvec3 edge = glm::normalize(glm::dvec3(std::tan(beta), -1, 0));  // d . edge >= 0: open
+    std::vector<SlicingPlane> planes;
+    for (int k = 0; k < 12; ++k) {  // normals on a golden-angle spiral over the sphere
+      const double z = 1 - (k + 0.5) / 6, r = std::sqrt(1 - z * z), phi = k * 2.399963;
+      planes.push_back(make_plane({r * std::cos(phi), r * std::sin(phi), z}, 0.0, k));
+    }
+    std::vector<std::vector<Wedge>> wedges;
+    std::vector<std::vector<HorizonTangent>> tangents;
+    for (const SlicingPlane& p : planes) {
+      const double centre = std::atan2(glm::dot(edge, p.w), glm::dot(edge, p.u));
+      const glm::dvec3 n(glm::dot(edge, p.u), glm::dot(edge, p.w), glm::dot(edge, p.normal));
+      wedges.push_back({{wrap_angle(centre - kPi / 2), kPi}});
+      tangents.push_back({{wrap_angle(centre - kPi / 2), n}, {wrap_angle(centre + kPi / 2), n}});
+    }
+    std::vector<PlanarCone> cones;
+    for (std::size_t i = 0; i < planes.size(); ++i) cones.push_back({&planes[i], wedges[i], tangents[i]});
+    ConeAssemblyScratch scratch;
+    VisibilityCone cone;
+    ConeMeasures measures;
+    assemble_and_measure_cone(cones, m, scratch, cone, &measures, ground);
+    // Within 3e-4 (the edge meets the wall's horizon at the zenith, where the rule is the parabola's); the
+    // parabola at the ground's corner too is 5e-4 to 1.2e-3 short.
+    EXPECT_NEAR(measures.sky_visibility, (1 + std::sin(beta)) / 4, 3e-4) << beta_degrees;
+  }
 }
 
 TEST(ConeAssembly, ArcsLinkOverAnotherCircleOnlyNearIt) {
