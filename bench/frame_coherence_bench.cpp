@@ -12,9 +12,11 @@
 //   has); reference      --reference-rays rays on every timed frame (untimed), for error and flicker of every
 //   method;
 // and the matched-error comparison (bench/coherence/matched_error.hpp): K*, Embree's time at K*, and
-// pleat ÷ Embree(K*) for both engines, by mean and by 95th-percentile error. Static and kinetic must agree
-// to 1e-9 on every frame where accuracy is measured, and so must a --plans row naming the default plan (or
-// the paper's) and the static (paper) row.
+// pleat ÷ Embree(K*) for both engines, by mean and by 95th-percentile error; then, once K* is known, the
+// static engine and Embree at round(K*) rays timed in turn in this process, three rounds at one thread (the
+// ladder's times are taken minutes after the engine's, under whatever load the shared machine then has).
+// Static and kinetic must agree to 1e-9 on every frame where accuracy is measured, and so must a --plans row
+// naming the default plan (or the paper's) and the static (paper) row.
 // Outputs (bench/coherence/report.hpp): DIR/frame_coherence.csv, DIR/frame_coherence.md and
 // DIR/frame_coherence_headline.md (bench/run_frame_coherence.sh puts the latter into docs/benchmarks.md);
 // with --plans, the markdown's "Plans" tables and a "frame_coherence: plan ..." line per plan row on stdout
@@ -53,6 +55,7 @@
 // Plain executable: no Google Benchmark main.
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -80,6 +83,7 @@ namespace fs = std::filesystem;
 
 constexpr Index kLargeVertices = 10000;
 constexpr double kEqualTolerance = 1e-9;
+constexpr int kAlternatedRounds = 3;  ///< rounds of the static engine and Embree(K*) timed in turn
 
 /// max |a − b| over every frame and value; infinite when the shapes differ.
 double max_difference(const std::vector<SkyValues>& a, const std::vector<SkyValues>& b) {
@@ -140,12 +144,13 @@ struct Run {
     m.rows.push_back(std::move(k));
   }
 
-  /// Embree: the configuration sweep, the ladder at every thread count, the new-directions row.
-  void peer(Measurement& m, const MeshTopology& topology, const std::vector<Frame>& frames) {
+  /// Embree: the configuration sweep, the ladder at every thread count, the new-directions row. Returns the
+  /// configuration chosen.
+  EmbreeSceneParams peer(Measurement& m, const MeshTopology& topology, const std::vector<Frame>& frames) {
     const EmbreeSceneParams best = fastest_peer(topology, frames, options.sweep_rays, m.peer_sweep);
     if (m.peer_sweep.empty()) {
       fail(m, "no Embree configuration ran");
-      return;
+      return best;
     }
     progress(m, "Embree configuration: " + describe(best) +
                     format(" (%.1f CPU ms at %d rays; %zu tried)", m.peer_sweep.front().ms,
@@ -162,6 +167,30 @@ struct Run {
       if (!row.ok()) fail(m, "embree-random: " + row.status);
       m.rows.push_back(std::move(row));
     }
+    return best;
+  }
+
+  /// Once K* is known: the static engine and Embree at round(K*) rays, one thread, timed in turn
+  /// (kAlternatedRounds rounds of each on the same frames), so that both see the same load.
+  void alternate(Measurement& m, const MeshTopology& topology, const SlicingPlan& plan,
+                 const std::vector<Frame>& frames, const EmbreeSceneParams& best) {
+    MatchedRays k;
+    if (!matched_embree(m, 1, false, k, true) || k.bound != MatchedRays::Bound::Inside) return;
+    m.alternated_rays = static_cast<int>(std::lround(k.rays));
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    for (int round = 0; round < kAlternatedRounds; ++round) {
+      const MethodRow s = run_static(topology, plan, frames, false);
+      const MethodRow e = run_embree(topology, frames, best, m.alternated_rays, false, 1, false);
+      if (!s.ok() || !e.ok()) {
+        fail(m, "alternated: " + (s.ok() ? e.status : s.status));
+        m.alternated_ratios.clear();
+        return;
+      }
+      m.alternated_ratios.push_back(s.cpu_ms_per_frame() / e.cpu_ms_per_frame());
+    }
+    const auto [lo, hi] = std::minmax_element(m.alternated_ratios.begin(), m.alternated_ratios.end());
+    progress(m, format("static ÷ Embree(%d rays), alternated: %.2f (%.2f–%.2f over %d rounds)",
+                       m.alternated_rays, median(m.alternated_ratios), *lo, *hi, kAlternatedRounds));
   }
 
   /// Every value the reference estimated, with the static engine's (--vertex-errors). sky[f] and reference[f]
@@ -256,8 +285,9 @@ struct Run {
     if (!native) return m;
     for (std::size_t t = 1; t < options.threads.size(); ++t)
       cone_engines(m, seq, plan, frames, options.threads[t], false);
-    peer(m, seq.topology, frames);
+    const EmbreeSceneParams best = peer(m, seq.topology, frames);
     accuracy(m, seq.topology, frames);
+    if (!m.peer_sweep.empty()) alternate(m, seq.topology, plan, frames, best);
     return m;
   }
 };

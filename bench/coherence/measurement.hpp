@@ -74,6 +74,11 @@ struct Measurement {
   std::vector<PeerTrial> peer_sweep;  ///< the Embree configurations tried (u = 1), fastest first
   Index reference_stride = 0;         ///< 0: no reference (accuracy not measured at this u)
   double max_static_kinetic = NAN;    ///< max |A_static − A_kinetic| over the frames compared
+  /// Static ÷ Embree at round(K*) (mean error), one thread, the two timed in turn in this process: per round
+  /// the ratio of their median CPU times per frame (empty: not measured). The other ratios compare times
+  /// taken minutes apart, which the shared machine's load moves by up to a third.
+  int alternated_rays = 0;
+  std::vector<double> alternated_ratios;
 
   const MethodRow* row(const std::string& method, int threads = 1, int rays = 0) const {
     for (const auto& r : rows)

@@ -243,6 +243,13 @@ void write_csv_rows(std::ostream& out, const Measurement& m) {
   out.flush();
 }
 
+/// The alternated ratio's cell: "median (min–max)", or "–" where it was not measured.
+std::string alternated_cell(const Measurement& m) {
+  if (m.alternated_ratios.empty()) return "–";
+  const auto [lo, hi] = std::minmax_element(m.alternated_ratios.begin(), m.alternated_ratios.end());
+  return format("%.2f (%.2f–%.2f)", median(m.alternated_ratios), *lo, *hi);
+}
+
 std::string headline_tables(const Options& options, const SourceState& source,
                             const std::vector<Measurement>& all) {
   std::ostringstream out;
@@ -257,13 +264,14 @@ std::string headline_tables(const Options& options, const SourceState& source,
   out << "| sequence | vertices | cone err mean / p95 | cone flicker | paper's plan: err mean / p95, flicker "
          "| "
          "static ÷ paper's plan, CPU | K* (mean) | Embree(K*) CPU ms, 1 thread | "
-         "static ÷ Embree(K*), 1 thread (CPU) |";
+         "static ÷ Embree(K*), 1 thread (CPU) | static ÷ Embree(K*), 1 thread, timed in turn (CPU; median, "
+         "min–max of 3) |";
   if (two) out << " static ÷ Embree(K*), 2 threads (wall) |";
   out << " kinetic ÷ Embree(K*), 1 thread (CPU) |";
   if (two) out << " kinetic ÷ Embree(K*), 2 threads (wall) |";
   out << " K* (p95) | static ÷ Embree(K* p95), 1 thread (CPU) | Embree flicker at K* | Embree "
       << options.random_rays
-      << " rays, new directions each frame: flicker |\n|---|---|---|---|---|---|---|---|---|";
+      << " rays, new directions each frame: flicker |\n|---|---|---|---|---|---|---|---|---|---|";
   if (two) out << "---|";
   out << "---|";
   if (two) out << "---|";
@@ -284,7 +292,7 @@ std::string headline_tables(const Options& options, const SourceState& source,
                 ? format("%.3f / %.3f, %.4f", paper->err.mean, paper->err.p95, paper->flicker)
                 : std::string("–"))
         << " | " << cell(cpu_of(s) / cpu_of(paper), "%.2f") << " | " << rays_cell(k1) << " | "
-        << cell(k1.ms, "%.1f") << " | " << ratio_cell(cpu_of(s), k1) << " |";
+        << cell(k1.ms, "%.1f") << " | " << ratio_cell(cpu_of(s), k1) << " | " << alternated_cell(*m) << " |";
     if (two) out << ' ' << (have2 ? ratio_cell(ms_of(m->row("static", 2)), k2) : "–") << " |";
     out << ' ' << ratio_cell(cpu_of(m->row("kinetic")), k1) << " |";
     if (two) out << ' ' << (have2 ? ratio_cell(ms_of(m->row("kinetic", 2)), k2) : "–") << " |";
