@@ -76,7 +76,7 @@ struct Measurement {
   double max_static_kinetic = NAN;    ///< max |A_static − A_kinetic| over the frames compared
   /// Static ÷ Embree at round(K*) (mean error), one thread, the two timed in turn in this process: per round
   /// the ratio of their median CPU times per frame (empty: not measured). The other ratios compare times
-  /// taken minutes apart, which the shared machine's load moves by up to a third.
+  /// taken minutes apart, under whatever load the shared machine has at each.
   int alternated_rays = 0;
   std::vector<double> alternated_ratios;
 
