@@ -25,7 +25,8 @@
 
 namespace pleat::bench {
 
-/// The static engine alone, in this process (when the child failed), with TBB's current thread limit.
+/// The static engine alone, in this process (when the child failed, and timed in turn with Embree at K*),
+/// with TBB's current thread limit.
 MethodRow run_static(const MeshTopology& topology, const SlicingPlan& plan, const std::vector<Frame>& frames,
                      bool keep_sky);
 
