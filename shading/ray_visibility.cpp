@@ -225,9 +225,8 @@ RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topolo
       if (v % stride != 0) continue;
       const glm::dvec3 n = glm::length(normals[v]) > 0.0 ? normals[v] : glm::dvec3(0.0, 0.0, 1.0);
       fan.build(topology, frame, scene.incident_triangles(v), v, n);
-      half_spaces.clear();  // the vertex's side of each infinite plane (on it: above), as the engines take it
-      for (const OccludingPlane& p : topology.planes)
-        half_spaces.push_back(glm::dot(p.normal, frame.positions[v]) >= p.offset ? p.normal : -p.normal);
+      half_spaces.clear();  // the vertex's side of each infinite plane, as the engines take it
+      for (const OccludingPlane& p : topology.planes) half_spaces.push_back(p.side_of(frame.positions[v]));
       for (Side side : kBothSides) {
         const int si = static_cast<int>(side);
         const glm::dvec3 axis = side_sign(side) * n;

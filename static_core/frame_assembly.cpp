@@ -402,9 +402,8 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
   const bool blend = aim || plan.storage == ConeStorage::InterpolatedOnFan;
   auto assemble_vertex = [&](std::size_t v) {
     Workspace& ws = workspaces.local();
-    ws.half_spaces.clear();  // the side of each occluding plane the vertex is on (a vertex on it: above)
-    for (const OccludingPlane& p : topology.planes)
-      ws.half_spaces.push_back(glm::dot(p.normal, frame.positions[v]) >= p.offset ? p.normal : -p.normal);
+    ws.half_spaces.clear();  // the side of each occluding plane the vertex is on
+    for (const OccludingPlane& p : topology.planes) ws.half_spaces.push_back(p.side_of(frame.positions[v]));
     if (fan) {  // the vertex's own fan in each orientation's plane through it (fan_cone.hpp)
       ws.ranges.resize(2 * orientations);
       ws.ranged.assign(orientations, 0);

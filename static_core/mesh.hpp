@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 #include <limits>
 #include <vector>
@@ -23,6 +24,10 @@ using Triangle = std::array<Index, 3>;
 struct OccludingPlane {
   glm::dvec3 normal{0.0, 1.0, 0.0};
   double offset = 0.0;
+  /// The normal of the half-space on p's side (p on the plane: above): the directions from p that do not
+  /// enter the plane are those d with dot(d, side_of(p)) >= 0. The engines and the ray-cast reference both
+  /// take a vertex's side so.
+  glm::dvec3 side_of(const glm::dvec3& p) const { return glm::dot(normal, p) >= offset ? normal : -normal; }
 };
 
 /// Triangles over welded vertices 0..num_vertices-1, in the input's winding.
