@@ -206,6 +206,16 @@ int silhouette_corner(const Bound& from, const Bound& to, std::span<const glm::d
   return 2;
 }
 
+bool known(const Bound& q) { return glm::dot(q.silhouette, q.silhouette) > 0; }
+
+/// The normal of the great circle through d along the chord from its neighbouring bound p to q (a central
+/// difference for the horizon's tangent at d); zero where p and q coincide along d.
+glm::dvec3 estimated_tangent(const glm::dvec3& p, const glm::dvec3& d, const glm::dvec3& q) {
+  const glm::dvec3 n = glm::cross(d, q - p);
+  const double length = glm::length(n);
+  return length > 1e-12 ? n / length : glm::dvec3(0.0);
+}
+
 glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm::dvec3& side_normal,
                        std::span<const glm::dvec3> keep, std::vector<Bound>& order,
                        SphericalPolygon& bridged) {
@@ -281,7 +291,16 @@ glm::dvec3 build_piece(const std::vector<const SpatialWedge*>& group, const glm:
     // A one-tangent corner (kind 2) is kept only inside its sector; two-tangent ones (kind 1) also outside
     // it: the slot-shaped pieces of folds, sorted about a centre near their edge, need them.
     glm::dvec3 corner;
-    const int kind = kept > 2 ? silhouette_corner(here, next, keep, corner) : 0;
+    int kind = kept > 2 ? silhouette_corner(here, next, keep, corner) : 0;
+    if (kind == 0 && kept > 3 && !known(here) && !known(next)) {
+      // Neither end's horizon is known: each tangent estimated by central differences from the neighbouring
+      // bounds, the corner kept only inside its sector (as a one-tangent corner).
+      Bound from = here, to = next;
+      from.silhouette =
+          estimated_tangent(order[(i + kept - 1) % kept].direction, here.direction, next.direction);
+      to.silhouette = estimated_tangent(here.direction, next.direction, order[(i + 2) % kept].direction);
+      if (silhouette_corner(from, to, keep, corner) != 0) kind = 2;
+    }
     if (kind == 1 || (kind == 2 && within_sector(corner, here.azimuth, next.azimuth)))
       bridged.push_back(corner);
   }

@@ -1,9 +1,10 @@
 // The grouped 3D assembly (static_core/cone_assembly.hpp) on an analytic horizon, with and without the
 // horizon's great circles at the wedge ends (PlanarCone::tangents, which aim_wedges gives): a round opening
 // about the side normal (the cap d·m >= cos ρ: A = sin²ρ exactly) sampled by great circles through the
-// vertex. Chords between the ends cut inside the rounded boundary; following the tangents to where they meet
-// and taking the parabolic arc's point there at least halves that error, and with only every other circle's
-// tangents the one-sided parabolas still gain; the pieces stay valid. Also: an end on the side's horizon and
+// vertex. Chords between the ends cut inside the rounded boundary; tangents estimated by central differences
+// from the neighbouring ends gain on them, following the known tangents to where they meet and taking the
+// parabolic arc's point there at least halves their error, and with only every other circle's tangents the
+// one-sided parabolas still gain; the pieces stay valid. Also: an end on the side's horizon and
 // one on an occluding plane's boundary meet where the two planes do, and a straight silhouette standing on
 // the ground meets the ground's horizon at its corner. And a ring of sky round a blocked cap
 // (the view from inside a sleeve's cuff), which a polygon about the group's centre would fill: the pieces
@@ -13,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <vector>
@@ -88,10 +90,22 @@ RC_GTEST_PROP(ConeAssembly, HorizonTangentsHalveTheChordsErrorOnARoundOpening, (
   }
   const Cap c = cap(m, rho, normals);
   const double truth = std::sin(rho) * std::sin(rho);
-  VisibilityCone chords, tangents;
-  const double a_chords = sky_visibility(c, m, false, chords);
-  const double a_tangents = sky_visibility(c, m, true, tangents);
+  // The chord polygon: the wedges' ends in order about m, joined by great arcs.
+  VisibilityCone chords;
+  chords.pieces.emplace_back();
+  for (std::size_t k = 0; k < c.planes.size(); ++k)
+    for (const Wedge& w : c.wedges[k])
+      for (const double phi : {w.start, w.end()})
+        chords.pieces[0].push_back(std::cos(phi) * c.planes[k].u + std::sin(phi) * c.planes[k].w);
+  std::sort(chords.pieces[0].begin(), chords.pieces[0].end(), [&](const glm::dvec3& p, const glm::dvec3& q) {
+    return std::atan2(glm::dot(p, y), glm::dot(p, x)) < std::atan2(glm::dot(q, y), glm::dot(q, x));
+  });
+  const double a_chords = measure_cone(chords, m).sky_visibility;
   RC_ASSERT(a_chords < truth);  // the chord polygon lies inside the cap
+  // Without the tangents the assembly estimates them by central differences: nearer than the chords.
+  VisibilityCone estimated, tangents;
+  RC_ASSERT(std::abs(sky_visibility(c, m, false, estimated) - truth) < std::abs(a_chords - truth));
+  const double a_tangents = sky_visibility(c, m, true, tangents);
   RC_ASSERT(std::abs(a_tangents - truth) < 0.5 * std::abs(a_chords - truth));
   // With the tangents of every other circle only, each gap has one known tangent at least: the one-sided
   // parabolas still beat the chords.
