@@ -73,6 +73,7 @@ struct PathPoint {
   const VertexFan* fan = nullptr;  // set at the starting vertex
   Side side = Side::Front;
   std::span<const Index> ignore;  // the vertex's one-ring, or the hit triangle
+  int on_plane = -1;              // the infinite plane (MeshTopology::planes) the point lies on, if any
 };
 
 class Tracer {
@@ -126,25 +127,39 @@ class Tracer {
         ray.tnear = m_tnear;
         const RayHit hit = m_scene.intersect(ray, x.ignore);
         ++m_rays;
+        // The squares that stand for infinite planes in the Embree scene are taken as their planes.
+        const bool on_mesh = hit.hit && hit.triangle < m_topology.num_sliced_triangles();
+        glm::dvec3 plane_side;
+        int plane = -1;
+        const double to_plane = plane_hit(x, w, plane_side, plane);
+        const double t_hit =
+            std::min(on_mesh ? double(hit.t) : std::numeric_limits<double>::infinity(), to_plane);
         glm::dvec3 area(0.0);
-        if (area_light_hit(m_lighting, x.position, w,
-                           hit.hit ? hit.t : std::numeric_limits<double>::infinity(), area)) {
+        if (area_light_hit(m_lighting, x.position, w, t_hit, area)) {
           sum += beta * area;
           break;
         }
-        if (!hit.hit) {
+        if (!(t_hit < std::numeric_limits<double>::infinity())) {
           sum += beta * sky_radiance(m_lighting, w);
           break;
         }
-        const Triangle& t = m_topology.triangles[hit.triangle];
-        const glm::dvec3 &p0 = m_frame.positions[t[0]], &p1 = m_frame.positions[t[1]],
-                         &p2 = m_frame.positions[t[2]];
-        const glm::dvec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
-        x.position = (1.0 - hit.u - hit.v) * p0 + hit.u * p1 + hit.v * p2;
-        x.axis = glm::dot(w, n) < 0.0 ? n : -n;
+        if (to_plane <= t_hit) {  // the path goes on from the plane
+          x.position += to_plane * w;
+          x.axis = plane_side;
+          x.on_plane = plane;
+          x.ignore = {};
+        } else {
+          x.on_plane = -1;
+          const Triangle& t = m_topology.triangles[hit.triangle];
+          const glm::dvec3 &p0 = m_frame.positions[t[0]], &p1 = m_frame.positions[t[1]],
+                           &p2 = m_frame.positions[t[2]];
+          const glm::dvec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+          x.position = (1.0 - hit.u - hit.v) * p0 + hit.u * p1 + hit.v * p2;
+          x.axis = glm::dot(w, n) < 0.0 ? n : -n;
+          hit_triangle = hit.triangle;
+          x.ignore = std::span<const Index>(&hit_triangle, 1);
+        }
         x.fan = nullptr;
-        hit_triangle = hit.triangle;
-        x.ignore = std::span<const Index>(&hit_triangle, 1);
         sum += beta * m_albedo * kInvPi * direct_irradiance(x);
       }
       beta *= m_albedo;
@@ -164,8 +179,34 @@ class Tracer {
     return l.x * t1 + l.y * t2 + l.z * axis;
   }
 
+  /// How far along unit w from `origin` the ray enters one of the topology's infinite planes (infinity:
+  /// none), and the normal of the plane's side it comes from. The planes are taken exactly, as the engines
+  /// and the ray-cast reference take them: their squares in the Embree scene end.
+  /// A point on a plane (x.on_plane) leaves it on its side.
+  double plane_hit(const PathPoint& x, const glm::dvec3& w, glm::dvec3& side, int& plane) const {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < static_cast<int>(m_topology.planes.size()); ++i) {
+      if (i == x.on_plane) continue;
+      const OccludingPlane& p = m_topology.planes[static_cast<std::size_t>(i)];
+      const glm::dvec3& origin = x.position;
+      const glm::dvec3 h = p.side_of(origin);
+      const double towards = glm::dot(w, h);
+      if (!(towards < 0.0)) continue;
+      const double height = std::max(0.0, glm::dot(h, origin) - glm::dot(h, p.normal) * p.offset);
+      if (const double t = height / -towards; t < nearest) {
+        nearest = t;
+        side = h;
+        plane = i;
+      }
+    }
+    return nearest;
+  }
+
   bool visible(const PathPoint& x, const glm::dvec3& l, double distance) {
     if (x.fan != nullptr && x.fan->enters_cloth(l, x.side)) return false;
+    glm::dvec3 side;
+    int plane;
+    if (plane_hit(x, l, side, plane) < distance) return false;
     RayQuery ray;
     ray.origin = x.position;
     ray.direction = l;

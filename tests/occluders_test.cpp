@@ -13,6 +13,7 @@
 #include "kinetic/kinetic_visibility.hpp"
 #include "oracles/test_meshes.hpp"
 #include "shading/embree_scene.hpp"
+#include "shading/path_trace.hpp"
 #include "shading/ray_visibility.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "sim_io/obj_format.hpp"
@@ -97,6 +98,31 @@ TEST(Occluders, RayCastingTakesTheGroundAsAnInfinitePlane) {
       EXPECT_NEAR(truth[int(side)][v], 0.5, 0.01) << v;
       EXPECT_NEAR(vis.measure(side, v).sky_visibility, 0.5, 0.005) << v;
     }
+}
+
+TEST(Occluders, PathTracingTakesTheGroundAsAnInfinitePlane) {
+  // The same sheet under a uniform sky L = 1, every surface grey (albedo rho = 1/2): the ground, lit by the
+  // whole sky but for the small sheet, leaves rho L; each side of the upright sheet sees sky over half its
+  // cosine-weighted hemisphere and ground over the other half, so B = rho (1 + rho) L / 2 = 0.375. Paths that
+  // passed the square's edge into the sky would read about rho (0.74 + 0.26 rho) L = 0.435.
+  auto sheet = test::flat_sheet(4, 4, 0.1);
+  for (auto& p : sheet.frame.positions) p = {p.x, 0.0, 10.0 + p.y};
+  const MeshSequence cloth = sequence_of(sheet);
+  const Scene grounded(cloth, std::vector<OccluderSpec>{}, {parse_ground_plane("z=0")});
+  const Frame frame = grounded.frame(0);
+  EmbreeScene rays(grounded.topology(), frame);
+  Lighting lighting;
+  lighting.skies.push_back({glm::dvec3(1.0)});
+  PathTraceParams params;
+  params.paths_per_vertex = 2048;
+  params.albedo = 0.5;
+  const PathTracedFrame traced = path_trace_vertices(rays, grounded.topology(), frame,
+                                                     cones_in(grounded, cloth).normals, lighting, params);
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (Side side : kBothSides)
+    for (Index v = 0; v < cloth.topology().num_vertices; ++v, ++count) sum += traced.radiance[int(side)][v].x;
+  EXPECT_NEAR(sum / double(count), 0.375, 0.01);
 }
 
 TEST(Occluders, AnInfiniteWallBesideASheetHidesHalfOfEachSide) {
