@@ -179,10 +179,10 @@ class Tracer {
     return l.x * t1 + l.y * t2 + l.z * axis;
   }
 
-  /// How far along unit w from `origin` the ray enters one of the topology's infinite planes (infinity:
-  /// none), and the normal of the plane's side it comes from. The planes are taken exactly, as the engines
-  /// and the ray-cast reference take them: their squares in the Embree scene end.
-  /// A point on a plane (x.on_plane) leaves it on its side.
+  /// How far along unit w from x the ray enters one of the topology's infinite planes (infinity: none), the
+  /// normal of the plane's side it comes from, and the plane's index. A point on a plane (x.on_plane) leaves
+  /// it on its side. The planes are taken exactly, as the engines and the ray-cast reference take them: their
+  /// squares in the Embree scene end.
   double plane_hit(const PathPoint& x, const glm::dvec3& w, glm::dvec3& side, int& plane) const {
     double nearest = std::numeric_limits<double>::infinity();
     for (int i = 0; i < static_cast<int>(m_topology.planes.size()); ++i) {
