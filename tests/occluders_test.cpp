@@ -78,14 +78,19 @@ TEST(Occluders, AnUprightSheetOverTheGroundSeesHalfItsHemisphereOnEachSide) {
   EXPECT_LT(worst, 0.005);
 }
 
+/// A small upright sheet, 0.3 wide, 10 units over the ground z = 0.
+MeshSequence upright_sheet_high_over_the_ground() {
+  auto sheet = test::flat_sheet(4, 4, 0.1);
+  for (auto& p : sheet.frame.positions) p = {p.x, 0.0, 10.0 + p.y};
+  return sequence_of(sheet);
+}
+
 TEST(Occluders, RayCastingTakesTheGroundAsAnInfinitePlane) {
   // A small upright sheet high over the ground z = 0: the ground's square (50 cloth diagonals to each side)
   // is seen from it under 0.5 rad below the horizon, so rays cast at the square alone would let a band of
   // sky through beyond its edge (A about 0.74 instead of 0.5). The reference takes the plane exactly, as
   // the engines do.
-  auto sheet = test::flat_sheet(4, 4, 0.1);
-  for (auto& p : sheet.frame.positions) p = {p.x, 0.0, 10.0 + p.y};
-  const MeshSequence cloth = sequence_of(sheet);
+  const MeshSequence cloth = upright_sheet_high_over_the_ground();
   const Scene grounded(cloth, std::vector<OccluderSpec>{}, {parse_ground_plane("z=0")});
   const Frame frame = grounded.frame(0);
   const FrameVisibility vis = cones_in(grounded, cloth);
@@ -105,9 +110,7 @@ TEST(Occluders, PathTracingTakesTheGroundAsAnInfinitePlane) {
   // whole sky but for the small sheet, leaves rho L; each side of the upright sheet sees sky over half its
   // cosine-weighted hemisphere and ground over the other half, so B = rho (1 + rho) L / 2 = 0.375. Paths that
   // passed the square's edge into the sky would read about rho (0.74 + 0.26 rho) L = 0.435.
-  auto sheet = test::flat_sheet(4, 4, 0.1);
-  for (auto& p : sheet.frame.positions) p = {p.x, 0.0, 10.0 + p.y};
-  const MeshSequence cloth = sequence_of(sheet);
+  const MeshSequence cloth = upright_sheet_high_over_the_ground();
   const Scene grounded(cloth, std::vector<OccluderSpec>{}, {parse_ground_plane("z=0")});
   const Frame frame = grounded.frame(0);
   EmbreeScene rays(grounded.topology(), frame);
