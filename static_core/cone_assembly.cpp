@@ -133,6 +133,9 @@ struct Bound {
   bool on_plane;          ///< the silhouette is a plane's boundary, not a tangent of a curved horizon
 };
 
+/// Whether the horizon's great circle at bound q is known.
+bool known(const Bound& q) { return glm::dot(q.silhouette, q.silhouette) > 0; }
+
 /// The corner put between two consecutive bounding directions a and b of a piece, from the horizon's great
 /// circles through them where known (silhouette_corner): the horizon followed instead of the chord.
 constexpr double kParabolicBulge = 2.0 / 3;
@@ -171,7 +174,7 @@ glm::dvec3 parabolic(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3&
 int silhouette_corner(const Bound& from, const Bound& to, std::span<const glm::dvec3> keep,
                       glm::dvec3& corner) {
   const glm::dvec3 &a = from.direction, &b = to.direction, &na = from.silhouette, &nb = to.silhouette;
-  const bool known_a = glm::dot(na, na) > 0, known_b = glm::dot(nb, nb) > 0;
+  const bool known_a = known(from), known_b = known(to);
   glm::dvec3 x;
   if (known_a && known_b && meet(a, b, na, nb, keep, x)) {
     // An occluding plane (the ground) cuts the view: past the end on its boundary the visible set follows
@@ -205,8 +208,6 @@ int silhouette_corner(const Bound& from, const Bound& to, std::span<const glm::d
   corner = by_a ? from_a : from_b;
   return 2;
 }
-
-bool known(const Bound& q) { return glm::dot(q.silhouette, q.silhouette) > 0; }
 
 /// The normal of the great circle through d along the chord from its neighbouring bound p to q (a central
 /// difference for the horizon's tangent at d); zero where p and q coincide along d.
