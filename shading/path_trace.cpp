@@ -192,7 +192,7 @@ class Tracer {
       const glm::dvec3 h = p.side_of(origin);
       const double towards = glm::dot(w, h);
       if (!(towards < 0.0)) continue;
-      const double height = std::max(0.0, glm::dot(h, origin) - glm::dot(h, p.normal) * p.offset);
+      const double height = std::abs(glm::dot(p.normal, origin) - p.offset);  // origin is on h's side
       if (const double t = height / -towards; t < nearest) {
         nearest = t;
         side = h;
