@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <span>
 
 #include "static_core/internal/nearest_circle.hpp"
 #include "static_core/union_find.hpp"
@@ -95,13 +96,63 @@ bool near_ends(const glm::dvec3& d, const SpatialWedge& w) {
 /// separate openings were joined the more often the more orientations there were (the value was chosen by
 /// measurement: docs/benchmarks.md, "Linking arcs only near their circle").
 constexpr double kLinkHeightInSpacings = 1.5;
+/// Farther, up to this many spacings, a point links only where those other circles did see the region: every
+/// one that the great arc down from the point to the circle crosses holds the crossing in a visible arc (the
+/// real cloth's pieces were under-linked; measured: docs/benchmarks.md, "Linking farther where no circle saw
+/// the gap blocked").
+constexpr double kSeenLinkHeightInSpacings = 2.5;
+
+/// A vertex side's lifted wedges, by cone (cone c's are wedges[cone_begin[c] .. cone_begin[c + 1]), the last
+/// up to the end): what every plane saw, for the link tests.
+struct Sightings {
+  std::span<const PlanarCone> cones;
+  std::span<const SpatialWedge> wedges;
+  std::span<const std::size_t> cone_begin;
+  glm::dvec3 side_normal;
+
+  /// Whether no plane saw blocked directions between d, a point of arc `from`, and its projection onto the
+  /// circle of arc `to`: each other plane's circle that the great arc between the two crosses does so in the
+  /// side's hemisphere and inside one of that plane's visible arcs.
+  bool seen_between(const glm::dvec3& d, const SpatialWedge& from, const SpatialWedge& to) const {
+    const glm::dvec3& to_normal = to.plane->normal;
+    const double height = glm::dot(d, to_normal);
+    const glm::dvec3 across = glm::cross(d, to_normal);  // normal of the great circle from d down to `to`'s
+    if (!(glm::dot(across, across) > 1e-24)) return false;
+    for (std::size_t c = 0; c < cones.size(); ++c) {
+      const glm::dvec3& normal = cones[c].plane->normal;
+      if (std::abs(glm::dot(normal, to_normal)) > 1 - 1e-12 ||
+          std::abs(glm::dot(normal, from.plane->normal)) > 1 - 1e-12)
+        continue;
+      glm::dvec3 x = glm::cross(across, normal);
+      const double length = glm::length(x);
+      if (!(length > 1e-12)) continue;  // the same great circle
+      x /= glm::dot(x, d) < 0 ? -length : length;
+      const double x_height = glm::dot(x, to_normal);
+      if (x_height * height < 0 || std::abs(x_height) > std::abs(height)) continue;  // not between them
+      if (glm::dot(x, side_normal) < 0) return false;
+      const std::size_t end = c + 1 < cones.size() ? cone_begin[c + 1] : wedges.size();
+      bool seen = false;
+      for (std::size_t w = cone_begin[c]; w < end && !seen; ++w) seen = wedges[w].contains(x);
+      if (!seen) return false;
+    }
+    return true;
+  }
+};
+
+/// The sines of elevation from a circle within which a point over its arc links (kLinkHeightInSpacings), and
+/// within which it links where it was seen between (kSeenLinkHeightInSpacings).
+struct LinkHeights {
+  double over = 1.0, seen_over = 1.0;
+};
 
 /// True when two wedges belong to one visible region: their arcs cross (the paper's test: the cones share
 /// more than the apex), or a sample point of one arc (ends, quarters, middle) lies over the other arc —
 /// its projection onto the other's plane falls inside that arc, with its sine of elevation from that plane
-/// at most `over` — or within kLinkTolerance of one of its ends. Slices sample a visible region along a few
-/// great circles, so arcs of one narrow opening rarely cross exactly.
-bool same_region(const SpatialWedge& a, const SpatialWedge& b, double over) {
+/// at most `heights.over`, or at most `heights.seen_over` where the planes between saw it (seen_between) —
+/// or within kLinkTolerance of one of its ends. Slices sample a visible region along a few great circles, so
+/// arcs of one narrow opening rarely cross exactly.
+bool same_region(const SpatialWedge& a, const SpatialWedge& b, const LinkHeights& heights,
+                 const Sightings& sightings) {
   // The disjunction above, its cheapest terms (dot products with the ends) first.
   for (const glm::dvec3& d : a.sample)
     if (near_ends(d, b)) return true;
@@ -111,11 +162,17 @@ bool same_region(const SpatialWedge& a, const SpatialWedge& b, double over) {
   if (glm::length(line) > 1e-12) {
     if ((a.contains(line) && b.contains(line)) || (a.contains(-line) && b.contains(-line))) return true;
   }
-  for (const glm::dvec3& d : a.sample)
-    if (std::abs(glm::dot(d, b.plane->normal)) <= over && b.contains(d)) return true;
-  for (const glm::dvec3& d : b.sample)
-    if (std::abs(glm::dot(d, a.plane->normal)) <= over && a.contains(d)) return true;
-  return false;
+  // A point of `p` over `q`'s arc, within the plain height or, farther, seen between.
+  auto over_arc = [&](const SpatialWedge& p, const SpatialWedge& q) {
+    for (const glm::dvec3& d : p.sample) {
+      const double height = std::abs(glm::dot(d, q.plane->normal));
+      if (height <= heights.seen_over && q.contains(d) &&
+          (height <= heights.over || sightings.seen_between(d, p, q)))
+        return true;
+    }
+    return false;
+  };
+  return over_arc(a, b) || over_arc(b, a);
 }
 
 /// One piece from a group of wedges: their bounding directions sorted radially about the group's mean
@@ -530,17 +587,20 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
       repeated = std::abs(glm::dot(cones[i].plane->normal, cones[j].plane->normal)) > 1 - 1e-12;
     orientations += !repeated;
   }
-  const double over =
-      orientations > 0
-          ? std::sin(std::min(kHalfPi, kLinkHeightInSpacings * (kTwoPi / 2) / double(orientations)))
-          : 1.0;
+  auto height = [&](double spacings) {
+    return orientations > 0 ? std::sin(std::min(kHalfPi, spacings * (kTwoPi / 2) / double(orientations)))
+                            : 1.0;
+  };
+  const LinkHeights heights{height(kLinkHeightInSpacings), height(kSeenLinkHeightInSpacings)};
+  const Sightings sightings{cones, b.wedges, b.cone_begin, side_normal};
   const int k = static_cast<int>(b.wedges.size());
   std::vector<int>& parent = b.parent;
   parent.resize(k);
   std::iota(parent.begin(), parent.end(), 0);
   for (int i = 0; i < k; ++i)
     for (int j = i + 1; j < k; ++j)
-      if (find_root(parent, i) != find_root(parent, j) && same_region(b.wedges[i], b.wedges[j], over))
+      if (find_root(parent, i) != find_root(parent, j) &&
+          same_region(b.wedges[i], b.wedges[j], heights, sightings))
         parent[find_root(parent, i)] = find_root(parent, j);
   // 3. One piece per group (see build_piece); groups whose pieces overlap are merged and rebuilt, so the
   //    pieces of a cone are disjoint and their integrals add up.

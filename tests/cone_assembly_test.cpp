@@ -227,8 +227,9 @@ TEST(ConeAssembly, ArcsLinkOverAnotherCircleOnlyNearIt) {
   // Two arcs: one around +x on the circle of the plane z = 0, and one 48-72 degrees above that plane on the
   // circle of y = 0, whose points project onto the first arc. With only these two circles through the vertex
   // nothing lies nearer another circle: one visible region, one piece. With six more orientations (their
-  // circles seeing nothing) the circles are pi / 8 apart, the second arc lies more than 1.5 of those from the
-  // first circle, nearer the others: two regions, two pieces.
+  // circles seeing nothing) the circles are pi / 8 apart, the second arc lies 2.1-3.2 of those from the
+  // first circle, and the circles of (-1, 1, 1) and (0, 1, 1) cross the way down to it where they saw
+  // nothing: two regions, two pieces.
   const glm::dvec3 m = glm::normalize(glm::dvec3(1, 0, 1));
   std::vector<SlicingPlane> planes{make_plane({0, 0, 1}, 0.0, 0), make_plane({0, 1, 0}, 0.0, 1)};
   auto angle_in = [](const SlicingPlane& p, const glm::dvec3& d) {
@@ -249,6 +250,50 @@ TEST(ConeAssembly, ArcsLinkOverAnotherCircleOnlyNearIt) {
   for (const SlicingPlane& p : more) cones.push_back({&p, {}});
   assemble_cone(cones, m, scratch, eight_circles);
   EXPECT_EQ(eight_circles.pieces.size(), 2u);
+}
+
+TEST(ConeAssembly, AThinLuneOverTheHorizonIsNotSplit) {
+  // The view over a wall's top edge: the lune between the side's horizon and a plane tilted `width` above
+  // it about a horizontal axis t, A = (1 - cos width) / 2, cut by eight circles spread over the sphere. Near
+  // the lune's tips the circles' arcs are short and lie far over each other's circles, so linking them only
+  // within 1.5 spacings of a circle split the lune into two to four pieces whose polygons miss what lies
+  // between them (mean error 0.018 over these 72 cases, 62 split). Farther out, up to 2.5 spacings, a point
+  // links where the circles between saw the gap open — here, where no circle saw it blocked.
+  const glm::dvec3 m(0, 0, 1);
+  std::vector<SlicingPlane> planes;
+  for (int k = 0; k < 8; ++k) {  // normals on a golden-angle spiral over the sphere
+    const double z = 1 - (k + 0.5) / 4, r = std::sqrt(1 - z * z), phi = k * 2.399963;
+    planes.push_back(make_plane({r * std::cos(phi), r * std::sin(phi), z}, 0.0, k));
+  }
+  double error = 0;
+  int cases = 0;
+  for (const double width_degrees : {15.0, 25.0, 40.0})
+    for (int a = 0; a < 24; ++a) {
+      const double width = width_degrees * kPi / 180, azimuth = (a + 0.3) * kTwoPi / 24;
+      const glm::dvec3 t(std::cos(azimuth), std::sin(azimuth), 0), s = glm::cross(m, t);
+      const glm::dvec3 tilted =
+          std::sin(width) * s - std::cos(width) * m;  // the lune: d.m >= 0, d.tilted >= 0
+      std::vector<std::vector<Wedge>> wedges;
+      for (const SlicingPlane& p : planes) {
+        auto half_turn = [&](const glm::dvec3& h) {  // {d on p's circle : d . h >= 0}
+          const double centre = std::atan2(glm::dot(h, p.w), glm::dot(h, p.u));
+          return AngularSet::from_wedges({{wrap_angle(centre - kPi / 2), kPi}});
+        };
+        wedges.push_back(half_turn(m).intersect(half_turn(tilted)).wedges());
+      }
+      std::vector<PlanarCone> cones;
+      for (std::size_t i = 0; i < planes.size(); ++i) cones.push_back({&planes[i], wedges[i]});
+      ConeAssemblyScratch scratch;
+      VisibilityCone cone;
+      ConeMeasures measures;
+      assemble_and_measure_cone(cones, m, scratch, cone, &measures);
+      const double truth = (1 - std::cos(width)) / 2;
+      // The pieces' corners lie on the lune's two great circles, so they never hold more than the lune.
+      EXPECT_LT(measures.sky_visibility, truth + 1e-9) << width_degrees << " degrees, azimuth " << a;
+      error += truth - measures.sky_visibility;
+      ++cases;
+    }
+  EXPECT_LT(error / cases, 0.006);  // 0.0037 (0.018 linking within 1.5 spacings only)
 }
 
 }  // namespace
