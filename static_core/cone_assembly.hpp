@@ -3,7 +3,8 @@
 // Each stored 2D cone is a set of wedges in a slicing plane, taken with its apex at the mesh vertex. The
 // wedges are first clipped to the side's half-space (directions d with d . side*n(v) >= 0). Two wedges are
 // linked when they share more than the apex (the paper's test: the planes' common line lies in both) or
-// when a point of one arc lies over the other or near its ends (slices sample a visible region sparsely,
+// when a point of one arc lies over the other — near its circle, or farther where the circles between saw
+// the way down open — or near its ends (slices sample a visible region sparsely,
 // so arcs of one narrow opening rarely cross exactly; a wedge that joins no other becomes a thin band
 // about its plane, half the angle between neighbouring orientations wide); each connected group becomes one
 // piece: its wedges' bounding directions are sorted radially about the group's mean direction (azimuthal
