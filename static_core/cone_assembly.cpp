@@ -102,8 +102,8 @@ constexpr double kLinkHeightInSpacings = 1.5;
 /// the gap blocked").
 constexpr double kSeenLinkHeightInSpacings = 2.5;
 
-/// A vertex side's lifted wedges, by cone (cone c's are wedges[cone_begin[c] .. cone_begin[c + 1]), the last
-/// up to the end): what every plane saw, for the link tests.
+/// A vertex side's lifted wedges, by cone (cone c's are wedges[cone_begin[c] .. cone_begin[c + 1])): what
+/// every plane saw, for the link tests.
 struct Sightings {
   std::span<const PlanarCone> cones;
   std::span<const SpatialWedge> wedges;
@@ -130,9 +130,8 @@ struct Sightings {
       const double x_height = glm::dot(x, to_normal);
       if (x_height * height < 0 || std::abs(x_height) > std::abs(height)) continue;  // not between them
       if (glm::dot(x, side_normal) < 0) return false;
-      const std::size_t end = c + 1 < cones.size() ? cone_begin[c + 1] : wedges.size();
       bool seen = false;
-      for (std::size_t w = cone_begin[c]; w < end && !seen; ++w) seen = wedges[w].contains(x);
+      for (std::size_t w = cone_begin[c]; w < cone_begin[c + 1] && !seen; ++w) seen = wedges[w].contains(x);
       if (!seen) return false;
     }
     return true;
@@ -435,7 +434,7 @@ struct ConeAssemblyScratch::Buffers {
   std::vector<const SpatialWedge*> members;
   std::vector<Bound> order;
   std::vector<glm::dvec3> keep;                 // the side normal and the half-spaces
-  std::vector<std::size_t> cone_begin;          // per cone, its first lifted wedge
+  std::vector<std::size_t> cone_begin;          // per cone, its first lifted wedge; then their count
   std::vector<double> cone_horizon;             // per cone, where its side's half-turn starts (NaN: none)
   std::vector<std::pair<double, double>> arcs;  // one plane's clipped wedges: offset from its horizon, end
   std::vector<SphericalPolygon> pieces;         // capacity kept across calls
@@ -462,8 +461,7 @@ constexpr double kHeldShare = 0.1;
 bool holds_gaps(std::span<const PlanarCone> cones, ConeAssemblyScratch::Buffers& b, std::size_t count) {
   double held = 0.0;
   for (std::size_t c = 0; c < cones.size(); ++c) {
-    const std::size_t begin = b.cone_begin[c],
-                      end = c + 1 < cones.size() ? b.cone_begin[c + 1] : b.wedges.size();
+    const std::size_t begin = b.cone_begin[c], end = b.cone_begin[c + 1];
     const double horizon = b.cone_horizon[c];
     if (end - begin < 2 || std::isnan(horizon)) continue;
     const SlicingPlane& plane = *cones[c].plane;
@@ -578,6 +576,7 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
         silhouette(cone, w.end(), lifted.end_direction(), lifted.end_silhouette, lifted.end_on_plane);
       }
   }
+  b.cone_begin.push_back(b.wedges.size());
   // 2. Group by intersection (union-find). The circles' spacing is pi / n for the n orientations (planes
   //    with distinct normals, up to sign) that cut the vertex.
   std::size_t orientations = 0;
