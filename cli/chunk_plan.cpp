@@ -1,6 +1,7 @@
 #include "cli/chunk_plan.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <glm/geometric.hpp>
 #include <span>
@@ -12,7 +13,7 @@
 namespace pleat::cli {
 
 SliceVertexCounter::SliceVertexCounter(const MeshTopology& topology, const SlicingPlan& plan)
-    : m_orientations(plan.orientations), m_offsets(plan.orientations.size()) {
+    : m_orientations(plan.orientations), m_offsets(plan.orientations.size()), m_spacing(plan.spacing) {
   // Planes per orientation as sorted offsets along its normal; an edge crosses the planes whose offsets lie
   // between its endpoints' heights (a vertex on a plane counts as above it, as the slicer perturbs it).
   for (const SlicingPlane& p : plan.planes) m_offsets[std::size_t(p.orientation)].push_back(p.offset);
@@ -32,13 +33,16 @@ std::size_t SliceVertexCounter::count(const Frame& frame) const {
   std::vector<double> height(frame.positions.size());
   for (std::size_t o = 0; o < m_offsets.size(); ++o) {
     const std::vector<double>& offsets = m_offsets[o];
-    if (offsets.empty()) continue;
+    if (offsets.empty() && !(m_spacing > 0)) continue;
     for (std::size_t v = 0; v < height.size(); ++v)
       height[v] = glm::dot(m_orientations[o], frame.positions[v]);
     for (const auto& [a, b] : m_edges) {
       const auto [lo, hi] = std::minmax(height[a], height[b]);
-      count += std::size_t(std::upper_bound(offsets.begin(), offsets.end(), hi) -
-                           std::upper_bound(offsets.begin(), offsets.end(), lo));
+      if (m_spacing > 0)  // the lattice planes (k + 1/2) * spacing in (lo, hi]
+        count += std::size_t(std::floor(hi / m_spacing - 0.5) - std::floor(lo / m_spacing - 0.5));
+      else
+        count += std::size_t(std::upper_bound(offsets.begin(), offsets.end(), hi) -
+                             std::upper_bound(offsets.begin(), offsets.end(), lo));
     }
   }
   return count;

@@ -40,7 +40,8 @@ class SliceVertexCounter {
 
  private:
   std::vector<glm::dvec3> m_orientations;
-  std::vector<std::vector<double>> m_offsets;  // per orientation, sorted
+  std::vector<std::vector<double>> m_offsets;  // per orientation, sorted (a plan of placed planes)
+  double m_spacing = 0.0;                      // > 0: a lattice plan, its planes counted from it
   std::vector<std::pair<Index, Index>> m_edges;
 };
 

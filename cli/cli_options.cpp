@@ -127,7 +127,13 @@ void SceneOptions::add_to(CLI::App& command) {
       ->allow_extra_args(false);
   command.add_option(
       "--ground", ground,
-      "an infinite ground plane AXIS=VALUE, e.g. y=0 (the bundled data is Y-up) or z=0 (Blender)");
+      "an infinite ground plane AXIS=VALUE, e.g. y=0 (the bundled data is Y-up) or z=0 (Blender): a floor, "
+      "solid below the plane (-AXIS=VALUE: solid above it); cloth below a floor counts as resting on it");
+  command.add_option("--contact-tolerance", contact_tolerance,
+                     "how far behind an open occluder's surface (a plane mesh) cloth still counts as resting "
+                     "on it, in scene units; cloth inside a closed occluder or below --ground always does, "
+                     "and vertices deeper than this are reported (default: 1/2 of the cloth's mean edge "
+                     "length in the first frame)");
 }
 
 Scene SceneOptions::make(const MeshSequence& cloth) const {
@@ -135,13 +141,14 @@ Scene SceneOptions::make(const MeshSequence& cloth) const {
   for (const std::string& o : occluders) specs.push_back(parse_occluder_spec(o));
   std::vector<GroundPlane> grounds;
   if (!ground.empty()) grounds.push_back(parse_ground_plane(ground));
-  return Scene(cloth, specs, grounds);
+  return Scene(cloth, specs, grounds, contact_tolerance);
 }
 
 std::string SceneOptions::describe() const {
   std::string text;
   for (const std::string& o : occluders) text += "occluder " + o + "; ";
   if (!ground.empty()) text += "ground " + ground;
+  if (contact_tolerance) text += "; contact " + std::to_string(*contact_tolerance);
   return text;
 }
 

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/scene.hpp"
 #include "sim_io/sequence_plan.hpp"
+#include "static_core/input_error.hpp"
 #include "static_core/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
 
@@ -29,6 +31,17 @@ struct InputOptions {
   /// Adds the required positional INPUT and --cache.
   void add_to(CLI::App& command);
 };
+
+/// `compute()`, an engine's frame f of `in`, with a frame the engine refuses (an InputError: too wide, too
+/// far out) named by the input's file and the frame's index.
+template <class Compute>
+decltype(auto) compute_frame(Compute&& compute, const InputOptions& in, std::size_t f) {
+  try {
+    return compute();
+  } catch (const InputError& e) {
+    throw InputError(in.cache.empty() ? in.input : in.cache, "frame " + std::to_string(f), e.reason());
+  }
+}
 
 /// --frames A:B | N (parse_frame_range).
 void add_frames_option(CLI::App& command, std::string& frames);
@@ -69,6 +82,7 @@ void check_outputs(const std::vector<OutputFile>& files,
 struct SceneOptions {
   std::vector<std::string> occluders;
   std::string ground;
+  std::optional<double> contact_tolerance;  ///< --contact-tolerance (default: Scene's)
   void add_to(CLI::App& command);
   /// Reads the occluders (InputError naming the file on bad input).
   Scene make(const MeshSequence& cloth) const;

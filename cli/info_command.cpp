@@ -1,6 +1,7 @@
 // `pleat info`: what pleat sees in an input — vertices (input and welded), faces, frames, frame rate,
 // duration, bounding box, boundary loops, non-manifold edges, degenerate faces, welded duplicates, and with
 // --check-intersections the self-intersecting face pairs of every frame (pleat's algorithm requires none).
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -51,6 +52,10 @@ void run_info(const InfoOptions& options) {
     progress.advance();
   });
   progress.finish();
+  auto input_of = [&](Index welded) {  // the first input vertex welded into `welded`
+    const auto& of_input = sequence.welded_of_input();
+    return static_cast<Index>(std::find(of_input.begin(), of_input.end(), welded) - of_input.begin());
+  };
   std::size_t frames_with_intersections = 0, max_pairs = 0, max_frame = 0;
   for (std::size_t i = 0; i < intersecting_pairs.size(); ++i) {
     if (intersecting_pairs[i] > 0) ++frames_with_intersections;
@@ -87,6 +92,14 @@ void run_info(const InfoOptions& options) {
         {"degenerate_faces_first_frame", report.degenerate_faces_first_frame},
         {"degenerate_faces_max", report.degenerate_faces_max},
         {"frames_with_degenerate_faces", report.frames_with_degenerate_faces},
+        {"far_flung",
+         {{"frames", report.frames_with_far_flung},
+          {"max_vertices", report.far_flung_max},
+          {"first_frame",
+           report.frames_with_far_flung ? nlohmann::json(report.far_flung_first_frame) : nlohmann::json()},
+          {"first_count", report.far_flung_first_count},
+          {"vertex", input_of(report.far_flung_vertex)},
+          {"edge_over_median", report.far_flung_ratio}}},
     };
     if (options.check_intersections) {
       j["self_intersections"] = {{"frames_with_intersections", frames_with_intersections},
@@ -118,6 +131,14 @@ void run_info(const InfoOptions& options) {
   out << "degenerate faces    " << report.degenerate_faces_first_frame << " in frame 0, at most "
       << report.degenerate_faces_max << " per frame (" << report.frames_with_degenerate_faces
       << " frames with any)\n";
+  out << "far-flung vertices  ";
+  if (report.frames_with_far_flung == 0)
+    out << "none (no edge over " << kFarFlungEdges << "x its frame's median)\n";
+  else
+    out << report.frames_with_far_flung << " frames, at most " << report.far_flung_max
+        << " vertices; first frame " << report.far_flung_first_frame << ": " << report.far_flung_first_count
+        << ", vertex " << input_of(report.far_flung_vertex) << " on an edge "
+        << number(report.far_flung_ratio) << "x the median (an exploded simulation?)\n";
   out << "components          " << t.components << " (" << t.isolated_vertices << " isolated vertices)\n";
   if (options.check_intersections) {
     out << "self-intersections  " << frames_with_intersections << " of " << report.frames

@@ -26,6 +26,7 @@
 
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/contact_warning.hpp"
 #include "cli/global_options.hpp"
 #include "cli/job_error.hpp"
 #include "cli/run_chunks.hpp"
@@ -170,7 +171,10 @@ void run_shade(const ShadeOptions& options) {
   if (!cache) broadcast_plan(plan);
 
   Fingerprint options_key;  // what decides the outputs' bytes (the checkpoint's job key)
-  options_key.add("shade").add_value(plan_fingerprint(plan)).add(options.cones).add(options.scene.describe());
+  options_key.add("shade, contact counted")
+      .add_value(plan_fingerprint(plan))
+      .add(options.cones)
+      .add(options.scene.describe());
   if (cache) {  // a rewritten cone cache: its size and time of last write change
     options_key.add_value(std::uint64_t(std::filesystem::file_size(options.cones)));
     options_key.add_value(std::filesystem::last_write_time(options.cones).time_since_epoch().count());
@@ -267,7 +271,10 @@ void run_shade(const ShadeOptions& options) {
       const Frame& world_frame = occluded ? in_scene : frame;
       const auto t0 = std::chrono::steady_clock::now();
       if (cache) cache->read_frame(cached[j], frame, from_cache);
-      const FrameVisibility& visibility = cache ? from_cache : engine->compute(world_frame);
+      const FrameVisibility& visibility =
+          cache ? from_cache
+                : compute_frame([&]() -> const FrameVisibility& { return engine->compute(world_frame); },
+                                options.in, f);
       const auto t1 = std::chrono::steady_clock::now();
       for (Side side : kBothSides) side_visibility(visibility, side, sides[int(side)]);
       // Source frame numbers, not positions in the range: the same frames are rendered however the shot is
@@ -289,6 +296,9 @@ void run_shade(const ShadeOptions& options) {
       }
       ByteWriter bytes;
       bytes.put(std::chrono::duration<double>(t1 - t0).count());
+      bytes.put<std::uint64_t>(visibility.stats.penetrating_vertices)
+          .put(visibility.stats.deepest_penetration)
+          .put<std::uint32_t>(input_vertex(sequence, visibility.stats.deepest_vertex));
       bytes.put_array(std::vector<glm::vec3>(frame.positions.begin(), frame.positions.end()));
       for (const SideVisibility& side : sides) bytes.put_array(side.sky_visibility).put_array(side.bent_cone);
       for (std::size_t s = 0; s < setups.size(); ++s) {
@@ -315,9 +325,13 @@ void run_shade(const ShadeOptions& options) {
     }
   };
   double cone_seconds = 0.0, shade_seconds = 0.0;
-  const auto consume = [&](std::size_t, std::string_view payload) {
+  ContactWarning contact;
+  const auto consume = [&](std::size_t f, std::string_view payload) {
     ByteReader bytes(payload);
     cone_seconds += bytes.get<double>();
+    const auto penetrating = bytes.get<std::uint64_t>();
+    const auto deepest = bytes.get<double>();
+    contact.add(f, penetrating, deepest, bytes.get<std::uint32_t>());
     const auto positions = bytes.get_array<glm::vec3>();
     std::array<SideVisibility, 2> sides;
     for (SideVisibility& side : sides) {
@@ -333,6 +347,7 @@ void run_shade(const ShadeOptions& options) {
   };
   run_chunks(job, "shade", compute, consume);
   if (!World::root()) return;
+  contact.warn(world.topology().contact_tolerance, std::cerr);
   for (auto& writer : writers) writer->finish();
 
   {

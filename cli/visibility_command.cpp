@@ -8,6 +8,7 @@
 
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/contact_warning.hpp"
 #include "cli/global_options.hpp"
 #include "cli/job_error.hpp"
 #include "cli/run_chunks.hpp"
@@ -48,7 +49,7 @@ struct VisibilityOptions {
 // regions, windows, crossings. How the run went -- the time of each frame, the rank and chunk that computed
 // it, the kinetic engine's counters (which depend on where its chunk started: a chunk's first frame is a
 // static build) -- goes to --timings.
-nlohmann::json stats_json(std::size_t frame, const VisibilityStats& s) {
+nlohmann::json stats_json(std::size_t frame, const VisibilityStats& s, const MeshSequence& cloth) {
   return {{"frame", frame},
           {"slices", s.slices},
           {"slice_vertices", s.slice_vertices},
@@ -57,7 +58,10 @@ nlohmann::json stats_json(std::size_t frame, const VisibilityStats& s) {
           {"regions_with_holes", s.regions_with_holes},
           {"crossing_slices", s.crossing_slices},
           {"chain_crossings", s.chain_crossings},
-          {"filled_fraction", s.filled_fraction}};
+          {"filled_fraction", s.filled_fraction},
+          {"penetrating_vertices", s.penetrating_vertices},
+          {"deepest_penetration", s.deepest_penetration},
+          {"deepest_vertex", input_vertex(cloth, s.deepest_vertex)}};
 }
 
 nlohmann::json kinetic_json(const KineticFrameStats& k) {
@@ -98,12 +102,16 @@ void run(const VisibilityOptions& options) {
   // The plan is made for the whole sequence (never from the requested frames), on rank 0, and sent to the
   // others.
   SlicingPlan plan;
+  std::size_t first_planes = 0;  // the planes of the first requested frame (reported; rank 0's)
   together([&] {
     if (!World::root()) return;
     plan = options.plan.make(sequence);
     // The algorithm assumes a surface free of self-intersections: a warning, not a failure (later frames are
     // not checked; `pleat info --check-intersections` checks them all).
     const Frame frame = sequence.frame(first);
+    std::vector<SlicingPlane> planes;
+    planes_for_frame(plan, cloth_vertices(topology), frame, planes);
+    first_planes = planes.size();
     if (const std::size_t pairs = self_intersecting_faces(topology, frame).size(); pairs > 0)
       std::cerr << "pleat: warning: frame " << first << " self-intersects (" << pairs
                 << (pairs == 1 ? " face pair" : " face pairs")
@@ -128,7 +136,7 @@ void run(const VisibilityOptions& options) {
   std::optional<VisibilityCsvWriter> csv;
   std::optional<ConeCacheWriter> cones;
   nlohmann::json stats = {{"input", options.in.input},         {"engine", options.engine},
-                          {"plan", options.plan.describe()},   {"planes", plan.planes.size()},
+                          {"plan", options.plan.describe()},   {"planes", first_planes},
                           {"vertices", topology.num_vertices}, {"faces", topology.triangles.size()},
                           {"frames", nlohmann::json::array()}};
   nlohmann::json timings = {{"ranks", World::size()},
@@ -160,8 +168,11 @@ void run(const VisibilityOptions& options) {
     for (std::size_t f = chunk_first; f < chunk_last; ++f) {
       const Frame frame = sequence.frame(f);  // the cloth's (the cone cache's fingerprint is of it)
       const auto start = std::chrono::steady_clock::now();
-      const FrameVisibility& vis =
-          engine.compute(scene.num_occluders() ? scene.with_occluders(f, frame) : frame);
+      const FrameVisibility& vis = compute_frame(
+          [&]() -> const FrameVisibility& {
+            return engine.compute(scene.num_occluders() ? scene.with_occluders(f, frame) : frame);
+          },
+          options.in, f);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       for (Index v = 0; v < topology.num_vertices; ++v) {
         front[v] = vis.measure(Side::Front, v).sky_visibility;
@@ -178,13 +189,14 @@ void run(const VisibilityOptions& options) {
       ByteWriter bytes;
       bytes.put_array(front).put_array(back);
       bytes.put<std::uint64_t>(vis.stats.crossing_slices);
-      bytes.put_string(stats_json(f, vis.stats).dump()).put_string(timing.dump());
+      bytes.put_string(stats_json(f, vis.stats, sequence).dump()).put_string(timing.dump());
       // The frame's block of the cone cache, written by rank 0 in frame order like the CSV.
       if (with_cones) bytes.put_string(encode_cone_frame(frame, vis, encoding));
       emit(f, bytes.take());
     }
   };
   std::size_t crossing_frames = 0;
+  ContactWarning contact;
   double write_seconds = 0.0;  // rank 0's time to write the gathered frames (a serial part of the job)
   std::size_t gathered_bytes = 0;
   const auto consume = [&](std::size_t f, std::string_view payload) {
@@ -195,7 +207,10 @@ void run(const VisibilityOptions& options) {
     const auto back = bytes.get_array<double>();
     crossing_frames += bytes.get<std::uint64_t>() > 0;
     csv->add_frame(f, sequence.source_frame(f), front, back);
-    stats["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
+    const nlohmann::json& frame_stats =
+        stats["frames"].emplace_back(nlohmann::json::parse(bytes.get_string()));
+    contact.add(f, frame_stats["penetrating_vertices"], frame_stats["deepest_penetration"],
+                frame_stats["deepest_vertex"]);
     timings["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
     timings["frames"].back()["payload_bytes"] = payload.size();
     if (with_cones) cones->add_encoded_frame(bytes.get_string());
@@ -212,13 +227,15 @@ void run(const VisibilityOptions& options) {
   if (cones) cones->commit();
   csv->commit();  // last: the CSV exists only when every other output was written
   report() << "wrote " << options.output << ": " << (last - first) << " frames x "
-           << sequence.num_input_vertices() << " vertices (" << plan.planes.size()
-           << " planes: " << options.plan.describe() << ")\n";
+           << sequence.num_input_vertices() << " vertices (" << first_planes
+           << (plan.spacing > 0 ? " planes in the first frame: " : " planes: ") << options.plan.describe()
+           << ")\n";
   if (job.bounds.size() > 2 || World::distributed())
     report() << "  " << job.bounds.size() - 1 << " chunks over " << World::size() << " ranks"
              << (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "")
              << "\n";
   if (cones) report() << "wrote " << options.cones << ": the 3D cones of every frame\n";
+  contact.warn(scene.topology().contact_tolerance, std::cerr);
   if (crossing_frames > 0)
     std::cerr << "pleat: warning: chains cross in " << crossing_frames
               << " frames (the cloth self-intersects there); crossing points were inserted and counted in "

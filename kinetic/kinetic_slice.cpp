@@ -179,7 +179,7 @@ void KineticSlice::finish_build(const MeshTopology& topology, const Frame& frame
     std::string why;
     m_unkept_check = tri.check_invariants(&why) ? std::string() : (why.empty() ? "invalid" : why);
   }
-  grow_cones(scratch);
+  grow_cones(topology.contact_tolerance, scratch);
   if (m_editable)
     keep_triangulation(tri.cdt_for_editing(), m_kept);
   else
@@ -196,7 +196,7 @@ void KineticSlice::finish_frame(const MeshTopology& topology, const Frame& frame
     m_kept.release();
     return;
   }
-  grow_cones(scratch);
+  grow_cones(topology.contact_tolerance, scratch);
   keep_triangulation(scratch.triangulation.cdt_for_editing(), m_kept);
 }
 
@@ -209,9 +209,9 @@ bool KineticSlice::offer_cones(const MeshTopology& topology, const Frame& frame,
   return m_offers;
 }
 
-void KineticSlice::grow_cones(KineticScratch& scratch) {
+void KineticSlice::grow_cones(double contact_tolerance, KineticScratch& scratch) {
   const auto start = std::chrono::steady_clock::now();
-  compute_plane_cones(scratch.triangulation, scratch.cones, m_out);
+  compute_plane_cones(scratch.triangulation, contact_tolerance, scratch.cones, m_out);
   m_cone_seconds += seconds_since(start);
 }
 

@@ -21,17 +21,20 @@ struct KineticVisibility::Impl {
   Impl(const MeshTopology& topology, SlicingPlan plan_in, const Frame& first, const KineticParams& params)
       : topology(topology),
         plan(std::move(plan_in)),
+        frame_plan(plan),
         params(params),
         connectivity(topology),
-        slices(plan.planes.size()),
-        counts(plan.planes.size()),
-        assembler(topology, connectivity, plan, {params.parallel}),
+        cloth(cloth_vertices(topology)),
+        assembler(topology, connectivity, frame_plan, {params.parallel}),
         previous(first),
         crossed_stamp(topology.num_vertices, 0) {
-    candidate_faces_per_plane(topology, first, plan, faces);
+    planes_for_frame(plan, cloth, first, frame_plan.planes);
+    slices.resize(frame_plan.planes.size());
+    counts.resize(slices.size());
+    candidate_faces_per_plane(topology, first, frame_plan, faces);
     mark_frame(topology, connectivity, first, marks);
     for_each_plane([&](std::size_t p) {
-      slices[p].build(topology, connectivity, first, plan.planes[p], plan.storage,
+      slices[p].build(topology, connectivity, first, frame_plan.planes[p], plan.storage,
                       split_faces(topology, faces[p]), marks, local_scratch());
       check(p);
     });
@@ -95,9 +98,34 @@ struct KineticVisibility::Impl {
     int carried = 0;                                // intervals carried since the last whole-interval rebuild
   };
 
+  /// The planes of `next` (planes_for_frame) in frame_plan, each kept slice moved to its plane's place:
+  /// a lattice plan's planes come and go with the cloth's extent; fresh[p] marks the planes new to this
+  /// frame.
+  void take_planes_of(const Frame& next) {
+    fresh.assign(frame_plan.planes.size(), 0);
+    if (!(plan.spacing > 0)) return;  // the planes are the plan's, every frame
+    planes_for_frame(plan, cloth, next, next_planes);
+    std::vector<KineticSlice> kept(next_planes.size());
+    fresh.assign(next_planes.size(), 1);
+    auto before = [](const SlicingPlane& a, const SlicingPlane& b) {
+      return a.orientation != b.orientation ? a.orientation < b.orientation : a.offset < b.offset;
+    };
+    for (std::size_t i = 0, j = 0; i < next_planes.size(); ++i) {  // both ordered by orientation, offset
+      while (j < frame_plan.planes.size() && before(frame_plan.planes[j], next_planes[i])) ++j;
+      if (j < frame_plan.planes.size() && !before(next_planes[i], frame_plan.planes[j])) {
+        kept[i] = std::move(slices[j++]);
+        fresh[i] = 0;
+      }
+    }
+    slices = std::move(kept);
+    counts.resize(slices.size());
+    frame_plan.planes.swap(next_planes);
+  }
+
   void advance(const Frame& next) {
     const auto start = std::chrono::steady_clock::now();
-    candidate_faces_per_plane(topology, next, plan, faces);
+    take_planes_of(next);
+    candidate_faces_per_plane(topology, next, frame_plan, faces);
     mark_frame(topology, connectivity, next, marks);
     const bool engine_cost = params.policy.measured_cost;
     const bool rebuild_all =
@@ -107,10 +135,17 @@ struct KineticVisibility::Impl {
     const bool keep = !rebuild_all || schedule.rebuilds_left <= 1;
     for_each_plane([&](std::size_t p) {
       const PlaneFaces split = split_faces(topology, faces[p]);
-      counts[p] = rebuild_all ? slices[p].rebuild_outright(topology, connectivity, next, plan.planes[p],
-                                                           split, marks, keep, local_scratch())
-                              : slices[p].advance(topology, connectivity, next, plan.planes[p], split, marks,
-                                                  params.policy, local_scratch());
+      const SlicingPlane& plane = frame_plan.planes[p];
+      if (fresh[p]) {  // a plane the cloth reached this frame: built as the static engine builds it
+        counts[p] = {};
+        counts[p].slices_rebuilt = 1;
+        slices[p].build(topology, connectivity, next, plane, plan.storage, split, marks, local_scratch());
+      } else {
+        counts[p] = rebuild_all ? slices[p].rebuild_outright(topology, connectivity, next, plane, split,
+                                                             marks, keep, local_scratch())
+                                : slices[p].advance(topology, connectivity, next, plane, split, marks,
+                                                    params.policy, local_scratch());
+      }
       check(p);
     });
     if (engine_cost) update_schedule(rebuild_all, std::chrono::steady_clock::now() - start);
@@ -126,12 +161,11 @@ struct KineticVisibility::Impl {
       // Classify the mesh vertices that crossed this plane (each counted once per plane).
       for (Index e : slices[p].changed_edges())
         for (Index v : connectivity.endpoints()[e]) {
-          if (on_or_above(plan.planes[p], previous.positions[v]) ==
-              on_or_above(plan.planes[p], next.positions[v]))
-            continue;
+          const SlicingPlane& plane = frame_plan.planes[p];
+          if (on_or_above(plane, previous.positions[v]) == on_or_above(plane, next.positions[v])) continue;
           if (crossed_stamp[v] == p + 1 + stamp_base) continue;
           crossed_stamp[v] = p + 1 + stamp_base;
-          ++(is_regular(v, plan.planes[p], next) ? stats.side_changes_regular : stats.side_changes_critical);
+          ++(is_regular(v, plane, next) ? stats.side_changes_regular : stats.side_changes_critical);
         }
     }
     stamp_base += slices.size();
@@ -176,9 +210,13 @@ struct KineticVisibility::Impl {
 
   const MeshTopology& topology;
   SlicingPlan plan;
+  SlicingPlan frame_plan;  // the plan with the current frame's planes (planes_for_frame); the assembler's
+  std::vector<SlicingPlane> next_planes;
+  std::vector<char> fresh;  // per plane of the frame: not cut at the previous frame, built afresh
   KineticParams params;
-  MeshConnectivity connectivity;  // built once for the sequence
-  std::vector<KineticSlice> slices;
+  MeshConnectivity connectivity;     // built once for the sequence
+  std::vector<Index> cloth;          // the vertices the cloth's triangles use (cloth_vertices)
+  std::vector<KineticSlice> slices;  // one per plane of frame_plan
   std::vector<KineticCounts> counts;
   std::vector<std::vector<Index>> faces;
   FrameMarks marks;  // the frame's (mark_frame)

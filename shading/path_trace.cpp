@@ -189,10 +189,10 @@ class Tracer {
       if (i == x.on_plane) continue;
       const OccludingPlane& p = m_topology.planes[static_cast<std::size_t>(i)];
       const glm::dvec3& origin = x.position;
-      const glm::dvec3 h = p.side_of(origin);
+      const glm::dvec3& h = p.normal;  // every point is on the outer side (inside the solid: on its surface)
       const double towards = glm::dot(w, h);
       if (!(towards < 0.0)) continue;
-      const double height = std::abs(glm::dot(p.normal, origin) - p.offset);  // origin is on h's side
+      const double height = std::max(0.0, -p.depth(origin));
       if (const double t = height / -towards; t < nearest) {
         nearest = t;
         side = h;

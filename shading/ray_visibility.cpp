@@ -218,15 +218,14 @@ RayVisibility ray_cast_visibility(EmbreeScene& scene, const MeshTopology& topolo
     std::vector<glm::dvec3> world;
     std::vector<glm::vec3> to_cast;
     std::vector<std::uint8_t> escaped;
-    std::vector<glm::dvec3> half_spaces;
+    std::vector<glm::dvec3> half_spaces;  // the outer sides of the infinite planes, as the engines take them
+    for (const OccludingPlane& p : topology.planes) half_spaces.push_back(p.normal);
     world.reserve(static_cast<std::size_t>(k));
     to_cast.reserve(static_cast<std::size_t>(k));
     for (Index v = begin; v < end; ++v) {
       if (v % stride != 0) continue;
       const glm::dvec3 n = glm::length(normals[v]) > 0.0 ? normals[v] : glm::dvec3(0.0, 0.0, 1.0);
       fan.build(topology, frame, scene.incident_triangles(v), v, n);
-      half_spaces.clear();  // the vertex's side of each infinite plane, as the engines take it
-      for (const OccludingPlane& p : topology.planes) half_spaces.push_back(p.side_of(frame.positions[v]));
       for (Side side : kBothSides) {
         const int si = static_cast<int>(side);
         const glm::dvec3 axis = side_sign(side) * n;

@@ -46,6 +46,40 @@ std::size_t count_degenerate_faces(const MeshTopology& topology, const Frame& fr
   return count;
 }
 
+std::size_t count_far_flung(const MeshTopology& topology, const Frame& frame, Index& worst, double& ratio) {
+  std::vector<double> lengths;
+  lengths.reserve(3 * topology.triangles.size());
+  for (const Triangle& t : topology.triangles)
+    for (int k = 0; k < 3; ++k)
+      lengths.push_back(glm::distance(frame.positions[t[k]], frame.positions[t[(k + 1) % 3]]));
+  if (lengths.empty()) return 0;
+  std::vector<double> sorted = lengths;
+  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  if (!(median > 0)) return 0;
+  glm::dvec3 centre;  // the median point, coordinate by coordinate
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> c;
+    for (const glm::dvec3& p : frame.positions) c.push_back(p[a]);
+    std::nth_element(c.begin(), c.begin() + std::ptrdiff_t(c.size() / 2), c.end());
+    centre[a] = c[c.size() / 2];
+  }
+  std::vector<char> far(topology.num_vertices, 0);
+  std::size_t count = 0, longest = 0;
+  for (std::size_t e = 0; e < lengths.size(); ++e) {
+    if (!(lengths[e] > kFarFlungEdges * median)) continue;
+    const Triangle& t = topology.triangles[e / 3];
+    for (const Index v : {t[e % 3], t[(e % 3 + 1) % 3]}) count += far[v] == 0, far[v] = 1;
+    if (lengths[e] > lengths[longest] || !(lengths[longest] > kFarFlungEdges * median)) longest = e;
+  }
+  if (count == 0) return 0;
+  const Triangle& t = topology.triangles[longest / 3];
+  const Index a = t[longest % 3], b = t[(longest % 3 + 1) % 3];
+  worst = glm::distance(frame.positions[a], centre) > glm::distance(frame.positions[b], centre) ? a : b;
+  ratio = lengths[longest] / median;
+  return count;
+}
+
 MeshReport report_mesh(const MeshSequence& sequence,
                        const std::function<void(std::size_t, const Frame&)>& per_frame) {
   MeshReport r;
@@ -72,6 +106,17 @@ MeshReport report_mesh(const MeshSequence& sequence,
     if (i == 0) r.degenerate_faces_first_frame = degenerate;
     r.degenerate_faces_max = std::max(r.degenerate_faces_max, degenerate);
     if (degenerate > 0) ++r.frames_with_degenerate_faces;
+    Index worst = 0;
+    double ratio = 0.0;
+    if (const std::size_t far = count_far_flung(sequence.topology(), frame, worst, ratio); far > 0) {
+      if (r.frames_with_far_flung++ == 0) {
+        r.far_flung_first_frame = i;
+        r.far_flung_first_count = far;
+        r.far_flung_vertex = worst;
+        r.far_flung_ratio = ratio;
+      }
+      r.far_flung_max = std::max(r.far_flung_max, far);
+    }
     if (per_frame) per_frame(i, frame);
   }
   return r;

@@ -50,7 +50,20 @@ struct MeshReport {
   std::size_t degenerate_faces_first_frame = 0;
   std::size_t degenerate_faces_max = 0;  ///< over frames
   std::size_t frames_with_degenerate_faces = 0;
+  /// Far-flung vertices: ends of an edge more than kFarFlungEdges times the frame's median edge length (an
+  /// exploded simulation, a stray triangle), which stretch a frame's planes (slicing_plan.hpp).
+  std::size_t frames_with_far_flung = 0;
+  std::size_t far_flung_max = 0;                                     ///< over frames
+  std::size_t far_flung_first_frame = 0, far_flung_first_count = 0;  ///< the first frame with any
+  Index far_flung_vertex = 0;    ///< there, the end of its longest edge farther from the frame's median point
+  double far_flung_ratio = 0.0;  ///< that edge's length over the median
 };
+
+inline constexpr double kFarFlungEdges = 50.0;
+
+/// The far-flung vertices of `frame` (MeshReport): their count, and in `worst` the end of the longest edge
+/// farther from the median point, in `ratio` that edge over the median edge. O(F log F).
+std::size_t count_far_flung(const MeshTopology& topology, const Frame& frame, Index& worst, double& ratio);
 
 /// Reads every frame once; `per_frame(i, frame)` (optional) sees each frame as it passes, e.g. for a
 /// self-intersection check, so the sequence is streamed a single time.

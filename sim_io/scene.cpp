@@ -6,6 +6,7 @@
 
 #include "sim_io/load_sequence.hpp"
 #include "static_core/input_error.hpp"
+#include "static_core/slicing_plan.hpp"
 
 namespace pleat {
 
@@ -21,12 +22,19 @@ OccluderSpec parse_occluder_spec(std::string_view text) {
 
 GroundPlane parse_ground_plane(std::string_view text) {
   const auto bad = [&] {
-    return std::invalid_argument("--ground: '" + std::string(text) + "' is not AXIS=VALUE (e.g. y=0)");
+    return std::invalid_argument(
+        "--ground: '" + std::string(text) +
+        "' is not AXIS=VALUE or -AXIS=VALUE (e.g. y=0, z=0, -y=2.5 for a solid above)");
   };
-  if (text.size() < 3 || text[1] != '=' || (text[0] != 'x' && text[0] != 'y' && text[0] != 'z')) throw bad();
   GroundPlane ground;
-  ground.axis = text[0] - 'x';
-  const std::string value(text.substr(2));
+  std::string_view rest = text;
+  if (!rest.empty() && (rest[0] == '-' || rest[0] == '+')) {
+    ground.up = rest[0] == '-' ? -1.0 : 1.0;
+    rest.remove_prefix(1);
+  }
+  if (rest.size() < 3 || rest[1] != '=' || (rest[0] != 'x' && rest[0] != 'y' && rest[0] != 'z')) throw bad();
+  ground.axis = rest[0] - 'x';
+  const std::string value(rest.substr(2));
   std::size_t used = 0;
   try {
     ground.height = std::stod(value, &used);
@@ -51,19 +59,20 @@ std::vector<Scene::LoadedOccluder> load_occluders(const std::vector<OccluderSpec
 }  // namespace
 
 Scene::Scene(const MeshSequence& cloth, const std::vector<OccluderSpec>& occluders,
-             const std::vector<GroundPlane>& grounds)
+             const std::vector<GroundPlane>& grounds, std::optional<double> contact_tolerance)
     : Scene(cloth) {
-  add(load_occluders(occluders), grounds);
+  add(load_occluders(occluders), grounds, contact_tolerance);
 }
 
 Scene Scene::with_loaded(const MeshSequence& cloth, std::vector<LoadedOccluder> occluders,
-                         const std::vector<GroundPlane>& grounds) {
+                         const std::vector<GroundPlane>& grounds, std::optional<double> contact_tolerance) {
   Scene scene(cloth);
-  scene.add(std::move(occluders), grounds);
+  scene.add(std::move(occluders), grounds, contact_tolerance);
   return scene;
 }
 
-void Scene::add(std::vector<LoadedOccluder> occluders, const std::vector<GroundPlane>& grounds) {
+void Scene::add(std::vector<LoadedOccluder> occluders, const std::vector<GroundPlane>& grounds,
+                std::optional<double> contact_tolerance) {
   const MeshSequence& cloth = *m_cloth;
   const std::size_t frames = cloth.num_frames();
   for (LoadedOccluder& loaded : occluders) {
@@ -93,6 +102,10 @@ void Scene::add(std::vector<LoadedOccluder> occluders, const std::vector<GroundP
       m_topology.triangles.push_back({base + t[0], base + t[1], base + t[2]});
     m_topology.num_vertices += o.mesh.topology().num_vertices;
   }
+  if (contact_tolerance && !(std::isfinite(*contact_tolerance) && *contact_tolerance >= 0.0))
+    throw InputError("--contact-tolerance", "", "must be a finite distance >= 0");
+  m_topology.contact_tolerance =
+      contact_tolerance ? *contact_tolerance : 0.5 * average_edge_length(cloth.topology(), cloth.frame(0));
   const Bounds& box = cloth.bounds();
   const glm::dvec3 centre = 0.5 * (box.lo + box.hi);
   const double half = 50.0 * std::max(glm::length(box.hi - box.lo), 1e-9);
@@ -107,12 +120,17 @@ void Scene::add(std::vector<LoadedOccluder> occluders, const std::vector<GroundP
       corner[b] = centre[b] + sb * half;
       m_grounds.push_back(corner);
     }
-    m_topology.triangles.push_back({base, base + 1, base + 2});
-    m_topology.triangles.push_back({base, base + 2, base + 3});
+    if (g.up > 0) {  // the square faces the plane's outer side
+      m_topology.triangles.push_back({base, base + 1, base + 2});
+      m_topology.triangles.push_back({base, base + 2, base + 3});
+    } else {
+      m_topology.triangles.push_back({base, base + 2, base + 1});
+      m_topology.triangles.push_back({base, base + 3, base + 2});
+    }
     m_topology.num_vertices += 4;
     glm::dvec3 normal(0.0);
-    normal[g.axis] = 1.0;
-    m_topology.planes.push_back({normal, g.height});
+    normal[g.axis] = g.up;
+    m_topology.planes.push_back({normal, normal[g.axis] * g.height});
     m_topology.num_plane_triangles += 2;
   }
   m_topology.num_occluder_vertices = m_topology.num_vertices - cloth.topology().num_vertices;

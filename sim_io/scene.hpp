@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,12 +22,15 @@ struct OccluderSpec {
 /// Parses "PATH[,cache=CACHE]". Throws std::invalid_argument naming the text.
 OccluderSpec parse_occluder_spec(std::string_view text);
 
-/// The infinite plane {x : x[axis] == height}.
+/// The infinite plane {x : x[axis] == height}, the boundary of a solid on its -axis side (a floor), or on its
+/// +axis side when `up` is -1 (a ceiling, a Y-down scene's floor).
 struct GroundPlane {
   int axis = 1;
   double height = 0.0;
+  double up = 1.0;
 };
-/// Parses "AXIS=VALUE" (AXIS x, y or z). Throws std::invalid_argument naming the text.
+/// Parses "AXIS=VALUE" or "-AXIS=VALUE" (AXIS x, y or z; "-": the solid on the +axis side). Throws
+/// std::invalid_argument naming the text.
 GroundPlane parse_ground_plane(std::string_view text);
 
 class Scene {
@@ -42,8 +46,11 @@ class Scene {
   /// (h / 50 diagonals)^2. (Larger would stretch the relative offsets of ray casting,
   /// shading/embree_scene.hpp.) Throws InputError naming the occluder's file on anything unreadable or
   /// mismatched. `cloth` must outlive the scene.
+  ///
+  /// The contact tolerance (MeshTopology::contact_tolerance, docs/method.md §6.2) is `contact_tolerance`
+  /// when given (finite, >= 0; else InputError), else half the mean edge length of the cloth's first frame.
   Scene(const MeshSequence& cloth, const std::vector<OccluderSpec>& occluders,
-        const std::vector<GroundPlane>& grounds);
+        const std::vector<GroundPlane>& grounds, std::optional<double> contact_tolerance = std::nullopt);
   /// An occluder already loaded (or made in memory), and the name its errors give.
   struct LoadedOccluder {
     std::string name;
@@ -52,7 +59,8 @@ class Scene {
   /// The same with occluders already loaded: the same checks (frame count and rate), naming each by its
   /// name.
   static Scene with_loaded(const MeshSequence& cloth, std::vector<LoadedOccluder> occluders,
-                           const std::vector<GroundPlane>& grounds);
+                           const std::vector<GroundPlane>& grounds,
+                           std::optional<double> contact_tolerance = std::nullopt);
 
   /// The cloth's topology, then every occluder's triangles over its vertices, numbered after the cloth's.
   const MeshTopology& topology() const { return m_topology; }
@@ -63,7 +71,8 @@ class Scene {
   std::size_t num_occluders() const { return m_occluders.size() + m_grounds.size(); }
 
  private:
-  void add(std::vector<LoadedOccluder> occluders, const std::vector<GroundPlane>& grounds);
+  void add(std::vector<LoadedOccluder> occluders, const std::vector<GroundPlane>& grounds,
+           std::optional<double> contact_tolerance);
   struct Occluder {
     MeshSequence mesh;
     std::vector<glm::dvec3> still;  ///< the positions of an occluder of one frame (else empty)

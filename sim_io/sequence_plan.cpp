@@ -35,22 +35,25 @@ SlicingPlan PlanOptions::make(const MeshSequence& sequence) const {
   SlicingPlan plan;
   if (!plan_file.empty()) {
     plan = read_plan_file(plan_file);
-    if (plan.spacing > 0) cover_with_planes(plan, sequence.bounds());
   } else {
-    // Measured on the sequence's first frame and covering all of its frames: never on the requested ones.
+    // Measured on the sequence's first frame, never on the requested ones. A lattice is its orientations and
+    // spacing: the engines take each frame's planes from it (planes_for_frame); counted planes are spread
+    // over the box of every frame.
     const Frame frame = sequence.frame(0);
     const Bounds& cover = sequence.bounds();
     const int count = paper ? 6 : orientations;
-    if (paper && !adaptive && spacing == 0 && spacing_edges == 0 && planes_per_orientation == 0) {
-      plan = make_paper_plan(topology, frame, &cover);
+    const bool counted = planes_per_orientation > 0;
+    if (paper && !adaptive && spacing == 0 && spacing_edges == 0 && !counted) {
+      plan = make_paper_plan(topology, frame);
     } else {
       DiffusePlanParams diffuse{count, spacing, planes_per_orientation};
       if (spacing_edges > 0) diffuse.spacing_in_edges = spacing_edges;
       plan = adaptive ? make_adaptive_plan(topology, frame, {count, max_missing})
-                      : make_diffuse_plan(topology, frame, diffuse, &cover);
+                      : make_diffuse_plan(topology, frame, diffuse, counted ? &cover : nullptr);
       plan.storage = paper ? ConeStorage::NearerEndpoint : cone_storage_from_name(storage);
     }
   }
+  if (plan.spacing > 0) plan.planes.clear();  // a lattice: each frame's planes are its own
   return plan;
 }
 

@@ -9,6 +9,7 @@
 
 #include "static_core/assert.hpp"
 #include "static_core/cone_assembly.hpp"
+#include "static_core/contact.hpp"
 #include "static_core/internal/fan_cone.hpp"
 
 namespace pleat {
@@ -129,11 +130,12 @@ bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& fr
   return true;
 }
 
-void compute_plane_cones(const SliceTriangulation& triangulation, PlaneConeScratch& s, PlaneCones& out) {
+void compute_plane_cones(const SliceTriangulation& triangulation, double contact_tolerance,
+                         PlaneConeScratch& s, PlaneCones& out) {
   compute_slice_cones(out.slice, triangulation, s.cones, out.cones, s.needed);
   if (out.occluders.vertices.empty()) return;
   gather_occluder_chains(out.occluders, s.shadows, s.chains);
-  cast_occluder_shadows(out.slice, s.chains, s.needed, s.shadows, out.cones);
+  cast_occluder_shadows(out.slice, s.chains, s.needed, contact_tolerance, s.shadows, out.cones);
 }
 
 void nearest_sources(const MeshConnectivity& connectivity, std::span<const double> edge_length,
@@ -214,7 +216,6 @@ struct FrameAssembler::Impl {
     std::vector<HorizonTangent> tangents;  ///< of the aimed ends (aim_wedges)
     std::vector<Blend> blends;
     WedgeScratch wedge_scratch;
-    std::vector<glm::dvec3> half_spaces;  ///< the vertex's sides of the occluding planes
     FanConeScratch fan;
     /// Per orientation and side, the vertex's fan_local_ranges (ranges[2 o + side]; ranged[o]: it has them).
     std::vector<std::vector<AngularInterval>> ranges;
@@ -224,7 +225,9 @@ struct FrameAssembler::Impl {
 
   Impl(const MeshTopology& topology, const MeshConnectivity& connectivity, const SlicingPlan& plan,
        const VisibilityParams& params)
-      : topology(topology), connectivity(connectivity), plan(plan), params(params) {}
+      : topology(topology), connectivity(connectivity), plan(plan), params(params), contact(topology) {
+    for (const OccludingPlane& p : topology.planes) half_spaces.push_back(p.normal);
+  }
 
   void assemble(const Frame& frame, const FrameMarks& marks, std::span<const PlaneCones* const> planes,
                 FrameVisibility& result);
@@ -233,6 +236,8 @@ struct FrameAssembler::Impl {
   const MeshConnectivity& connectivity;
   const SlicingPlan& plan;
   VisibilityParams params;
+  std::vector<glm::dvec3> half_spaces;  ///< every vertex's: the outer sides of the occluding planes
+  ContactCheck contact;
   tbb::enumerable_thread_specific<Workspace> workspaces;
   std::vector<std::uint32_t> first, cursor;
   std::vector<Ref> refs;
@@ -262,6 +267,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
     stats.chain_crossings += r.crossings;
     stats.crossing_slices += r.crossings > 0;
   }
+  contact.check(frame, stats);
 
   // 1. Storage: what each plane offers its mesh vertices is in planes[p]->stored (offer_plane_cones).
   auto stored = [&](std::uint32_t p) -> const std::vector<StoredCone>& { return planes[p]->stored; };
@@ -402,8 +408,6 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
   const bool blend = aim || plan.storage == ConeStorage::InterpolatedOnFan;
   auto assemble_vertex = [&](std::size_t v) {
     Workspace& ws = workspaces.local();
-    ws.half_spaces.clear();  // the side of each occluding plane the vertex is on
-    for (const OccludingPlane& p : topology.planes) ws.half_spaces.push_back(p.side_of(frame.positions[v]));
     if (fan) {  // the vertex's own fan in each orientation's plane through it (fan_cone.hpp)
       ws.ranges.resize(2 * orientations);
       ws.ranged.assign(orientations, 0);
@@ -444,7 +448,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
       }
       const glm::dvec3 side_normal = side_sign(static_cast<Side>(side)) * result.normals[v];
       assemble_and_measure_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v],
-                                &result.measures[side][v], ws.half_spaces, plan.reconstruction);
+                                &result.measures[side][v], half_spaces, plan.reconstruction);
     }
   };
   if (params.parallel)

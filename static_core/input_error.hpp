@@ -14,10 +14,15 @@ class InputError : public std::runtime_error {
  public:
   /// `place` is human-readable, e.g. "line 12", "byte 4096", "accessor 3", "frame 17"; may be empty.
   InputError(std::string file, std::string place, const std::string& what)
-      : std::runtime_error(format(file, place, what)), m_file(std::move(file)), m_place(std::move(place)) {}
+      : std::runtime_error(format(file, place, what)),
+        m_file(std::move(file)),
+        m_place(std::move(place)),
+        m_reason(what) {}
 
   const std::string& file() const { return m_file; }
   const std::string& place() const { return m_place; }
+  /// What is wrong, without the file and the place.
+  const std::string& reason() const { return m_reason; }
 
  private:
   static std::string format(const std::string& file, const std::string& place, const std::string& what) {
@@ -27,6 +32,7 @@ class InputError : public std::runtime_error {
   }
   std::string m_file;
   std::string m_place;
+  std::string m_reason;
 };
 
 }  // namespace pleat

@@ -20,14 +20,16 @@ namespace pleat {
 using Index = std::uint32_t;
 using Triangle = std::array<Index, 3>;
 
-/// An infinite occluding plane {x : dot(normal, x) == offset} (a ground), `normal` unit.
+/// An infinite occluding plane {x : dot(normal, x) == offset} (a ground), `normal` unit and pointing to the
+/// plane's outer side: the plane bounds a solid {x : dot(normal, x) < offset}. Every point is taken as lying
+/// on the outer side (a point inside the solid as on its surface: docs/method.md §6.2), so the directions
+/// from any point that the plane does not block are those d with dot(d, normal) >= 0. The engines and the
+/// ray-cast reference both take it so.
 struct OccludingPlane {
   glm::dvec3 normal{0.0, 1.0, 0.0};
   double offset = 0.0;
-  /// The normal of the half-space on p's side (p on the plane: above): the directions from p that do not
-  /// enter the plane are those d with dot(d, side_of(p)) >= 0. The engines and the ray-cast reference both
-  /// take a vertex's side so.
-  glm::dvec3 side_of(const glm::dvec3& p) const { return glm::dot(normal, p) >= offset ? normal : -normal; }
+  /// How far p lies inside the solid (negative: above the plane).
+  double depth(const glm::dvec3& p) const { return offset - glm::dot(normal, p); }
 };
 
 /// Triangles over welded vertices 0..num_vertices-1, in the input's winding.
@@ -39,12 +41,17 @@ struct OccludingPlane {
 /// last num_plane_triangles: those stand in for the infinite `planes` (a large square each, for ray casting
 /// and rendering), which the engines apply exactly instead, by keeping in every cone only the directions on
 /// the vertex's side of each plane.
+///
+/// `contact_tolerance` (world units, >= 0) is how far behind an open occluder's surface a cloth point is
+/// still taken as resting on its front (a point inside a closed occluder or a plane's solid is always taken
+/// as on its surface); cloth vertices deeper than it are reported (check_contact, static_core/contact.hpp).
 struct MeshTopology {
   Index num_vertices = 0;
   std::vector<Triangle> triangles;
   Index num_occluder_vertices = 0;
   std::vector<OccludingPlane> planes{};
   Index num_plane_triangles = 0;
+  double contact_tolerance = 0.0;
   Index num_receivers() const { return num_vertices - num_occluder_vertices; }
   /// The triangles the cone engines slice: the first num_sliced_triangles().
   Index num_sliced_triangles() const { return Index(triangles.size()) - num_plane_triangles; }

@@ -10,6 +10,8 @@
 // a 3,025-vertex curtain: about 1 us per frame, 3.5 us per topology (5,832 triangles).
 #pragma once
 
+#include <string>
+
 #include "static_core/mesh.hpp"
 
 namespace pleat {
@@ -19,9 +21,13 @@ namespace pleat {
 void validate_topology(const MeshTopology& topology, const char* who);
 
 /// Throws InputError(who, "frame at t=T", "too few|too many positions: P for N vertices") if the frame's
-/// position count is not topology.num_vertices, and InputError(who, "frame at t=T, vertex V",
-/// "non-finite position (x, y, z)") for the first vertex with a NaN or infinite coordinate.
+/// position count is not topology.num_vertices, and InputError(who, "frame at t=T, vertex V", ...) for the
+/// first vertex with a NaN or infinite coordinate, or one beyond +-2^53 (where doubles stop holding every
+/// integer, and so every plane offset and crossing a slice needs).
 void validate_frame(const MeshTopology& topology, const Frame& frame, const char* who);
+
+/// "frame at t=T": how errors name a frame.
+std::string frame_place(const Frame& frame);
 
 /// Both, topology first: for one-shot entries.
 void validate_mesh(const MeshTopology& topology, const Frame& frame, const char* who);

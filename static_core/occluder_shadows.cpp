@@ -85,7 +85,121 @@ bool overlaps(const Wedge& b, std::span<const Wedge> wedges) {
   return false;
 }
 
+bool off_box(const OccluderChains::Chain& chain, const glm::dvec2& p, double margin = 0.0) {
+  return p.x < chain.lo.x - margin || p.x > chain.hi.x + margin || p.y < chain.lo.y - margin ||
+         p.y > chain.hi.y + margin;
+}
+
+std::span<const glm::dvec2> hull_of(const OccluderChains& chains, const OccluderChains::Chain& chain) {
+  return {chains.hull.data() + chain.hull_begin, chains.hull.data() + chain.hull_end};
+}
+
+enum class Inside { No, Yes, On };
+
+/// Where p lies against a closed chain's loop: on a segment, or inside by the parity of the loop's
+/// crossings of the ray from p towards +x. Exact: orientation tests and comparisons of input coordinates.
+Inside inside_loop(std::span<const std::array<glm::dvec2, 2>> segments, const glm::dvec2& p) {
+  bool inside = false;
+  for (const auto& [a, b] : segments) {
+    const bool a_up = a.y > p.y, b_up = b.y > p.y;
+    if (a_up == b_up) {  // not across p's line: p can only lie on it if it runs along that line
+      if (a.y == p.y && b.y == p.y && std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x))
+        return Inside::On;
+      continue;
+    }
+    const CGAL::Orientation o = orient(a, b, p);
+    if (o == CGAL::COLLINEAR) return Inside::On;           // on its line, between its ends' heights
+    if ((o == CGAL::LEFT_TURN) == b_up) inside = !inside;  // crosses the ray to p's right
+  }
+  return inside ? Inside::Yes : Inside::No;
+}
+
+/// The nearest point to p of the segments of `chains` for which `take(chain)` holds, no farther than
+/// sqrt(best.d2) on entry (at that distance only if none was found before).
+struct Nearest {
+  double d2 = INFINITY;
+  std::int32_t chain = -1;
+  std::uint32_t segment = 0;
+  double t = 0.0;
+};
+template <class Take>
+void nearest_segment(const OccluderChains& chains, const glm::dvec2& p, Take take, Nearest& best) {
+  for (std::size_t c = 0; c < chains.chains.size(); ++c) {
+    const OccluderChains::Chain& chain = chains.chains[c];
+    if (!take(chain) || off_box(chain, p, std::sqrt(best.d2))) continue;
+    for (std::uint32_t i = chain.segments_begin; i < chain.segments_end; ++i) {
+      const auto& [a, b] = chains.segments[i];
+      const glm::dvec2 ab = b - a;
+      const double length2 = glm::dot(ab, ab);
+      const double t = length2 > 0 ? std::clamp(glm::dot(p - a, ab) / length2, 0.0, 1.0) : 0.0;
+      const double d2 = distance2(p, a + t * ab);
+      if (d2 < best.d2 || (best.chain < 0 && d2 == best.d2)) best = {d2, static_cast<std::int32_t>(c), i, t};
+    }
+  }
+}
+
+Viewpoint viewpoint_at(const OccluderChains& chains, const Nearest& nearest) {
+  const auto& [a, b] = chains.segments[nearest.segment];
+  Viewpoint v;
+  v.chain = nearest.chain;
+  v.open = !chains.chains[std::size_t(nearest.chain)].closed;
+  v.segment = nearest.segment;
+  v.end = nearest.t <= 0.0 ? 0 : nearest.t >= 1.0 ? 1 : -1;
+  v.point = v.end == 0 ? a : v.end == 1 ? b : a + nearest.t * (b - a);
+  return v;
+}
+
+/// Whether segment i of chain c passes through the viewpoint, which then sees nothing of it.
+bool through_viewpoint(const OccluderChains& chains, std::size_t c, std::uint32_t i, const Viewpoint& from) {
+  if (from.chain != static_cast<std::int32_t>(c)) return false;
+  if (i == from.segment) return true;
+  if (from.end < 0) return false;
+  const glm::dvec2& end = chains.segments[from.segment][std::size_t(from.end)];
+  return chains.segments[i][0] == end || chains.segments[i][1] == end;
+}
+
+/// What the segment (a, b) blocks seen from a point q on it, on its front: the half-plane behind it, from
+/// the direction of a round to that of b, with their reaches.
+Wedge back_half_plane(const std::array<glm::dvec2, 2>& segment, const glm::dvec2& q) {
+  const auto& [a, b] = segment;
+  return {wrap_angle(std::atan2(b.y - a.y, b.x - a.x) + 0.5 * kTwoPi), 0.5 * kTwoPi,
+          static_cast<float>(glm::length(a - q)), static_cast<float>(glm::length(b - q))};
+}
+
 }  // namespace
+
+Viewpoint contact_viewpoint(const OccluderChains& chains, const glm::dvec2& p, double tolerance) {
+  // Inside the solids: the parity over the closed chains that may hold p (a loop inside another, a cavity,
+  // cancels it), or on one of them.
+  bool inside = false;
+  for (const OccluderChains::Chain& chain : chains.chains) {
+    if (!chain.closed || off_box(chain, p) || strictly_outside(hull_of(chains, chain), p)) continue;
+    const Inside where = inside_loop(
+        {chains.segments.data() + chain.segments_begin, chains.segments.data() + chain.segments_end}, p);
+    if (where == Inside::On) {
+      inside = true;
+      break;
+    }
+    inside = inside != (where == Inside::Yes);
+  }
+  Nearest nearest;
+  if (inside) {
+    nearest_segment(
+        chains, p, [](const OccluderChains::Chain& c) { return c.closed; }, nearest);
+    return viewpoint_at(chains, nearest);
+  }
+  // On or behind an open surface (on its back, the right of its oriented segments), within the tolerance.
+  nearest.d2 = tolerance * tolerance;
+  nearest_segment(
+      chains, p, [](const OccluderChains::Chain& c) { return !c.closed; }, nearest);
+  if (nearest.chain >= 0) {
+    const auto& [a, b] = chains.segments[nearest.segment];
+    if (orient(a, b, p) != CGAL::LEFT_TURN) return viewpoint_at(chains, nearest);
+  }
+  Viewpoint self;
+  self.point = p;
+  return self;
+}
 
 void gather_occluder_chains(const Slice& occluders, ShadowScratch& s, OccluderChains& out) {
   out.chains.clear();
@@ -96,8 +210,12 @@ void gather_occluder_chains(const Slice& occluders, ShadowScratch& s, OccluderCh
   const std::size_t n = occluders.vertices.size();
   s.parent.resize(n);
   std::iota(s.parent.begin(), s.parent.end(), 0);
-  for (const SliceEdge& e : occluders.edges)
+  s.degree.assign(n, 0);
+  for (const SliceEdge& e : occluders.edges) {
     s.parent[find_root(s.parent, int(e.from))] = find_root(s.parent, int(e.to));
+    ++s.degree[e.from];
+    ++s.degree[e.to];
+  }
   s.chain_of.assign(n, -1);
   std::size_t chains = 0;
   for (Index x = 0; x < n; ++x) {
@@ -128,9 +246,13 @@ void gather_occluder_chains(const Slice& occluders, ShadowScratch& s, OccluderCh
       out.segments.push_back({occluders.vertices[edge.from].point, occluders.vertices[edge.to].point});
     }
     s.points.clear();
-    for (; v < n && std::size_t(s.chain_of[s.order[v]]) == c; ++v)
+    chain.closed = true;
+    for (; v < n && std::size_t(s.chain_of[s.order[v]]) == c; ++v) {
       s.points.push_back(occluders.vertices[s.order[v]].point);
+      chain.closed = chain.closed && s.degree[s.order[v]] == 2;
+    }
     chain.segments_end = static_cast<std::uint32_t>(out.segments.size());
+    chain.closed = chain.closed && chain.segments_end - chain.segments_begin >= 3;
     chain.lo = chain.hi = s.points.front();
     for (const glm::dvec2& q : s.points) {
       chain.lo = glm::min(chain.lo, q);
@@ -163,13 +285,16 @@ void gather_occluder_chains(const Slice& occluders, ShadowScratch& s, OccluderCh
   }
 }
 
-void blocked_by_chain(const OccluderChains& chains, std::size_t c, const glm::dvec2& p, ShadowScratch& s,
+void blocked_by_chain(const OccluderChains& chains, std::size_t c, const Viewpoint& from, ShadowScratch& s,
                       std::vector<Wedge>& out) {
   const OccluderChains::Chain& chain = chains.chains[c];
-  const std::span<const glm::dvec2> hull(chains.hull.data() + chain.hull_begin,
-                                         chains.hull.data() + chain.hull_end);
-  const bool off_box = p.x < chain.lo.x || p.x > chain.hi.x || p.y < chain.lo.y || p.y > chain.hi.y;
-  const bool outside = hull.size() >= 3   ? off_box || strictly_outside(hull, p)
+  const std::span<const glm::dvec2> hull = hull_of(chains, chain);
+  const glm::dvec2& p = from.point;
+  // On an open chain the viewpoint lies on it, on its front: its segment blocks what lies behind it,
+  // whichever side of the chain's line rounding put the point.
+  const bool on_open = from.chain == static_cast<std::int32_t>(c) && from.open;
+  const bool outside = on_open            ? false
+                       : hull.size() >= 3 ? off_box(chain, p) || strictly_outside(hull, p)
                        : hull.size() == 2 ? orient(hull[0], hull[1], p) != CGAL::COLLINEAR
                                           : false;
   if (outside) {
@@ -203,7 +328,9 @@ void blocked_by_chain(const OccluderChains& chains, std::size_t c, const glm::dv
   }
   if (hull.size() < 2) return;  // a chain on one point blocks no range
   s.blocked.clear();
+  if (on_open) s.blocked.push_back(back_half_plane(chains.segments[from.segment], p));
   for (std::uint32_t i = chain.segments_begin; i < chain.segments_end; ++i) {
+    if (through_viewpoint(chains, c, i, from)) continue;
     const auto& [a, b] = chains.segments[i];
     switch (orient(p, a, b)) {
       case CGAL::LEFT_TURN:
@@ -220,7 +347,7 @@ void blocked_by_chain(const OccluderChains& chains, std::size_t c, const glm::dv
 }
 
 void cast_occluder_shadows(const Slice& slice, const OccluderChains& chains, std::span<const char> needed,
-                           ShadowScratch& s, SliceCones& cones) {
+                           double contact_tolerance, ShadowScratch& s, SliceCones& cones) {
   if (chains.chains.empty()) return;
   s.wedges_out.clear();
   s.offsets_out.assign(1, 0);
@@ -230,12 +357,13 @@ void cast_occluder_shadows(const Slice& slice, const OccluderChains& chains, std
       const std::span<const Wedge> cone = cones.cone(x, static_cast<Side>(side));
       s.side_cone[side].assign(cone.begin(), cone.end());
     }
-    const glm::dvec2& p = slice.vertices[x].point;
-    const bool wanted = needed.empty() || needed[x];
+    const bool wanted = (needed.empty() || needed[x]) && !(s.side_cone[0].empty() && s.side_cone[1].empty());
+    const Viewpoint from =
+        wanted ? contact_viewpoint(chains, slice.vertices[x].point, contact_tolerance) : Viewpoint{};
     for (std::size_t c = 0; wanted && c < chains.chains.size(); ++c) {
       if (s.side_cone[0].empty() && s.side_cone[1].empty()) break;
       s.united.clear();
-      blocked_by_chain(chains, c, p, s, s.united);  // once for both sides
+      blocked_by_chain(chains, c, from, s, s.united);  // once for both sides
       if (s.united.empty()) continue;
       s.visible.clear();  // built when a side needs it: the gaps between the blocked wedges
       bool gaps_built = false;

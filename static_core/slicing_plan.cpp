@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "static_core/input_error.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/mesh_validation.hpp"
 
@@ -143,23 +144,126 @@ Bounds cloth_bounds(const MeshTopology& topology, const Frame& frame) {
   return box;
 }
 
+std::vector<Index> cloth_vertices(const MeshTopology& topology) {
+  const Index receivers = topology.num_receivers();
+  std::vector<char> used(receivers, 0);
+  for (const Triangle& t : topology.triangles)
+    if (t[0] < receivers)
+      for (const Index v : t) used[v] = 1;
+  std::vector<Index> vertices;
+  for (Index v = 0; v < receivers; ++v)
+    if (used[v]) vertices.push_back(v);
+  return vertices;
+}
+
+namespace {
+
+/// 2^52: lattice indices beyond it are not all distinct doubles (k + 1 == k).
+constexpr double kExactLattice = 4503599627370496.0;
+
+std::string far_lattice(const SlicingPlan& plan, double lo, double hi) {
+  char text[300];
+  std::snprintf(text, sizeof text,
+                "the cloth lies %.6g to %.6g from the origin: planes %.6g apart cannot be told apart there "
+                "(more than 2^52 spacings out); move the scene nearer the origin or use a larger --spacing",
+                lo, hi, plan.spacing);
+  return text;
+}
+
+/// The message of a frame whose planes would be too many: the orientation, its extent and the vertex
+/// farthest from the median of the cloth's heights along it.
+std::string too_many_planes(const SlicingPlan& plan, std::span<const Index> cloth, const Frame& frame, int o,
+                            double planes) {
+  const glm::dvec3& n = plan.orientations[static_cast<std::size_t>(o)];
+  std::vector<double> height;
+  for (const Index v : cloth) height.push_back(glm::dot(n, frame.positions[v]));
+  std::vector<double> sorted = height;
+  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  std::size_t far = 0;
+  for (std::size_t i = 0; i < height.size(); ++i)
+    if (std::abs(height[i] - median) > std::abs(height[far] - median)) far = i;
+  const auto [lo, hi] = std::minmax_element(height.begin(), height.end());
+  char text[400];
+  std::snprintf(
+      text, sizeof text,
+      "the cloth spans %.6g along orientation %d (%.3f, %.3f, %.3f) and would take %.3g planes %.6g "
+      "apart (at most %zu a frame): vertex %u lies %.6g from the median of the cloth there; is the "
+      "simulation exploded? (`pleat info` lists far-flung vertices per frame)",
+      *hi - *lo, o, n.x, n.y, n.z, planes, plan.spacing, kMaxPlanesPerFrame, cloth[far],
+      std::abs(height[far] - median));
+  return text;
+}
+
+}  // namespace
+
+void planes_for_frame(const SlicingPlan& plan, std::span<const Index> cloth, const Frame& frame,
+                      std::vector<SlicingPlane>& out) {
+  if (!(plan.spacing > 0)) {
+    out = plan.planes;
+    return;
+  }
+  out.clear();
+  if (cloth.empty()) return;
+  const std::size_t orientations = plan.orientations.size();
+  // The range of k per orientation, counted before any plane is made.
+  std::vector<std::array<double, 2>> range(orientations);
+  double total = 0.0;
+  for (std::size_t o = 0; o < orientations; ++o) {
+    const glm::dvec3& n = plan.orientations[o];
+    double lo = INFINITY, hi = -INFINITY;
+    for (const Index v : cloth) {
+      const double d = glm::dot(n, frame.positions[v]);
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+    // cover_with_planes' k for [lo, hi], and one more each side: a plane within rounding of the extreme
+    // vertex's height may still cut it (the slicer decides the side exactly).
+    range[o] = {std::ceil(lo / plan.spacing - 0.5) - 1.0, std::floor(hi / plan.spacing - 0.5) + 1.0};
+    if (!(std::max(std::abs(range[o][0]), std::abs(range[o][1])) < kExactLattice))
+      throw InputError("slicing plan", frame_place(frame), far_lattice(plan, lo, hi));
+    const double planes = range[o][1] - range[o][0] + 1.0;
+    if (!(planes <= double(kMaxPlanesPerFrame)) || !(total + planes <= double(kMaxPlanesPerFrame)))
+      throw InputError("slicing plan", frame_place(frame),
+                       too_many_planes(plan, cloth, frame, int(o), total + planes));
+    total += planes;
+  }
+  out.reserve(static_cast<std::size_t>(total));
+  for (std::size_t o = 0; o < orientations; ++o)
+    for (double k = range[o][0]; k <= range[o][1]; ++k)
+      out.push_back(make_plane(plan.orientations[o], (k + 0.5) * plan.spacing, static_cast<int>(o)));
+}
+
 void cover_with_planes(SlicingPlan& plan, const Bounds& cover) {
   if (!(plan.spacing > 0) || !std::isfinite(plan.spacing))
     throw std::invalid_argument("cover_with_planes: the plan's spacing must be positive and finite");
   if (cover.empty()) throw std::invalid_argument("cover_with_planes: nothing to cover");
-  plan.planes.clear();
-  for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
-    const auto [lo, hi] = extent_along(cover, plan.orientations[o]);
-    // Every k with lo <= (k + 1/2) * spacing <= hi: a plane at a vertex's height counts it above (the
-    // slicer's perturbation), so the closed range keeps every plane that can cut.
+  // Every k with lo <= (k + 1/2) * spacing <= hi: a plane at a vertex's height counts it above (the slicer's
+  // perturbation), so the closed range keeps every plane that can cut. Counted before any plane is made.
+  std::vector<std::array<double, 2>> range;
+  double total = 0.0;
+  for (const glm::dvec3& n : plan.orientations) {
+    const auto [lo, hi] = extent_along(cover, n);
     const double first = std::ceil(lo / plan.spacing - 0.5), last = std::floor(hi / plan.spacing - 0.5);
-    if (last - first > 1e7)
-      throw std::invalid_argument("slicing plan: more than ten million planes of one orientation (spacing " +
-                                  std::to_string(plan.spacing) + " over an extent of " +
-                                  std::to_string(hi - lo) + ")");
-    for (double k = first; k <= last; ++k)
-      plan.planes.push_back(make_plane(plan.orientations[o], (k + 0.5) * plan.spacing, o));
+    if (!(std::max(std::abs(first), std::abs(last)) < kExactLattice))
+      throw std::invalid_argument("slicing plan: " + far_lattice(plan, lo, hi));
+    total += std::max(0.0, last - first + 1.0);
+    if (!(total <= double(kMaxPlanesPerFrame))) {
+      char text[300];
+      std::snprintf(
+          text, sizeof text,
+          "slicing plan: planes %.6g apart over an extent of %.6g would be %.3g planes or more (at most "
+          "%zu): a larger --spacing or --spacing-edges",
+          plan.spacing, hi - lo, total, kMaxPlanesPerFrame);
+      throw std::invalid_argument(text);
+    }
+    range.push_back({first, last});
   }
+  plan.planes.clear();
+  plan.planes.reserve(static_cast<std::size_t>(total));
+  for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o)
+    for (double k = range[std::size_t(o)][0]; k <= range[std::size_t(o)][1]; ++k)
+      plan.planes.push_back(make_plane(plan.orientations[std::size_t(o)], (k + 0.5) * plan.spacing, o));
 }
 
 SlicingPlane make_plane(const glm::dvec3& normal, double offset, int orientation) {

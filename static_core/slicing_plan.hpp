@@ -9,7 +9,9 @@
 // function below that takes (topology, frame) validates them (static_core/mesh_validation.hpp: InputError).
 #pragma once
 
+#include <cstddef>
 #include <glm/vec3.hpp>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -76,6 +78,24 @@ struct SlicingPlan {
   /// counted, light plans) and are the plan.
   double spacing = 0.0;
 };
+
+/// The most planes one frame may take (planes_for_frame): a thousand times a 300k-vertex cloth's. More means
+/// a frame whose cloth spans far more than its edges can account for (an exploded simulation, a stray
+/// vertex), and a clear error instead of the memory it would take.
+inline constexpr std::size_t kMaxPlanesPerFrame = 1'000'000;
+
+/// The vertices the cloth's triangles use (below MeshTopology::num_receivers): what a frame's planes cover.
+std::vector<Index> cloth_vertices(const MeshTopology& topology);
+
+/// The planes that cut `frame`: for a lattice plan (spacing > 0) the lattice planes within the extent of the
+/// `cloth` vertices (cloth_vertices) along each orientation, and one more on each side (beyond the rounding
+/// of a dot product), ordered by orientation, then offset — a plane beyond the cloth offers no cone, so a
+/// frame costs what its own cloth spans, and its result does not depend on other frames; for any other plan,
+/// plan.planes. The offsets are those of cover_with_planes, bit for bit. Throws InputError before allocating
+/// when they would be more than kMaxPlanesPerFrame, naming the orientation, the extent and the vertex
+/// farthest from the cloth's median. O(cloth x orientations + planes).
+void planes_for_frame(const SlicingPlan& plan, std::span<const Index> cloth, const Frame& frame,
+                      std::vector<SlicingPlane>& out);
 
 /// Replaces plan.planes by the lattice planes of every orientation that meet `cover`: offsets
 /// (k + 1/2) * plan.spacing, k integer, within the box's extent along the orientation, ordered by

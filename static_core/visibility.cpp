@@ -33,7 +33,7 @@ void process_plane(const MeshTopology& topology, const MeshConnectivity& connect
              marks.flat_edges);
   ws.triangulation.build(out.slice);
   out.crossings = ws.triangulation.crossings();
-  compute_plane_cones(ws.triangulation, ws.cones, out);
+  compute_plane_cones(ws.triangulation, topology.contact_tolerance, ws.cones, out);
 }
 
 }  // namespace
@@ -63,19 +63,21 @@ struct StaticVisibility::Impl {
   Impl(const MeshTopology& topology, SlicingPlan plan, const VisibilityParams& params)
       : topology(topology),
         plan(std::move(plan)),
+        frame_plan(this->plan),
         params(params),
         connectivity(topology),
-        planes(this->plan.planes.size()),
-        plane_views(planes.size()),
-        assembler(topology, connectivity, this->plan, params) {}
+        cloth(cloth_vertices(topology)),
+        assembler(topology, connectivity, frame_plan, params) {}
 
   void compute(const Frame& frame, FrameVisibility& result);
 
   const MeshTopology& topology;
   SlicingPlan plan;
+  SlicingPlan frame_plan;  // the plan with this frame's planes (planes_for_frame): what the assembler reads
   VisibilityParams params;
-  MeshConnectivity connectivity;  // built once: a sequence keeps its connectivity
-  std::vector<PlaneCones> planes;
+  MeshConnectivity connectivity;   // built once: a sequence keeps its connectivity
+  std::vector<Index> cloth;        // the vertices the cloth's triangles use (cloth_vertices)
+  std::vector<PlaneCones> planes;  // at least as many as the frame's planes: memory kept between frames
   std::vector<const PlaneCones*> plane_views;  // the assembler's view of `planes`
   std::vector<std::vector<Index>> faces;       // candidate faces per plane
   FrameMarks marks;                            // this frame's (mark_frame)
@@ -85,18 +87,22 @@ struct StaticVisibility::Impl {
 };
 
 void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result) {
-  candidate_faces_per_plane(topology, frame, plan, faces);
+  planes_for_frame(plan, cloth, frame, frame_plan.planes);
+  const std::size_t n = frame_plan.planes.size();
+  if (planes.size() < n) planes.resize(n);
+  candidate_faces_per_plane(topology, frame, frame_plan, faces);
   mark_frame(topology, connectivity, frame, marks);
   // Every plane on its own: slice, triangulate, shortest-path trees, 2D cones.
   auto run = [&](std::size_t p) {
-    process_plane(topology, connectivity, frame, plan.planes[p], plan.storage, faces[p], marks,
+    process_plane(topology, connectivity, frame, frame_plan.planes[p], plan.storage, faces[p], marks,
                   workspaces.local(), planes[p]);
   };
   if (params.parallel)
-    tbb::parallel_for(std::size_t(0), planes.size(), run);
+    tbb::parallel_for(std::size_t(0), n, run);
   else
-    for (std::size_t p = 0; p < planes.size(); ++p) run(p);
-  for (std::size_t p = 0; p < planes.size(); ++p) plane_views[p] = &planes[p];
+    for (std::size_t p = 0; p < n; ++p) run(p);
+  plane_views.resize(n);
+  for (std::size_t p = 0; p < n; ++p) plane_views[p] = &planes[p];
   assembler.assemble(frame, marks, plane_views, result);
 }
 

@@ -33,6 +33,11 @@ struct VisibilityStats {
   std::size_t crossing_slices = 0;      ///< slices whose chains cross (self-intersecting input)
   std::size_t chain_crossings = 0;      ///< crossing points found in those slices
   std::vector<double> filled_fraction;  ///< per orientation: fraction of vertices that copied a cone
+  /// Cloth vertices deeper than the contact tolerance inside a closed occluder or a ground plane's solid,
+  /// taken as on its surface (check_contact), and the deepest of them (0: none).
+  std::size_t penetrating_vertices = 0;
+  double deepest_penetration = 0.0;
+  Index deepest_vertex = 0;
 };
 
 /// Everything computed for one frame, indexed by welded vertex.

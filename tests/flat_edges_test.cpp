@@ -223,9 +223,9 @@ TEST(FlatEdges, ShadowsEqualThoseOfTheOccluderSlicedInFull) {
     SliceCones a = bare, b = bare;
     OccluderChains chains;
     gather_occluder_chains(through, shadows, chains);
-    cast_occluder_shadows(sheet, chains, {}, shadows, a);
+    cast_occluder_shadows(sheet, chains, {}, 0.0, shadows, a);
     gather_occluder_chains(full, shadows, chains);
-    cast_occluder_shadows(sheet, chains, {}, shadows, b);
+    cast_occluder_shadows(sheet, chains, {}, 0.0, shadows, b);
     for (Index x = 0; x < sheet.vertices.size(); ++x)
       for (Side side : kBothSides) {
         auto set = [&](const SliceCones& c) {

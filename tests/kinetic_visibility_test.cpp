@@ -113,7 +113,7 @@ std::string compare_slice(const KineticVisibility& kinetic, std::size_t p, const
   mark_frame(topology, connectivity, frame, marks);
   if (offer_plane_cones(topology.num_receivers(), kinetic.plan().storage, frame, marks.whole_fans, scratch,
                         fresh))
-    compute_plane_cones(st, scratch, fresh);
+    compute_plane_cones(st, 0.0, scratch, fresh);
   const Slice& slice = fresh.slice;
   const SliceCones& cones = fresh.cones;
   const kinetic::KineticSlice& ks = kinetic::KineticInspect::slice(kinetic, p);

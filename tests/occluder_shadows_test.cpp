@@ -51,7 +51,65 @@ Chains chains_of(const Slice& slice) {
   return out;
 }
 
-std::size_t g_shadowed = 0;  // cones a shadow changed, over the comparisons
+std::size_t g_shadowed = 0;    // cones a shadow changed, over the comparisons
+std::size_t g_in_contact = 0;  // cloth vertices inside a closed occluder, over the comparisons
+
+/// The brute-force contact rule (docs/method.md §6.2), in doubles: whether p lies inside the closed loops of
+/// `occluders` (even-odd over all of them), and then the nearest point q of their segments and the segment.
+bool in_contact(const Chains& occluders, const glm::dvec2& p, glm::dvec2& q, std::array<glm::dvec2, 2>& at) {
+  bool inside = false;
+  double best = INFINITY;
+  for (std::size_t c = 0; c < occluders.points.size(); ++c) {
+    if (!occluders.closed[c]) continue;
+    const auto& loop = occluders.points[c];
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const glm::dvec2 a = loop[i], b = loop[(i + 1) % loop.size()];
+      if ((a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)) inside = !inside;
+      const double t = std::clamp(glm::dot(p - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
+      const glm::dvec2 near = a + t * (b - a);
+      if (glm::distance(p, near) < best) {
+        best = glm::distance(p, near);
+        q = near;
+        at = {a, b};
+      }
+    }
+  }
+  return inside;
+}
+
+/// Whether the ray from q in direction `angle` meets a segment of `occluders` other than `at` (the one q lies
+/// on) and those ending at q, in doubles.
+bool blocked_from(const Chains& occluders, const glm::dvec2& q, const std::array<glm::dvec2, 2>& at,
+                  double angle) {
+  const glm::dvec2 d(std::cos(angle), std::sin(angle));
+  for (std::size_t c = 0; c < occluders.points.size(); ++c) {
+    const auto& chain = occluders.points[c];
+    const std::size_t segments = occluders.closed[c] ? chain.size() : chain.size() - 1;
+    for (std::size_t i = 0; i < segments && chain.size() > 1; ++i) {
+      const glm::dvec2 a = chain[i], b = chain[(i + 1) % chain.size()];
+      if ((a == at[0] && b == at[1]) || a == q || b == q) continue;
+      const glm::dvec2 e = b - a, w = a - q;
+      const double den = d.x * e.y - d.y * e.x;
+      if (den == 0.0) continue;
+      const double t = (w.x * e.y - w.y * e.x) / den, u = (w.x * d.y - w.y * d.x) / den;
+      if (t > 1e-12 && u >= 0.0 && u <= 1.0) return true;
+    }
+  }
+  return false;
+}
+
+/// For a cloth vertex in contact: where the computed cone differs from the cloth's own cone (the oracle on
+/// the cloth alone) less what the occluders block seen from q, sampled at 3600 directions; "" when nowhere.
+std::string contact_mismatch(const Chains& occluders, const glm::dvec2& q,
+                             const std::array<glm::dvec2, 2>& at, const AngularSet& own,
+                             const AngularSet& computed) {
+  int differ = 0;
+  for (int k = 0; k < 3600; ++k) {
+    const double angle = (k + 0.5) * 2 * M_PI / 3600;
+    differ += computed.contains(angle) != (own.contains(angle) && !blocked_from(occluders, q, at, angle));
+  }
+  return differ > 2 ? std::to_string(differ) + " of 3600 directions differ seen from the contact point" : "";
+}
 
 /// The cloth's chains triangulated and the occluders' cast as shadows, against the oracle on the slice of
 /// both: "" when every cloth vertex's cones match on both sides.
@@ -61,7 +119,8 @@ std::string compare(const Chains& cloth, const Chains& occluders) {
   Chains both = cloth;
   both.points.insert(both.points.end(), occluders.points.begin(), occluders.points.end());
   both.closed.insert(both.closed.end(), occluders.closed.begin(), occluders.closed.end());
-  const auto expected = oracle::brute_force_slice_cones(test::make_slice(both.points, both.closed));
+  auto expected = oracle::brute_force_slice_cones(test::make_slice(both.points, both.closed));
+  const auto own = oracle::brute_force_slice_cones(cloth_slice);
   SliceTriangulation triangulation;
   triangulation.build(cloth_slice);
   SliceConeScratch scratch;
@@ -71,14 +130,27 @@ std::string compare(const Chains& cloth, const Chains& occluders) {
   ShadowScratch shadow_scratch;
   OccluderChains chains;
   gather_occluder_chains(occluder_slice, shadow_scratch, chains);
-  cast_occluder_shadows(cloth_slice, chains, {}, shadow_scratch, cones);
-  for (Index x = 0; x < cloth_slice.vertices.size(); ++x)
+  cast_occluder_shadows(cloth_slice, chains, {}, 0.0, shadow_scratch, cones);
+  for (Index x = 0; x < cloth_slice.vertices.size(); ++x) {
     for (Side side : kBothSides) {
       const auto now = cones.cone(x, side), before = unshadowed.cone(x, side);
       g_shadowed +=
           oracle::angular_difference(AngularSet::from_wedges({now.begin(), now.end()}),
                                      AngularSet::from_wedges({before.begin(), before.end()})) > 1e-9;
     }
+    // Inside a solid occluder: seen from the nearest point of its surface (the contact rule).
+    glm::dvec2 q;
+    std::array<glm::dvec2, 2> at;
+    if (!in_contact(occluders, cloth_slice.vertices[x].point, q, at)) continue;
+    ++g_in_contact;
+    for (Side side : kBothSides) {
+      const auto now = cones.cone(x, side);
+      const AngularSet computed = AngularSet::from_wedges({now.begin(), now.end()});
+      if (std::string m = contact_mismatch(occluders, q, at, own[x][int(side)], computed); !m.empty())
+        return "slice vertex " + std::to_string(x) + " side " + std::to_string(int(side)) + ": " + m;
+      expected[x][int(side)] = computed;  // checked here, not by the sweep of the slice of both
+    }
+  }
   return oracle::first_mismatch(cloth_slice, cones, expected, "shadows");
 }
 
@@ -149,7 +221,7 @@ AngularSet seen_from_first_vertex(const Slice& cloth, const Slice& occluders) {
   ShadowScratch shadow_scratch;
   OccluderChains chains;
   gather_occluder_chains(occluders, shadow_scratch, chains);
-  cast_occluder_shadows(cloth, chains, {}, shadow_scratch, cones);
+  cast_occluder_shadows(cloth, chains, {}, 0.0, shadow_scratch, cones);
   const auto front = cones.cone(0, Side::Front), back = cones.cone(0, Side::Back);
   return AngularSet::from_wedges({front.begin(), front.end()})
       .unite(AngularSet::from_wedges({back.begin(), back.end()}));
@@ -193,6 +265,23 @@ RC_GTEST_PROP(OccluderShadows, MatchTheAngularSweepOnRandomChains, ()) {
     const std::string mismatch = compare_split(test::random_chain_slice(rng), rng);
     RC_ASSERT(mismatch == "");
   }
+}
+
+TEST(OccluderShadows, ClothInsideASolidSeesFromItsSurface) {
+  // Cloth sunk into a square and a 40-gon (sections of a box and an arm): every vertex inside is seen from
+  // the nearest point of the surface, so the square's top blocks none of what lies above it.
+  const Chains occluders{{{{-1, -1}, {1, -1}, {1, 0}, {-1, 0}}, polygon({4.0, 0.0}, 1.0, 40)}, {true, true}};
+  const Chains cloth{{{{-0.8, -0.001}, {-0.2, 0.01}, {0.5, -0.002}}, {{3.2, 0.8}, {3.9, 0.98}, {4.6, 0.7}}},
+                     {false, false}};
+  g_in_contact = 0;
+  EXPECT_EQ(compare(cloth, occluders), "");
+  EXPECT_EQ(g_in_contact, 4u);
+  // The first vertex, 1 mm into the square's top: above, the whole half-plane; below, nothing.
+  const Slice slice = test::make_slice({cloth.points[0]}, {false});
+  const Slice square = test::make_slice({occluders.points[0]}, {true});
+  EXPECT_LT(oracle::angular_difference(seen_from_first_vertex(slice, square),
+                                       AngularSet::from_wedges({{0.0, M_PI}})),
+            0.02);
 }
 
 RC_GTEST_PROP(OccluderShadows, MatchTheAngularSweepOnSlicedSurfaces, ()) {

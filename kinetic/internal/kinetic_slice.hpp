@@ -167,7 +167,7 @@ class KineticSlice {
   bool offer_cones(const MeshTopology& topology, const Frame& frame, const FrameMarks& marks,
                    KineticScratch& scratch);
   /// The 2D cones of the offered slice vertices, from the triangulation in `scratch`.
-  void grow_cones(KineticScratch& scratch);
+  void grow_cones(double contact_tolerance, KineticScratch& scratch);
   /// Step 2 of the header comment: certify every face at the next frame and take out the vertices of
   /// failed certificates, up to `budget` of them. Returns why the slice must be rebuilt, or none.
   RebuildReason certify_at_next_frame(std::size_t budget, KineticScratch& scratch, KineticCounts& counts);

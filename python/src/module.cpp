@@ -212,6 +212,7 @@ struct FrameResult {
   py::array_t<double> solid_angles;    ///< (V, 2)
   std::shared_ptr<const Cones> cones;  ///< per welded vertex; null when not kept
   std::shared_ptr<const std::vector<Index>> welded_of_input;
+  std::size_t penetrating_vertices = 0;  ///< deeper than the contact tolerance in an occluder or the ground
 
   py::list cone(py::ssize_t vertex, py::handle side) const {
     if (!cones) throw py::value_error("cone: this result was computed with keep_cones=False");
@@ -263,7 +264,7 @@ class PyEngine {
   PyEngine(py::object faces, py::object positions, const std::string& engine, py::object orientations,
            py::object spacing, py::object spacing_edges, py::object planes, bool adaptive, double max_missing,
            const std::string& cone_storage, bool paper, py::object plan, py::object occluders,
-           py::object ground, py::object threads, double max_edit_fraction) {
+           py::object ground, py::object threads, double max_edit_fraction, py::object contact_tolerance) {
     EngineParams params;
     params.kind = engine_kind_from_name(engine);
     if (!(max_edit_fraction >= 0)) bad("max_edit_fraction: must be >= 0");
@@ -283,6 +284,12 @@ class PyEngine {
     std::vector<GroundPlane> grounds;
     if (!ground.is_none())
       grounds.push_back(parse_ground_plane(option(ground, std::string(), "ground", "a str like 'y=0'")));
+    std::optional<double> tolerance;
+    if (!contact_tolerance.is_none()) {
+      tolerance = option(contact_tolerance, 0.0, "contact_tolerance", "a number");
+      if (!(std::isfinite(*tolerance) && *tolerance >= 0))
+        bad("contact_tolerance: must be a finite distance >= 0");
+    }
     const int thread_count = option(threads, 0, "threads", "an int");
     if (thread_count < 0) bad("threads: must be >= 0 (0 or None: all cores)");
     m_arena =
@@ -309,7 +316,7 @@ class PyEngine {
       std::vector<Scene::LoadedOccluder> loaded;
       for (std::size_t i = 1; i < m_meshes.size(); ++i)
         loaded.push_back({m_meshes[i].name, make_sequence(m_meshes[i])});
-      m_scene = std::make_unique<Scene>(Scene::with_loaded(*m_cloth, std::move(loaded), grounds));
+      m_scene = std::make_unique<Scene>(Scene::with_loaded(*m_cloth, std::move(loaded), grounds, tolerance));
       m_engine = std::make_unique<Engine>(m_scene->topology(), plan_options.make(*m_cloth), params);
     });
     m_welded_of_input = std::make_shared<const std::vector<Index>>(m_cloth->welded_of_input());
@@ -340,6 +347,7 @@ class PyEngine {
         const FrameVisibility& vis =
             m_engine->compute(m_scene->with_occluders(std::size_t(frame_index), frame));
         write_result(vis, out);
+        result.penetrating_vertices = vis.stats.penetrating_vertices;
         if (keep_cones) cones = std::make_shared<Cones>(vis.cones);
       });
     }
@@ -355,24 +363,45 @@ class PyEngine {
     py::array_t<double> out = given.one_frame ? py::array_t<double>({vertices, py::ssize_t(2)})
                                               : py::array_t<double>({frames, vertices, py::ssize_t(2)});
     double* data = out.mutable_data();
-    py::gil_scoped_release release;
-    m_arena->execute([&] {
-      for (std::size_t f = 0; f < std::size_t(frames); ++f) {
-        const FrameVisibility& vis = m_engine->compute(m_scene->frame(f));
-        const std::vector<Index>& welded = *m_welded_of_input;
-        double* row = data + f * std::size_t(vertices) * 2;
-        for (std::size_t v = 0; v < welded.size(); ++v) {
-          row[2 * v] = vis.measure(Side::Front, welded[v]).sky_visibility;
-          row[2 * v + 1] = vis.measure(Side::Back, welded[v]).sky_visibility;
+    std::size_t sunk_frames = 0, first_sunk = 0, first_count = 0;
+    {
+      py::gil_scoped_release release;
+      m_arena->execute([&] {
+        for (std::size_t f = 0; f < std::size_t(frames); ++f) {
+          const FrameVisibility& vis = m_engine->compute(m_scene->frame(f));
+          if (vis.stats.penetrating_vertices > 0 && sunk_frames++ == 0) {
+            first_sunk = f;
+            first_count = vis.stats.penetrating_vertices;
+          }
+          const std::vector<Index>& welded = *m_welded_of_input;
+          double* row = data + f * std::size_t(vertices) * 2;
+          for (std::size_t v = 0; v < welded.size(); ++v) {
+            row[2 * v] = vis.measure(Side::Front, welded[v]).sky_visibility;
+            row[2 * v + 1] = vis.measure(Side::Back, welded[v]).sky_visibility;
+          }
         }
-      }
-    });
+      });
+    }
+    if (sunk_frames > 0) {
+      const std::string message =
+          "cloth lies deeper than the contact tolerance (" +
+          std::to_string(m_scene->topology().contact_tolerance) +
+          ") inside an occluder or below the ground in " + std::to_string(sunk_frames) +
+          " frames (first: frame " + std::to_string(first_sunk) + ", " + std::to_string(first_count) +
+          " vertices); those vertices were taken as lying on the surface (contact_tolerance=)";
+      if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 1) != 0) throw py::error_already_set();
+    }
     return out;
   }
 
   std::size_t num_vertices() const { return m_cloth->num_input_vertices(); }
   std::size_t num_frames() const { return m_cloth->num_frames(); }
-  std::size_t num_planes() const { return m_engine->plan().planes.size(); }
+  /// The planes of the first frame given (a lattice plan's planes follow each frame's cloth).
+  std::size_t num_planes() const {
+    std::vector<SlicingPlane> planes;
+    planes_for_frame(m_engine->plan(), cloth_vertices(m_cloth->topology()), m_cloth->frame(0), planes);
+    return planes.size();
+  }
   std::string kind() const { return engine_kind_name(m_engine->kind()); }
 
  private:
@@ -484,6 +513,9 @@ PYBIND11_MODULE(_pleat, m) {
       .def_readonly("sky_visibility", &FrameResult::sky_visibility, "(V, 2) float64: A of the front, back")
       .def_readonly("bent_normals", &FrameResult::bent_normals, "(V, 2, 3) float64: unit bent normals")
       .def_readonly("solid_angles", &FrameResult::solid_angles, "(V, 2) float64: steradians of each cone")
+      .def_readonly("penetrating_vertices", &FrameResult::penetrating_vertices,
+                    "cloth vertices deeper than the contact tolerance inside an occluder or below the ground "
+                    "(taken as lying on its surface)")
       .def("cone", &FrameResult::cone, py::arg("vertex"), py::arg("side"),
            "The cone of `vertex` on `side` (0 or 'front', 1 or 'back'): a list of its pieces, each an (n, 3) "
            "array of unit edge directions, counter-clockwise about the side's normal.");
@@ -493,24 +525,27 @@ PYBIND11_MODULE(_pleat, m) {
 
 Engine(faces, positions, *, engine="kinetic", orientations=None, spacing=None, spacing_edges=None, planes=None,
        adaptive=False, max_missing=0.05, cone_storage="aimed-on-fan", paper=False, plan=None,
-       occluders=(), ground=None, threads=None, max_edit_fraction=0.5)
+       occluders=(), ground=None, threads=None, max_edit_fraction=0.5, contact_tolerance=None)
 
 faces: (F, 3) integers; positions: (T, V, 3) or (V, 3) float64/float32, every frame the engine will be asked
 for: the plan is made from them as `pleat visibility` makes it (orientations and spacing from the first frame,
 planes over the box of all), and vertices that coincide in all of them are welded. The options are those of
 `pleat visibility` (None: its default); occluders: a sequence of (faces, positions) pairs, positions (V, 3)
-static or (T, V, 3) animated, or of pleat.load results; ground: "y=0"; threads: None or 0 for all cores.
+static or (T, V, 3) animated, or of pleat.load results; ground: "y=0" (a floor; "-y=0": solid above);
+contact_tolerance: how far behind an open occluder cloth still rests on it, and the depth beyond which sunk
+vertices are reported (None: half the mean edge length); threads: None or 0 for all cores.
 C-contiguous float64/float32 positions are read in place, not copied: leave them unchanged while the engine
 lives (animated occluders are read from them frame by frame).)")
       .def(py::init<py::object, py::object, const std::string&, py::object, py::object, py::object,
                     py::object, bool, double, const std::string&, bool, py::object, py::object, py::object,
-                    py::object, double>(),
+                    py::object, double, py::object>(),
            py::arg("faces"), py::arg("positions"), py::kw_only(), py::arg("engine") = "kinetic",
            py::arg("orientations") = py::none(), py::arg("spacing") = py::none(),
            py::arg("spacing_edges") = py::none(), py::arg("planes") = py::none(), py::arg("adaptive") = false,
            py::arg("max_missing") = 0.05, py::arg("cone_storage") = "aimed-on-fan", py::arg("paper") = false,
            py::arg("plan") = py::none(), py::arg("occluders") = py::tuple(), py::arg("ground") = py::none(),
-           py::arg("threads") = py::none(), py::arg("max_edit_fraction") = 0.5)
+           py::arg("threads") = py::none(), py::arg("max_edit_fraction") = 0.5,
+           py::arg("contact_tolerance") = py::none())
       .def("compute", &PyEngine::compute, py::arg("positions"), py::kw_only(), py::arg("frame_index") = 0,
            py::arg("keep_cones") = true,
            "compute(positions, *, frame_index=0, keep_cones=True) -> FrameResult: the frame whose (V, 3) "

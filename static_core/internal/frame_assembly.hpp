@@ -114,8 +114,10 @@ bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& fr
 
 /// The 2D cones of the slice vertices offer_plane_cones found needed, once the cloth's slice is triangulated,
 /// with the occluders' shadows taken out (cast_occluder_shadows) — no other cone is ever read, so no other is
-/// computed (occluders block sight lines and get none).
-void compute_plane_cones(const SliceTriangulation& triangulation, PlaneConeScratch& scratch, PlaneCones& out);
+/// computed (occluders block sight lines and get none). `contact_tolerance` is the scene's
+/// (MeshTopology::contact_tolerance).
+void compute_plane_cones(const SliceTriangulation& triangulation, double contact_tolerance,
+                         PlaneConeScratch& scratch, PlaneCones& out);
 
 /// Per-thread memory of nearest_sources.
 struct NearestSourceScratch {

@@ -7,6 +7,10 @@
 //     a connected chain holds its hull's vertices, so a line through the hull's interior separates two of
 //     them and crosses the chain between them, in front of p (the argument of Stewart's §2.3.2 for holes);
 //   - from any other point, the union of the ranges its segments subtend (a segment through p blocks none).
+// Cloth in contact (docs/method.md §6.2): a point inside a closed chain (inside a solid occluder, exact
+// parity), or behind an open chain's surface within the scene's contact tolerance, is seen from the nearest
+// point of the occluders' surface instead (contact_viewpoint), so that touching or sinking into a collider
+// never inverts the cone.
 // So the cone is the cloth's cone minus those ranges, each end at a chain vertex as a funnel tree would put
 // it (thin_wedge_between of the directions to the two vertices), with its reach. The occluders' triangles,
 // regions and windows are never built: a body or a table costs its slicing and a hull per chain.
@@ -36,6 +40,7 @@ struct OccluderChains {
     glm::dvec2 centre{0.0};                              ///< of the hull's vertices (three or more)
     double radius = 0.0;                                 ///< their mean distance from it
     std::uint32_t polar_first = 0;                       ///< the hull vertex at the smallest polar angle
+    bool closed = false;  ///< one loop (every vertex on two segments): the section of a solid
   };
   std::vector<Chain> chains;
   std::vector<std::array<glm::dvec2, 2>> segments;
@@ -47,6 +52,7 @@ struct OccluderChains {
 /// Per-thread memory of the shadows.
 struct ShadowScratch {
   std::vector<int> parent, chain_of;     // per occluder slice vertex: union-find, its chain
+  std::vector<std::uint8_t> degree;      // per occluder slice vertex: its segments
   std::vector<Index> order, edge_order;  // vertices and edges by chain
   std::vector<std::size_t> first;        // (the counting sort's)
   std::vector<glm::dvec2> points;        // of one chain
@@ -64,13 +70,32 @@ struct ShadowScratch {
 /// The chains of `occluders` (an occluders-only slice), with their hulls and boxes.
 void gather_occluder_chains(const Slice& occluders, ShadowScratch& scratch, OccluderChains& out);
 
-/// What chain `c` blocks from p: united wedges (is_united), appended to `out`.
-void blocked_by_chain(const OccluderChains& chains, std::size_t c, const glm::dvec2& p,
+/// Where the occluders are seen from for a cloth point p: p itself, or, in contact, a point of a chain (the
+/// segment it lies on, or the end of it). Seen from a point on a closed chain, the segments through it block
+/// nothing (the rest of the loop blocks the solid); on an open chain, the segment blocks its back half-plane.
+struct Viewpoint {
+  glm::dvec2 point{0.0};
+  std::int32_t chain = -1;    ///< the chain `point` lies on (-1: p itself, on none)
+  std::uint32_t segment = 0;  ///< into OccluderChains::segments
+  int end = -1;               ///< -1: inside the segment; 0, 1: at its first or second end
+  bool open = false;          ///< the chain is open
+};
+
+/// The viewpoint of a cloth point p: the nearest point of the closed chains' segments when p lies inside or
+/// on a closed chain (the parity of their crossings, exact); else the nearest point of an open chain's
+/// segment when p lies on it or behind it (on its back, right side) no farther than `tolerance` in the plane;
+/// else p. O(segments of the chains whose box holds p), O(chains) when none does.
+Viewpoint contact_viewpoint(const OccluderChains& chains, const glm::dvec2& p, double tolerance);
+
+/// What chain `c` blocks seen from `from`: united wedges (is_united), appended to `out`. Segments through
+/// the viewpoint block nothing.
+void blocked_by_chain(const OccluderChains& chains, std::size_t c, const Viewpoint& from,
                       ShadowScratch& scratch, std::vector<Wedge>& out);
 
 /// Takes from the cone of every needed slice vertex of `slice` (empty `needed`: every one) on both sides what
-/// the chains block (blocked_by_chain), in place.
+/// the chains block seen from its viewpoint (contact_viewpoint with `contact_tolerance`, blocked_by_chain),
+/// in place.
 void cast_occluder_shadows(const Slice& slice, const OccluderChains& chains, std::span<const char> needed,
-                           ShadowScratch& scratch, SliceCones& cones);
+                           double contact_tolerance, ShadowScratch& scratch, SliceCones& cones);
 
 }  // namespace pleat
