@@ -99,7 +99,7 @@ void run_info(const InfoOptions& options) {
            report.frames_with_far_flung ? nlohmann::json(report.far_flung_first_frame) : nlohmann::json()},
           {"first_count", report.far_flung_first_count},
           {"vertex", input_of(report.far_flung_vertex)},
-          {"edge_over_median", report.far_flung_ratio}}},
+          {"distance_over_median", report.far_flung_ratio}}},
     };
     if (options.check_intersections) {
       j["self_intersections"] = {{"frames_with_intersections", frames_with_intersections},
@@ -133,12 +133,12 @@ void run_info(const InfoOptions& options) {
       << " frames with any)\n";
   out << "far-flung vertices  ";
   if (report.frames_with_far_flung == 0)
-    out << "none (no edge over " << kFarFlungEdges << "x its frame's median)\n";
+    out << "none (none over " << kFarFlung << "x the median distance from the median point)\n";
   else
     out << report.frames_with_far_flung << " frames, at most " << report.far_flung_max
         << " vertices; first frame " << report.far_flung_first_frame << ": " << report.far_flung_first_count
-        << ", vertex " << input_of(report.far_flung_vertex) << " on an edge "
-        << number(report.far_flung_ratio) << "x the median (an exploded simulation?)\n";
+        << ", vertex " << input_of(report.far_flung_vertex) << " at " << number(report.far_flung_ratio)
+        << "x the median distance from the median point (an exploded simulation?)\n";
   out << "components          " << t.components << " (" << t.isolated_vertices << " isolated vertices)\n";
   if (options.check_intersections) {
     out << "self-intersections  " << frames_with_intersections << " of " << report.frames

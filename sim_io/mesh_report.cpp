@@ -47,36 +47,35 @@ std::size_t count_degenerate_faces(const MeshTopology& topology, const Frame& fr
 }
 
 std::size_t count_far_flung(const MeshTopology& topology, const Frame& frame, Index& worst, double& ratio) {
-  std::vector<double> lengths;
-  lengths.reserve(3 * topology.triangles.size());
+  std::vector<char> used(topology.num_vertices, 0);
   for (const Triangle& t : topology.triangles)
-    for (int k = 0; k < 3; ++k)
-      lengths.push_back(glm::distance(frame.positions[t[k]], frame.positions[t[(k + 1) % 3]]));
-  if (lengths.empty()) return 0;
-  std::vector<double> sorted = lengths;
-  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2), sorted.end());
-  const double median = sorted[sorted.size() / 2];
-  if (!(median > 0)) return 0;
+    for (const Index v : t) used[v] = 1;
+  std::vector<Index> vertices;
+  for (Index v = 0; v < topology.num_vertices; ++v)
+    if (used[v]) vertices.push_back(v);
+  if (vertices.empty()) return 0;
+  const auto median = [](std::vector<double> values) {
+    std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(values.size() / 2), values.end());
+    return values[values.size() / 2];
+  };
   glm::dvec3 centre;  // the median point, coordinate by coordinate
   for (int a = 0; a < 3; ++a) {
     std::vector<double> c;
-    for (const glm::dvec3& p : frame.positions) c.push_back(p[a]);
-    std::nth_element(c.begin(), c.begin() + std::ptrdiff_t(c.size() / 2), c.end());
-    centre[a] = c[c.size() / 2];
+    for (const Index v : vertices) c.push_back(frame.positions[v][a]);
+    centre[a] = median(std::move(c));
   }
-  std::vector<char> far(topology.num_vertices, 0);
-  std::size_t count = 0, longest = 0;
-  for (std::size_t e = 0; e < lengths.size(); ++e) {
-    if (!(lengths[e] > kFarFlungEdges * median)) continue;
-    const Triangle& t = topology.triangles[e / 3];
-    for (const Index v : {t[e % 3], t[(e % 3 + 1) % 3]}) count += far[v] == 0, far[v] = 1;
-    if (lengths[e] > lengths[longest] || !(lengths[longest] > kFarFlungEdges * median)) longest = e;
+  std::vector<double> distance;
+  for (const Index v : vertices) distance.push_back(glm::distance(frame.positions[v], centre));
+  const double radius = median(distance);
+  if (!(radius > 0)) return 0;
+  std::size_t count = 0, farthest = 0;
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    if (distance[i] > kFarFlung * radius) ++count;
+    if (distance[i] > distance[farthest]) farthest = i;
   }
   if (count == 0) return 0;
-  const Triangle& t = topology.triangles[longest / 3];
-  const Index a = t[longest % 3], b = t[(longest % 3 + 1) % 3];
-  worst = glm::distance(frame.positions[a], centre) > glm::distance(frame.positions[b], centre) ? a : b;
-  ratio = lengths[longest] / median;
+  worst = vertices[farthest];
+  ratio = distance[farthest] / radius;
   return count;
 }
 

@@ -50,19 +50,20 @@ struct MeshReport {
   std::size_t degenerate_faces_first_frame = 0;
   std::size_t degenerate_faces_max = 0;  ///< over frames
   std::size_t frames_with_degenerate_faces = 0;
-  /// Far-flung vertices: ends of an edge more than kFarFlungEdges times the frame's median edge length (an
-  /// exploded simulation, a stray triangle), which stretch a frame's planes (slicing_plan.hpp).
+  /// Far-flung vertices: farther from the frame's median point than kFarFlung times the median distance of
+  /// the mesh's vertices from it (an exploded simulation, a stray triangle), which stretch a frame's planes
+  /// (slicing_plan.hpp).
   std::size_t frames_with_far_flung = 0;
   std::size_t far_flung_max = 0;                                     ///< over frames
   std::size_t far_flung_first_frame = 0, far_flung_first_count = 0;  ///< the first frame with any
-  Index far_flung_vertex = 0;    ///< there, the end of its longest edge farther from the frame's median point
-  double far_flung_ratio = 0.0;  ///< that edge's length over the median
+  Index far_flung_vertex = 0;                                        ///< there, the farthest
+  double far_flung_ratio = 0.0;  ///< its distance over the median distance
 };
 
-inline constexpr double kFarFlungEdges = 50.0;
+inline constexpr double kFarFlung = 20.0;
 
-/// The far-flung vertices of `frame` (MeshReport): their count, and in `worst` the end of the longest edge
-/// farther from the median point, in `ratio` that edge over the median edge. O(F log F).
+/// The far-flung vertices of `frame` among those some triangle uses (MeshReport): their count, the farthest
+/// in `worst` and its distance over the median distance in `ratio`. O(V).
 std::size_t count_far_flung(const MeshTopology& topology, const Frame& frame, Index& worst, double& ratio);
 
 /// Reads every frame once; `per_frame(i, frame)` (optional) sees each frame as it passes, e.g. for a

@@ -188,13 +188,16 @@ Viewpoint contact_viewpoint(const OccluderChains& chains, const glm::dvec2& p, d
         chains, p, [](const OccluderChains::Chain& c) { return c.closed; }, nearest);
     return viewpoint_at(chains, nearest);
   }
-  // On or behind an open surface (on its back, the right of its oriented segments), within the tolerance.
-  nearest.d2 = tolerance * tolerance;
-  nearest_segment(
-      chains, p, [](const OccluderChains::Chain& c) { return !c.closed; }, nearest);
-  if (nearest.chain >= 0) {
-    const auto& [a, b] = chains.segments[nearest.segment];
-    if (orient(a, b, p) != CGAL::LEFT_TURN) return viewpoint_at(chains, nearest);
+  // On or behind an open surface (on its back, the right of its oriented segments), within a tolerance (none:
+  // an open surface is taken as it is, a point on it seeing both ways).
+  if (tolerance > 0) {
+    nearest.d2 = tolerance * tolerance;
+    nearest_segment(
+        chains, p, [](const OccluderChains::Chain& c) { return !c.closed; }, nearest);
+    if (nearest.chain >= 0) {
+      const auto& [a, b] = chains.segments[nearest.segment];
+      if (orient(a, b, p) != CGAL::LEFT_TURN) return viewpoint_at(chains, nearest);
+    }
   }
   Viewpoint self;
   self.point = p;

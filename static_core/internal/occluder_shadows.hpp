@@ -83,8 +83,8 @@ struct Viewpoint {
 
 /// The viewpoint of a cloth point p: the nearest point of the closed chains' segments when p lies inside or
 /// on a closed chain (the parity of their crossings, exact); else the nearest point of an open chain's
-/// segment when p lies on it or behind it (on its back, right side) no farther than `tolerance` in the plane;
-/// else p. O(segments of the chains whose box holds p), O(chains) when none does.
+/// segment when p lies on it or behind it (on its back, right side) no farther than `tolerance` > 0 in the
+/// plane; else p. O(segments of the chains whose box holds p), O(chains) when none does.
 Viewpoint contact_viewpoint(const OccluderChains& chains, const glm::dvec2& p, double tolerance);
 
 /// What chain `c` blocks seen from `from`: united wedges (is_united), appended to `out`. Segments through
