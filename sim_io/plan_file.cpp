@@ -19,7 +19,9 @@ nlohmann::json to_json(const glm::dvec3& v) { return nlohmann::json::array({v.x,
 }  // namespace
 
 void write_plan_file(const std::filesystem::path& path, const SlicingPlan& plan) {
-  nlohmann::json out = {{"pleat_plan", kVersion}, {"storage", cone_storage_name(plan.storage)}};
+  nlohmann::json out = {{"pleat_plan", kVersion},
+                        {"storage", cone_storage_name(plan.storage)},
+                        {"reconstruction", cone_reconstruction_name(plan.reconstruction)}};
   out["orientations"] = nlohmann::json::array();
   for (const glm::dvec3& o : plan.orientations) out["orientations"].push_back(to_json(o));
   if (plan.spacing > 0) {
@@ -73,6 +75,14 @@ SlicingPlan read_plan_file(const std::filesystem::path& path) {
     plan.storage = cone_storage_from_name(doc["storage"].get<std::string>());
   } catch (const std::invalid_argument& e) {
     throw fail("storage", e.what());
+  }
+  if (doc.contains("reconstruction")) {  // files written before it was saved hold grouped plans
+    if (!doc["reconstruction"].is_string()) throw fail("reconstruction", "expected a rule name");
+    try {
+      plan.reconstruction = cone_reconstruction_from_name(doc["reconstruction"].get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw fail("reconstruction", e.what());
+    }
   }
   const nlohmann::json& orientations = doc.value("orientations", nlohmann::json());
   if (!orientations.is_array() || orientations.empty())

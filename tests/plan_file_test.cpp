@@ -16,6 +16,7 @@ namespace {
 
 void expect_same_bits(const SlicingPlan& a, const SlicingPlan& b) {
   EXPECT_EQ(a.storage, b.storage);
+  EXPECT_EQ(a.reconstruction, b.reconstruction);
   EXPECT_EQ(a.spacing, b.spacing);
   EXPECT_EQ(a.orientations, b.orientations);
   ASSERT_EQ(a.planes.size(), b.planes.size());
@@ -41,6 +42,31 @@ TEST(PlanFile, LatticePlanRoundTripsAndCoversAgainToTheSamePlanes) {
   EXPECT_TRUE(read.planes.empty());  // a lattice is stored without its planes
   cover_with_planes(read, cloth_bounds(cloth.topology(), frame));
   expect_same_bits(plan, read);
+}
+
+TEST(PlanFile, TheReconstructionRuleRoundTrips) {
+  // A nearest-circle plan read back as grouped gave other values, silently.
+  test::TempDir dir;
+  const ClothGenerator cloth(ClothKind::Roll, {16, 2, 24.0, 0});
+  SlicingPlan plan = make_diffuse_plan(cloth.topology(), cloth.frame(0), {});
+  for (const ConeReconstruction rule : {ConeReconstruction::NearestCircle, ConeReconstruction::Grouped}) {
+    plan.reconstruction = rule;
+    write_plan_file(dir / "p.json", plan);
+    EXPECT_EQ(read_plan_file(dir / "p.json").reconstruction, rule);
+  }
+  // A file without one (written before it was saved) holds a grouped plan; a bad name is refused.
+  std::ofstream(dir / "old.json")
+      << R"({"pleat_plan": 1, "storage": "aimed-on-fan", "orientations": [[0, 0, 1]],
+                                         "spacing": 0.1})";
+  EXPECT_EQ(read_plan_file(dir / "old.json").reconstruction, ConeReconstruction::Grouped);
+  std::ofstream(dir / "bad.json") << R"({"pleat_plan": 1, "storage": "aimed-on-fan", "reconstruction": "best",
+                                         "orientations": [[0, 0, 1]], "spacing": 0.1})";
+  try {
+    read_plan_file(dir / "bad.json");
+    FAIL() << "an unknown reconstruction rule";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("reconstruction"), std::string::npos) << e.what();
+  }
 }
 
 TEST(PlanFile, ListedPlanRoundTripsBitForBit) {
