@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <chrono>
+#include <cstring>
 
 #include "kinetic/internal/kinetic_inspect.hpp"
 #include "kinetic/internal/kinetic_slice.hpp"
@@ -124,6 +125,14 @@ struct KineticVisibility::Impl {
 
   void advance(const Frame& next) {
     const auto start = std::chrono::steady_clock::now();
+    if (std::memcmp(next.positions.data(), previous.positions.data(),    // a held frame, bit for bit: every
+                    next.positions.size() * sizeof(glm::dvec3)) == 0) {  // slice and cone holds as it is
+      stats = {};
+      stats.slices_unchanged = slices.size();
+      previous.time = next.time;
+      stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return;
+    }
     take_planes_of(next);
     candidate_faces_per_plane(topology, next, frame_plan, faces);
     mark_frame(topology, connectivity, next, marks);

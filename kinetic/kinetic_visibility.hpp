@@ -160,7 +160,9 @@ class KineticVisibility {
 
   /// The cones of the current frame (the first one after construction).
   const FrameVisibility& current() const;
-  /// Moves to `next` (same topology) and returns its cones; the reference stays valid until the next call.
+  /// Moves to `next` (same topology) and returns its cones; the reference stays valid until the next call. A
+  /// frame whose positions equal the previous frame's bit for bit (a held frame) costs O(V): its cones are
+  /// the previous ones.
   const FrameVisibility& advance(const Frame& next);
   /// What the last advance() did (zeros after construction).
   const KineticFrameStats& last_stats() const;

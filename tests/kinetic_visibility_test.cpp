@@ -214,6 +214,14 @@ RC_GTEST_PROP(KineticVisibility, EqualsAFullRecomputeAtEveryFrameOnRandomCoheren
            glm::dvec3(std::sin(k * p.y + 0.7 * f), std::sin(k * p.z + 1.3 * f), std::sin(k * p.x + 0.4 * f));
     frames.push_back(std::move(frame));
   }
+  // Held frames: a frame repeated as it is (a cloth at rest for a while), with its time moving on.
+  const int holds = *rc::gen::inRange(0, 3);
+  for (int h = 0; h < holds; ++h) {
+    const std::size_t at = *rc::gen::inRange<std::size_t>(0, frames.size());
+    Frame held = frames[at];
+    frames.insert(frames.begin() + std::ptrdiff_t(at) + 1, held);
+    for (std::size_t f = 0; f < frames.size(); ++f) frames[f].time = double(f) / 24.0;
+  }
   std::vector<std::pair<std::size_t, Index>> through;
   const int extra = *rc::gen::inRange(0, 4);
   through.reserve(std::size_t(extra));
@@ -397,6 +405,30 @@ TEST(KineticVisibility, FlatSheetEveryFrame) {
 }
 
 /// A V-fold whose half-angle closes to almost nothing and reopens; at frames 0 and 6 it is flat open (180°).
+TEST(KineticVisibility, AHeldFrameKeepsEverySliceAndCone) {
+  // A flag that moves, holds for three frames, and moves on: the held frames change no slice and equal a
+  // recompute; the frame after the hold carries from the held one.
+  const ClothGenerator cloth(ClothKind::Flag, {12, 10, 24.0, 3});
+  std::vector<Frame> frames;
+  for (int f = 0; f < 10; ++f) frames.push_back(cloth.frame(f < 4 ? f : f < 7 ? 4 : f - 2));
+  for (std::size_t f = 0; f < frames.size(); ++f) frames[f].time = double(f) / 24.0;
+  const SlicingPlan plan = make_diffuse_plan(cloth.topology(), frames[0], {});
+  KineticVisibility kinetic(cloth.topology(), plan, frames[0]);
+  StaticVisibility fresh(cloth.topology(), plan);
+  for (std::size_t f = 1; f < frames.size(); ++f) {
+    const FrameVisibility& k = kinetic.advance(frames[f]);
+    const FrameVisibility& s = fresh.compute(frames[f]);
+    for (const Side side : kBothSides)
+      for (Index v = 0; v < cloth.topology().num_vertices; ++v)
+        ASSERT_EQ(k.measure(side, v).sky_visibility, s.measure(side, v).sky_visibility) << f << " " << v;
+    const bool held = f >= 5 && f <= 6;
+    EXPECT_EQ(
+        kinetic.last_stats().slices_unchanged == s.stats.slices && kinetic.last_stats().certificates == 0,
+        held)
+        << f;
+  }
+}
+
 TEST(KineticVisibility, FoldClosingAndReopening) {
   std::vector<Frame> frames;
   MeshTopology topology;
