@@ -4,14 +4,21 @@
 #
 # The contract (tests/blender/bake_test.py checks it against `pleat visibility`):
 # - Baking reads the active object's evaluated mesh (modifiers, caches) and the evaluated meshes of the chosen
-#   collection's objects (occluders) at every frame of the scene's range, in world space, triangulated by
-#   Blender's loop triangles; the vertex count and triangles must stay the same over the range, and the
-#   object's evaluated mesh must have its own mesh's vertices (in order), which get the results.
+#   collection's objects (occluders) at every frame of the scene's range, in world space. Quads and n-gons
+#   are split into triangles once, as Blender splits them at the first frame (concave polygons inside their
+#   outline), and that split is kept for every frame (bake.py): the vertices and polygons must stay the same
+#   over the range, and the object's evaluated mesh must have its own mesh's vertices (in order), which get
+#   the results.
 # - The result goes to a cache file beside the .blend (cache.py), named on the object (custom property
 #   `pleat_cache`); nothing is written when the bake fails or is cancelled.
 # - At every frame change the object's mesh gets the frame's values (playback.py): float point attributes
-#   `pleat_front` and `pleat_back` (A of each side, docs/method.md §1) and a colour attribute
-#   `pleat_sky_color` (front A as grey). Outside the baked range the nearest baked frame's values hold.
+#   `pleat_front` and `pleat_back` (A of each side, docs/method.md §1) and colour attributes
+#   `pleat_sky_color`, `pleat_sky_color_back` (each side's A as grey). Outside the baked range the nearest
+#   baked frame's values hold. The node group "pleat sky visibility" brings them into materials (shading.py);
+#   results computed elsewhere (a CSV, a cone cache) load onto the object the same way (results.py).
+#
+# Blender 3.4 and later (4.x: the node group API differences are handled in shading.py); the module pleat
+# must be built for Blender's Python version. python/blender/install.py installs both.
 
 bl_info = {
     "name": "pleat: bake sky visibility",
@@ -25,7 +32,7 @@ bl_info = {
 
 import bpy
 
-from . import bake, playback
+from . import bake, playback, results, shading
 
 
 class PleatSettings(bpy.types.PropertyGroup):
@@ -44,7 +51,8 @@ class PleatSettings(bpy.types.PropertyGroup):
         description="Distance between parallel planes (0: pleat's default, half the average edge length)")
     paper: bpy.props.BoolProperty(
         name="Paper's plan", default=False,
-        description="Place planes as the paper does (recursive median split on the first frame)")
+        description="The paper's method: its 6 axis-aligned plane orientations and nearer-endpoint cone "
+                    "storage (pleat visibility --paper; overrides Orientations)")
     plan: bpy.props.StringProperty(
         name="Plan file", subtype="FILE_PATH", default="",
         description="A plan saved by `pleat visibility --save-plan` (replaces the placement options)")
@@ -74,10 +82,13 @@ class PLEAT_PT_panel:
         sub.enabled = settings.ground
         sub.prop(settings, "ground_height")
         layout.operator(bake.PLEAT_OT_bake.bl_idname, icon="RENDER_ANIMATION")
+        layout.operator(results.PLEAT_OT_load.bl_idname, icon="IMPORT")
         obj = context.active_object
         if obj is not None and playback.CACHE_PROPERTY in obj:
             layout.label(text="Baked: " + obj[playback.CACHE_PROPERTY], icon="CHECKMARK")
-            layout.operator(playback.PLEAT_OT_material.bl_idname, icon="MATERIAL")
+            row = layout.row(align=True)
+            row.operator(shading.PLEAT_OT_insert.bl_idname, icon="NODETREE")
+            row.operator(shading.PLEAT_OT_material.bl_idname, icon="MATERIAL")
 
 
 class PLEAT_PT_object(PLEAT_PT_panel, bpy.types.Panel):
@@ -98,7 +109,8 @@ class PLEAT_PT_sidebar(PLEAT_PT_panel, bpy.types.Panel):
     bl_category = "pleat"
 
 
-classes = (PleatSettings, bake.PLEAT_OT_bake, playback.PLEAT_OT_material, PLEAT_PT_object, PLEAT_PT_sidebar)
+classes = (PleatSettings, bake.PLEAT_OT_bake, results.PLEAT_OT_load, shading.PLEAT_OT_insert,
+           shading.PLEAT_OT_material, PLEAT_PT_object, PLEAT_PT_sidebar)
 
 
 def register():

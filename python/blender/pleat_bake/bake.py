@@ -7,28 +7,84 @@
 import bpy
 import numpy as np
 
-from . import cache, playback
+from . import cache, playback, shading
 
 
 class BakeError(Exception):
     """A reason the bake cannot go on, for the user (reported, not raised out of the operator)."""
 
 
-def world_mesh(obj, depsgraph):
-    """(triangles (F,3) int64, world positions (V,3) float64) of obj's evaluated mesh."""
+class MeshReading:
+    """What the bake reads of an evaluated mesh at one frame: its polygons (connectivity) and its vertices'
+    world positions."""
+
+    __slots__ = ("corners", "loop_starts", "positions", "tessellation")
+
+    def __init__(self, corners, loop_starts, positions, tessellation):
+        self.corners = corners          # (L,) int32: each loop's vertex
+        self.loop_starts = loop_starts  # (P,) int32: each polygon's first loop
+        self.positions = positions      # (V, 3) float64, world space
+        self.tessellation = tessellation  # (F, 3) int32 loop indices of Blender's loop triangles, or None
+
+    def same_polygons(self, other):
+        return (np.array_equal(self.corners, other.corners)
+                and np.array_equal(self.loop_starts, other.loop_starts))
+
+    def triangles(self, split):
+        """(F, 3) int64 vertex triangles of `split` (loop triangles of a reading with these polygons)."""
+        return self.corners[split].astype(np.int64)
+
+
+def read_mesh(obj, depsgraph, tessellate):
+    """obj's evaluated mesh at the current frame as a MeshReading; with `tessellate`, Blender's loop triangles
+    of this frame's shape (convex or concave polygons split inside their outline)."""
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
         positions = np.empty(3 * len(mesh.vertices), dtype=np.float64)
         mesh.vertices.foreach_get("co", positions)
-        mesh.calc_loop_triangles()
-        triangles = np.empty(3 * len(mesh.loop_triangles), dtype=np.int32)
-        mesh.loop_triangles.foreach_get("vertices", triangles)
+        corners = np.empty(len(mesh.loops), dtype=np.int32)
+        mesh.loops.foreach_get("vertex_index", corners)
+        loop_starts = np.empty(len(mesh.polygons), dtype=np.int32)
+        mesh.polygons.foreach_get("loop_start", loop_starts)
+        tessellation = None
+        if tessellate:
+            mesh.calc_loop_triangles()
+            tessellation = np.empty(3 * len(mesh.loop_triangles), dtype=np.int32)
+            mesh.loop_triangles.foreach_get("loops", tessellation)
+            tessellation = tessellation.reshape(-1, 3)
         matrix = np.array(evaluated.matrix_world, dtype=np.float64)
     finally:
         evaluated.to_mesh_clear()
     positions = positions.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
-    return triangles.reshape(-1, 3).astype(np.int64), positions
+    return MeshReading(corners, loop_starts, positions, tessellation)
+
+
+class FixedSplit:
+    """One object's frames over one triangulation: Blender splits a quad or n-gon along the diagonals that suit
+    each frame's shape (a folding quad changes diagonal from frame to frame), but pleat needs the same
+    triangles in every frame, so the split of the first frame read is kept for all. Later frames must have
+    the same polygons (vertices in the same order)."""
+
+    def __init__(self, name):
+        self.name = name
+        self.first = None  # MeshReading of the first frame
+        self.faces = None  # (F, 3) int64
+        self.frames = []   # (V, 3) world positions per frame
+
+    def add(self, obj, depsgraph, frame):
+        reading = read_mesh(obj, depsgraph, tessellate=self.first is None)
+        if self.first is None:
+            self.first = reading
+            self.faces = reading.triangles(reading.tessellation)
+        elif len(reading.positions) != len(self.first.positions) or not reading.same_polygons(self.first):
+            raise BakeError(f"{self.name}: the evaluated mesh changes its vertices or polygons at frame {frame} "
+                            "(pleat needs the same vertices and polygons over the frame range; a modifier "
+                            "that remeshes, or a cloth whose faces tear, cannot be baked)")
+        self.frames.append(reading.positions)
+
+    def positions(self):
+        return np.stack(self.frames)
 
 
 def engine_options(settings):
@@ -84,44 +140,32 @@ def bake_steps(scene, obj):
     total = 2 * len(frames)
     playback.suspended = True
     try:
-        faces, positions = None, []
-        occluders = [(None, []) for _ in occluder_objects]
+        cloth = FixedSplit(obj.name)
+        occluders = [FixedSplit(f"occluder {o.name}") for o in occluder_objects]
         for k, frame in enumerate(frames):
             scene.frame_set(frame)
             depsgraph = bpy.context.evaluated_depsgraph_get()
-            triangles, p = world_mesh(obj, depsgraph)
-            if faces is None:
-                faces = triangles
-                if len(faces) == 0:
+            cloth.add(obj, depsgraph, frame)
+            if k == 0:
+                if len(cloth.faces) == 0:
                     raise BakeError(f"{obj.name}: the evaluated mesh has no faces at frame {frame}")
-                if len(p) != len(obj.data.vertices):
-                    raise BakeError(f"{obj.name}: its modifiers make {len(p)} vertices of the mesh's "
-                                    f"{len(obj.data.vertices)}; the results go on the mesh's own vertices, "
-                                    "so the modifiers must keep them (disable subdivision and the like "
-                                    "while baking)")
-            elif len(p) != len(positions[0]) or not np.array_equal(triangles, faces):
-                raise BakeError(f"{obj.name}: the evaluated mesh changes its vertices or faces at frame "
-                                f"{frame} (pleat needs the same connectivity over the frame range)")
-            positions.append(p)
-            for i, o in enumerate(occluder_objects):
-                o_triangles, o_positions = world_mesh(o, depsgraph)
-                o_faces, o_frames = occluders[i]
-                if o_faces is None:
-                    occluders[i] = (o_triangles, o_frames)
-                elif len(o_positions) != len(o_frames[0]) or not np.array_equal(o_triangles, o_faces):
-                    raise BakeError(f"occluder {o.name}: the evaluated mesh changes its vertices or faces "
-                                    f"at frame {frame}")
-                o_frames.append(o_positions)
+                if len(cloth.first.positions) != len(obj.data.vertices):
+                    raise BakeError(f"{obj.name}: its modifiers make {len(cloth.first.positions)} vertices of "
+                                    f"the mesh's {len(obj.data.vertices)}; the results go on the mesh's own "
+                                    "vertices, so the modifiers must keep them (disable subdivision and the "
+                                    "like while baking)")
+            for split, o in zip(occluders, occluder_objects):
+                split.add(o, depsgraph, frame)
             yield (k + 1) / total, f"pleat: reading frame {frame}"
 
-        positions = np.stack(positions)
+        faces, positions = cloth.faces, cloth.positions()
         # An occluder that does not move is passed once (V,3), one that does per frame (T,V,3).
         occluder_arrays = []
-        for o_faces, o_frames in occluders:
-            if len(o_faces) == 0:
+        for split in occluders:
+            if len(split.faces) == 0:
                 continue
-            stacked = np.stack(o_frames)
-            occluder_arrays.append((o_faces, stacked[0] if np.all(stacked == stacked[0]) else stacked))
+            stacked = split.positions()
+            occluder_arrays.append((split.faces, stacked[0] if np.all(stacked == stacked[0]) else stacked))
         try:
             engine = pleat.Engine(faces, positions, occluders=occluder_arrays, **engine_options(settings))
         except ValueError as e:
@@ -141,9 +185,9 @@ def bake_steps(scene, obj):
         obj[playback.CACHE_PROPERTY] = stored
         playback.ensure_attributes(obj.data)
         if not obj.data.materials:
-            obj.data.materials.append(playback.material_template())
+            obj.data.materials.append(shading.material_template())
         else:
-            playback.material_template()
+            shading.node_group()  # for the artist's own materials (Insert into materials)
         keep = "" if beside_blend else " (save the .blend to keep it beside it)"
         yield 1.0, f"pleat: wrote {path}{keep}"
     finally:
