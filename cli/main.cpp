@@ -12,6 +12,7 @@
 #include "cli/job_error.hpp"
 #include "cli/termination.hpp"
 #include "cli/world.hpp"
+#include "support/nearest_name.hpp"
 
 namespace {
 
@@ -29,33 +30,6 @@ int fail(const std::string& message, int code, bool agreed) {
   return code;
 }
 
-// Optimal string alignment distance (Damerau-Levenshtein with adjacent transpositions, no substring edited
-// twice). O(|a| |b|).
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
-  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i)
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] != b[j - 1])});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
-        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-    }
-  return d[a.size()][b.size()];
-}
-
-// The name of `names` nearest `typed` if it is near enough to be a slip (distance at most 2, or a third of
-// the length), else empty.
-std::string nearest(const std::string& typed, const std::vector<std::string>& names) {
-  std::string best;
-  std::size_t best_distance = std::max<std::size_t>(2, typed.size() / 3) + 1;
-  for (const std::string& name : names) {
-    const std::size_t d = edit_distance(typed, name);
-    if (d < best_distance) best = name, best_distance = d;
-  }
-  return best;
-}
-
 // One line per unknown option left over by the main app or the subcommand given that is near an option name
 // of that app (the global options included), "  --spcing: did you mean --spacing?", and when no subcommand
 // was given, one for an unknown subcommand near a subcommand's name.
@@ -71,7 +45,7 @@ std::string suggestions(const CLI::App& app, const CLI::App& command) {
       if (start == 0 || start == std::string::npos || arg.size() - start < 2) continue;  // a value, or -x
       const std::size_t equals = arg.find('=');
       const std::string typed = arg.substr(start, equals == std::string::npos ? equals : equals - start);
-      const std::string name = nearest(typed, options);
+      const std::string name = pleat::nearest_name(typed, options);
       if (!name.empty()) lines += "  " + arg.substr(0, equals) + ": did you mean --" + name + "?\n";
     }
   }
@@ -81,7 +55,7 @@ std::string suggestions(const CLI::App& app, const CLI::App& command) {
       subcommands.push_back(sub->get_name());
     for (const std::string& arg : app.remaining())
       if (!arg.empty() && arg[0] != '-') {
-        const std::string name = nearest(arg, subcommands);
+        const std::string name = pleat::nearest_name(arg, subcommands);
         if (!name.empty()) lines += "  " + arg + ": did you mean `pleat " + name + "`?\n";
         break;
       }

@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "static_core/input_error.hpp"
+
 namespace pleat {
 
 EngineKind engine_kind_from_name(std::string_view name) {
@@ -16,7 +18,7 @@ const char* engine_kind_name(EngineKind kind) { return kind == EngineKind::Stati
 Engine::Engine(const MeshTopology& topology, SlicingPlan plan, const EngineParams& params)
     : m_topology(&topology), m_plan(std::move(plan)), m_params(params) {
   if (m_params.kind == EngineKind::Static)
-    m_static.emplace(topology, m_plan, VisibilityParams{params.parallel});
+    m_static.emplace(topology, m_plan, VisibilityParams{params.parallel, params.poll});
 }
 
 const FrameVisibility& Engine::compute(const Frame& frame) {
@@ -25,10 +27,18 @@ const FrameVisibility& Engine::compute(const Frame& frame) {
     KineticParams params;  // invariant checks: on in Debug builds only
     params.parallel = m_params.parallel;
     params.policy = m_params.policy;
+    params.poll = m_params.poll;
     m_kinetic.emplace(*m_topology, m_plan, frame, params);
     return m_kinetic->current();
   }
-  return m_kinetic->advance(frame);
+  try {
+    return m_kinetic->advance(frame);
+  } catch (const InputError&) {
+    throw;  // rejected before anything changed
+  } catch (...) {
+    m_kinetic.reset();  // abandoned between two frames (a poll threw): built again from the next frame
+    throw;
+  }
 }
 
 const KineticFrameStats* Engine::kinetic_stats() const {

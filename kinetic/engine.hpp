@@ -7,6 +7,7 @@
 // InputError).
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string_view>
 
@@ -28,6 +29,9 @@ struct EngineParams {
   EngineKind kind = EngineKind::Kinetic;
   bool parallel = true;           ///< TBB-parallel over slices (in the caller's task arena)
   kinetic::KineticPolicy policy;  ///< kinetic only: repair or rebuild
+  /// VisibilityParams::poll, for either engine: an exception it throws leaves compute() and the engine
+  /// usable (the kinetic one starts again from the next frame it is given, with the same results).
+  std::function<void()> poll;
 };
 
 class Engine {

@@ -26,7 +26,7 @@ struct KineticVisibility::Impl {
         params(params),
         connectivity(topology),
         cloth(cloth_vertices(topology)),
-        assembler(topology, connectivity, frame_plan, {params.parallel}),
+        assembler(topology, connectivity, frame_plan, {params.parallel, params.poll}),
         previous(first),
         crossed_stamp(topology.num_vertices, 0) {
     planes_for_frame(plan, cloth, first, frame_plan.planes);
@@ -45,10 +45,14 @@ struct KineticVisibility::Impl {
 
   template <class F>
   void for_each_plane(F&& f) {
+    const auto polled = [&](std::size_t p) {
+      f(p);
+      if (params.poll) params.poll();
+    };
     if (params.parallel)
-      tbb::parallel_for(std::size_t(0), slices.size(), f);
+      tbb::parallel_for(std::size_t(0), slices.size(), polled);
     else
-      for (std::size_t p = 0; p < slices.size(); ++p) f(p);
+      for (std::size_t p = 0; p < slices.size(); ++p) polled(p);
   }
 
   static std::string what_happened(const KineticCounts& c) {

@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <memory>
 
 #include "static_core/mesh.hpp"
@@ -79,7 +80,10 @@ struct KineticPolicy {
 }  // namespace kinetic
 
 struct KineticParams {
-  bool parallel = true;           ///< TBB-parallel over slices and vertices
+  bool parallel = true;  ///< TBB-parallel over slices and vertices
+  /// As VisibilityParams::poll. An exception it throws abandons the frame and leaves the slices between
+  /// two frames: build a new engine (pleat::Engine does) before the next frame.
+  std::function<void()> poll;
   kinetic::KineticPolicy policy;  ///< repair or rebuild
   /// Check every slice's invariants after each interval (KineticSlice::check_invariants, exact); a violation
   /// throws InvariantError. On in Debug builds.

@@ -450,6 +450,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
       assemble_and_measure_cone(ws.cones, side_normal, ws.scratch, result.cones[side][v],
                                 &result.measures[side][v], half_spaces, plan.reconstruction);
     }
+    if (params.poll && v % 256 == 0) params.poll();
   };
   if (params.parallel)
     tbb::parallel_for(std::size_t(0), std::size_t(receivers), assemble_vertex);

@@ -8,15 +8,21 @@ visibility from folded surfaces", 1999), with numpy arrays in and out.
 The options are those of `pleat visibility` (underscores for dashes): engine ("kinetic" or "static"; the
 same results), orientations, spacing, spacing_edges, planes, adaptive, max_missing, cone_storage, paper,
 plan (a file written by --save-plan), occluders, ground ("y=0"), threads (like --threads; None: all cores),
-max_edit_fraction. Results are in the caller's vertex order and equal, bit for bit, the command line's on the
-same input and options. The frames you pass are the shot: as the whole file does for `pleat visibility`, their
-first frame sets the plan's orientations and spacing (its planes are a lattice anchored in world space), so a
-frame's values do not depend on the other frames passed as long as the first is the same. Bad arrays raise ValueError (InputError, a ValueError, for what the library rejects:
-non-finite coordinates, ...); bad files raise InputError naming the file and the place.
-"""
-import os
+max_edit_fraction; a misspelt one raises TypeError with the nearest name. Results are in the caller's vertex
+order and equal, bit for bit, the command line's on the same input and options. The frames you pass are the
+shot: as the whole file does for `pleat visibility`, their first frame sets the plan's orientations and
+spacing (its planes are a lattice anchored in world space, over the box of every frame). To compute a part of
+a shot as `pleat visibility --frames 85:90` does, pass the whole shot and frames="85:90" (or slice(85, 90)).
 
-from ._pleat import Engine, FrameResult, InputError, __version__, _load
+Ctrl+C stops a computation promptly (between frames and inside a long one) with KeyboardInterrupt; the
+frames finished before it are in `out` when one was given (a note on the exception says how many).
+progress= takes a tqdm bar (tqdm(total=...)) or any callable (done, total).
+
+Float arrays of any byte order are read (float64 and float32 in place, others converted). Bad arrays raise
+ValueError (InputError, a ValueError, for what the library rejects: non-finite coordinates, ...); bad files
+raise InputError naming the file and the place.
+"""
+from ._pleat import Engine, FrameResult, InputError, __version__, _load, _sky_visibility
 
 __all__ = ["Engine", "FrameResult", "InputError", "LoadedMesh", "load", "sky_visibility", "__version__"]
 
@@ -45,12 +51,25 @@ class LoadedMesh:
 def load(path, cache=None):
     """Reads any input `pleat visibility` reads: .obj (with a .pc2/.mdd `cache`), a numbered OBJ sequence
     (printf pattern or directory), .gltf/.glb. Raises InputError naming the file and the place."""
+    import os
+
     path = os.fspath(path)
     faces, positions, fps, source_frames = _load(path, None if cache is None else os.fspath(cache))
     return LoadedMesh(faces, positions, fps, source_frames, path)
 
 
-def sky_visibility(faces, positions, **options):
-    """Sky visibility A (front, back) of every frame: (T, V, 2) float64 for (T, V, 3) positions, (V, 2) for
-    (V, 3). Equal to the front,back columns of `pleat visibility` on the same frames and options."""
-    return Engine(faces, positions, **options)._sky_visibility_of_frames()
+def sky_visibility(faces, positions, *, frames=None, progress=None, out=None, **options):
+    """Sky visibility A (front, back) of the shot's frames: (T, V, 2) float64 for (T, V, 3) positions, (V, 2)
+    for (V, 3). Equal to the front,back columns of `pleat visibility` on the same frames and options.
+
+    frames: which frames to compute, as `pleat visibility --frames` does (the plan still made from the whole
+        shot): "85:90", "-10:", an int, a slice or a sequence of ints; the result has one row per frame.
+    progress: called after each frame: a tqdm bar (its update(1)) or a callable progress(done, total).
+    out: a C-contiguous float64 array of the result's shape to write into (the frames finished before an
+        interrupt stay there).
+    options: those of Engine (help(pleat.Engine))."""
+    return _sky_visibility(faces, positions, frames=frames, progress=progress, out=out, **options)
+
+
+def __dir__():
+    return sorted(__all__)

@@ -12,11 +12,13 @@
 #include <tbb/task_arena.h>
 
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "kinetic/engine.hpp"
@@ -25,6 +27,7 @@
 #include "sim_io/scene.hpp"
 #include "sim_io/sequence_plan.hpp"
 #include "static_core/input_error.hpp"
+#include "support/nearest_name.hpp"
 
 namespace py = pybind11;
 
@@ -86,7 +89,12 @@ PositionsView positions_view(py::handle object, const std::string& what, int all
   view.array = as_array(object, what);
   const py::dtype dtype = view.array.dtype();
   const bool f64 = dtype.is(py::dtype::of<double>()), f32 = dtype.is(py::dtype::of<float>());
-  if (!f64 && !f32) bad(what + ": dtype " + dtype_name(view.array) + "; expected float64 or float32");
+  if (!f64 && !f32) {
+    // Other floats (big-endian ones, float16, longdouble) are converted to native float64.
+    if (dtype.kind() != 'f')
+      bad(what + ": dtype " + dtype_name(view.array) + "; expected float64 or float32");
+    view.array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(view.array);
+  }
   const py::ssize_t ndim = view.array.ndim();
   const bool ndim_ok = allowed_ndim ? ndim == allowed_ndim : (ndim == 2 || ndim == 3);
   if (!ndim_ok || view.array.shape(ndim - 1) != 3)
@@ -131,6 +139,8 @@ std::vector<Triangle> faces_of(py::handle object, std::size_t num_vertices, cons
   if (array.ndim() != 2 || array.shape(1) != 3)
     bad(what + ": shape " + shape_text(array) + "; expected (F, 3) (triangles)");
   if (array.shape(0) == 0) bad(what + ": no faces");
+  if (array.attr("dtype").attr("isnative").cast<bool>() == false)  // big-endian: in native byte order
+    array = array.attr("astype")(array.dtype().attr("newbyteorder")("="));
   array = py::array::ensure(array, py::array::c_style);
   std::vector<Triangle> faces(std::size_t(array.shape(0)));
   switch (array.itemsize() * (kind == 'i' ? 1 : -1)) {
@@ -258,58 +268,143 @@ struct Outputs {
   double* solid;
 };
 
+/// The keyword options of Engine and sky_visibility, those of `pleat visibility`: None unless given.
+struct EngineOptions {
+  py::object engine = py::none(), orientations = py::none(), spacing = py::none(), spacing_edges = py::none(),
+             planes = py::none(), adaptive = py::none(), max_missing = py::none(), cone_storage = py::none(),
+             paper = py::none(), plan = py::none(), occluders = py::none(), ground = py::none(),
+             threads = py::none(), max_edit_fraction = py::none(), contact_tolerance = py::none();
+};
+
+struct EngineOption {
+  const char* name;
+  py::object EngineOptions::*field;
+};
+const EngineOption kEngineOptions[] = {
+    {"engine", &EngineOptions::engine},
+    {"orientations", &EngineOptions::orientations},
+    {"spacing", &EngineOptions::spacing},
+    {"spacing_edges", &EngineOptions::spacing_edges},
+    {"planes", &EngineOptions::planes},
+    {"adaptive", &EngineOptions::adaptive},
+    {"max_missing", &EngineOptions::max_missing},
+    {"cone_storage", &EngineOptions::cone_storage},
+    {"paper", &EngineOptions::paper},
+    {"plan", &EngineOptions::plan},
+    {"occluders", &EngineOptions::occluders},
+    {"ground", &EngineOptions::ground},
+    {"threads", &EngineOptions::threads},
+    {"max_edit_fraction", &EngineOptions::max_edit_fraction},
+    {"contact_tolerance", &EngineOptions::contact_tolerance},
+};
+
+/// Reads keyword options; `also`: the caller's own keywords, taken out of `kwargs` before. A name of neither
+/// raises TypeError "unknown option 'spcing'; did you mean 'spacing'?" (the nearest name, if near).
+EngineOptions engine_options(const py::kwargs& kwargs, const std::vector<std::string>& also = {}) {
+  EngineOptions options;
+  std::vector<std::string> names(also);
+  for (const EngineOption& o : kEngineOptions) names.push_back(o.name);
+  for (const auto& [key, value] : kwargs) {
+    const std::string name = py::str(key);
+    const auto* found = std::find_if(std::begin(kEngineOptions), std::end(kEngineOptions),
+                                     [&](const EngineOption& o) { return name == o.name; });
+    if (found == std::end(kEngineOptions)) {
+      const std::string near = nearest_name(name, names);
+      std::string message = "unknown option '" + name + "'";
+      if (!near.empty()) {
+        message += "; did you mean '" + near + "'?";
+      } else {
+        message += " (options:";
+        for (const std::string& n : names) message += " " + n;
+        message += ")";
+      }
+      throw py::type_error(message);
+    }
+    options.*(found->field) = py::reinterpret_borrow<py::object>(value);
+  }
+  return options;
+}
+
+PlanOptions plan_options_of(const EngineOptions& o) {
+  PlanOptions plan;
+  plan.orientations = option(o.orientations, plan.orientations, "orientations", "an int");
+  plan.spacing = option(o.spacing, 0.0, "spacing", "a number");
+  plan.spacing_edges = option(o.spacing_edges, 0.0, "spacing_edges", "a number");
+  if (!o.spacing_edges.is_none() && !(plan.spacing_edges > 0)) bad("spacing_edges: must be > 0");
+  plan.planes_per_orientation = option(o.planes, 0, "planes", "an int");
+  plan.adaptive = option(o.adaptive, false, "adaptive", "a bool");
+  plan.max_missing = option(o.max_missing, 0.05, "max_missing", "a number");
+  plan.storage = option(o.cone_storage, std::string("aimed-on-fan"), "cone_storage", "a str");
+  plan.paper = option(o.paper, false, "paper", "a bool");
+  if (!o.plan.is_none())  // str or PathLike
+    plan.plan_file = py::module_::import("os").attr("fspath")(o.plan).cast<std::string>();
+  plan.check();
+  return plan;
+}
+
+/// Ctrl+C while pleat computes without the GIL. Python runs signal handlers on its main thread only, when
+/// asked: poll() (EngineParams::poll, called on every TBB thread during a frame) does so on the thread that
+/// called pleat, at most every 20 ms, with the GIL. A handler's exception (KeyboardInterrupt) is kept and
+/// the frame abandoned (Interrupted thrown through the engine); rethrow() raises it in Python.
+class InterruptCheck {
+ public:
+  struct Interrupted {};
+
+  /// Before a computation, with or without the GIL: the calling thread is the one polled.
+  void begin() {
+    m_caller = std::this_thread::get_id();
+    m_last = std::chrono::steady_clock::now();
+  }
+  void poll() {
+    if (std::this_thread::get_id() != m_caller) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - m_last < std::chrono::milliseconds(20)) return;
+    m_last = now;
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  }
+
+ private:
+  std::thread::id m_caller;
+  std::chrono::steady_clock::time_point m_last;
+};
+
+/// Adds `note` to the Python exception being raised (PEP 678, Python 3.11+; left out before) and raises it.
+[[noreturn]] void raise_with_note(py::error_already_set& error, const std::string& note) {
+  const py::object value = error.value();
+  if (py::hasattr(value, "add_note")) value.attr("add_note")(note);
+  throw error;
+}
+
 /// The Python Engine: the cloth (faces, its frames), its scene and plan, and a pleat::Engine over them.
 class PyEngine {
  public:
-  PyEngine(py::object faces, py::object positions, const std::string& engine, py::object orientations,
-           py::object spacing, py::object spacing_edges, py::object planes, bool adaptive, double max_missing,
-           const std::string& cone_storage, bool paper, py::object plan, py::object occluders,
-           py::object ground, py::object threads, double max_edit_fraction, py::object contact_tolerance) {
+  PyEngine(py::object faces, py::object positions, const EngineOptions& options) {
     EngineParams params;
-    params.kind = engine_kind_from_name(engine);
+    params.kind = engine_kind_from_name(option(options.engine, std::string("kinetic"), "engine", "a str"));
+    const double max_edit_fraction = option(options.max_edit_fraction, 0.5, "max_edit_fraction", "a number");
     if (!(max_edit_fraction >= 0)) bad("max_edit_fraction: must be >= 0");
     params.policy.max_edit_fraction = max_edit_fraction;
-    PlanOptions plan_options;
-    plan_options.orientations = option(orientations, plan_options.orientations, "orientations", "an int");
-    plan_options.spacing = option(spacing, 0.0, "spacing", "a number");
-    plan_options.spacing_edges = option(spacing_edges, 0.0, "spacing_edges", "a number");
-    if (!spacing_edges.is_none() && !(plan_options.spacing_edges > 0)) bad("spacing_edges: must be > 0");
-    plan_options.planes_per_orientation = option(planes, 0, "planes", "an int");
-    plan_options.adaptive = adaptive;
-    plan_options.max_missing = max_missing;
-    plan_options.storage = cone_storage;
-    plan_options.paper = paper;
-    if (!plan.is_none()) plan_options.plan_file = py::str(plan).cast<std::string>();  // str or PathLike
-    plan_options.check();
+    params.poll = [this] { m_interrupt.poll(); };  // the engine is made in place and never moves
+    const PlanOptions plan_options = plan_options_of(options);
     std::vector<GroundPlane> grounds;
-    if (!ground.is_none())
-      grounds.push_back(parse_ground_plane(option(ground, std::string(), "ground", "a str like 'y=0'")));
+    if (!options.ground.is_none())
+      grounds.push_back(
+          parse_ground_plane(option(options.ground, std::string(), "ground", "a str like 'y=0'")));
     std::optional<double> tolerance;
-    if (!contact_tolerance.is_none()) {
-      tolerance = option(contact_tolerance, 0.0, "contact_tolerance", "a number");
+    if (!options.contact_tolerance.is_none()) {
+      tolerance = option(options.contact_tolerance, 0.0, "contact_tolerance", "a number");
       if (!(std::isfinite(*tolerance) && *tolerance >= 0))
         bad("contact_tolerance: must be a finite distance >= 0");
     }
-    const int thread_count = option(threads, 0, "threads", "an int");
+    const int thread_count = option(options.threads, 0, "threads", "an int");
     if (thread_count < 0) bad("threads: must be >= 0 (0 or None: all cores)");
     m_arena =
         std::make_unique<tbb::task_arena>(thread_count > 0 ? thread_count : int(tbb::task_arena::automatic));
 
     // Every array is checked with the GIL held; the work below runs without it.
     m_meshes.push_back(mesh_arrays(faces, positions, ""));
-    std::size_t k = 0;
-    for (py::handle occluder : occluders) {
-      const std::string name = "occluders[" + std::to_string(k++) + "]";
-      if (py::hasattr(occluder, "faces") && py::hasattr(occluder, "positions")) {
-        m_meshes.push_back(mesh_arrays(occluder.attr("faces"), occluder.attr("positions"), name + " "));
-      } else {
-        if (!py::isinstance<py::sequence>(occluder) || py::isinstance<py::str>(occluder) ||
-            py::len(occluder) != 2)
-          bad(name + ": expected a (faces, positions) pair or a pleat.load result");
-        const py::sequence pair = py::reinterpret_borrow<py::sequence>(occluder);
-        m_meshes.push_back(mesh_arrays(pair[0], pair[1], name + " "));
-      }
-    }
+    add_occluders(options.occluders);
     py::gil_scoped_release release;
     m_arena->execute([&] {
       m_cloth = std::make_unique<MeshSequence>(make_sequence(m_meshes[0]));
@@ -321,6 +416,8 @@ class PyEngine {
     });
     m_welded_of_input = std::make_shared<const std::vector<Index>>(m_cloth->welded_of_input());
   }
+  PyEngine(const PyEngine&) = delete;
+  PyEngine& operator=(const PyEngine&) = delete;
 
   /// The results of one frame of the cloth given as (V, 3) positions; `frame_index` picks the occluders'
   /// positions (animated ones) among the frames given to the constructor.
@@ -338,7 +435,8 @@ class PyEngine {
     const Outputs out{result.sky_visibility.mutable_data(), result.bent_normals.mutable_data(),
                       result.solid_angles.mutable_data()};  // with the GIL
     std::shared_ptr<Cones> cones;
-    {
+    m_interrupt.begin();
+    try {
       py::gil_scoped_release release;
       m_arena->execute([&] {
         Frame frame;
@@ -350,37 +448,54 @@ class PyEngine {
         result.penetrating_vertices = vis.stats.penetrating_vertices;
         if (keep_cones) cones = std::make_shared<Cones>(vis.cones);
       });
+    } catch (py::error_already_set& e) {
+      raise_with_note(e, "pleat: interrupted during the frame (the Engine stays usable)");
     }
     result.cones = std::move(cones);
     return result;
   }
 
-  /// Sky visibility (T, V, 2) of every frame given to the constructor ((V, 2) if given as (V, 3)), computed
-  /// as `pleat visibility` does.
-  py::array_t<double> sky_visibility_of_frames() {
-    const PositionsData& given = m_meshes[0].positions.data;
-    const py::ssize_t frames = py::ssize_t(m_cloth->num_frames()), vertices = m_cloth->num_input_vertices();
-    py::array_t<double> out = given.one_frame ? py::array_t<double>({vertices, py::ssize_t(2)})
-                                              : py::array_t<double>({frames, vertices, py::ssize_t(2)});
-    double* data = out.mutable_data();
+  /// Sky visibility of the given frames (indices among those given to the constructor) into `out` (float64,
+  /// C-contiguous, (len(frames), V, 2)), computed as `pleat visibility --frames` does. Between frames, with
+  /// the GIL: `progress` (None, an object with update(n) such as a tqdm bar, or a callable (done, total)),
+  /// then Python's signal handlers; within a frame, InterruptCheck. An exception (KeyboardInterrupt, the
+  /// callback's) leaves the finished frames in `out` and says how many in a note. Frames with cloth sunk
+  /// deeper than the contact tolerance give one UserWarning.
+  void sky_visibility_of(const std::vector<std::size_t>& frames, const py::object& progress, double* out) {
+    const std::size_t vertices = m_cloth->num_input_vertices();
+    const bool updates = !progress.is_none() && py::hasattr(progress, "update");
+    std::size_t finished = 0;  // frames whose rows of `out` are written
     std::size_t sunk_frames = 0, first_sunk = 0, first_count = 0;
-    {
-      py::gil_scoped_release release;
-      m_arena->execute([&] {
-        for (std::size_t f = 0; f < std::size_t(frames); ++f) {
-          const FrameVisibility& vis = m_engine->compute(m_scene->frame(f));
-          if (vis.stats.penetrating_vertices > 0 && sunk_frames++ == 0) {
-            first_sunk = f;
-            first_count = vis.stats.penetrating_vertices;
-          }
-          const std::vector<Index>& welded = *m_welded_of_input;
-          double* row = data + f * std::size_t(vertices) * 2;
-          for (std::size_t v = 0; v < welded.size(); ++v) {
-            row[2 * v] = vis.measure(Side::Front, welded[v]).sky_visibility;
-            row[2 * v + 1] = vis.measure(Side::Back, welded[v]).sky_visibility;
-          }
+    try {
+      for (std::size_t k = 0; k < frames.size(); ++k) {
+        m_interrupt.begin();
+        {
+          py::gil_scoped_release release;
+          m_arena->execute([&] {
+            const FrameVisibility& vis = m_engine->compute(m_scene->frame(frames[k]));
+            if (vis.stats.penetrating_vertices > 0 && sunk_frames++ == 0) {
+              first_sunk = frames[k];
+              first_count = vis.stats.penetrating_vertices;
+            }
+            const std::vector<Index>& welded = *m_welded_of_input;
+            double* row = out + k * vertices * 2;
+            for (std::size_t v = 0; v < welded.size(); ++v) {
+              row[2 * v] = vis.measure(Side::Front, welded[v]).sky_visibility;
+              row[2 * v + 1] = vis.measure(Side::Back, welded[v]).sky_visibility;
+            }
+          });
         }
-      });
+        finished = k + 1;
+        if (updates)
+          progress.attr("update")(1);
+        else if (!progress.is_none())
+          progress(finished, frames.size());
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      }
+    } catch (py::error_already_set& e) {
+      raise_with_note(e, "pleat: stopped after " + std::to_string(finished) + " of " +
+                             std::to_string(frames.size()) +
+                             " frames (their values are in out[:" + std::to_string(finished) + "])");
     }
     if (sunk_frames > 0) {
       const std::string message =
@@ -391,10 +506,10 @@ class PyEngine {
           " vertices); those vertices were taken as lying on the surface (contact_tolerance=)";
       if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 1) != 0) throw py::error_already_set();
     }
-    return out;
   }
 
   std::size_t num_vertices() const { return m_cloth->num_input_vertices(); }
+  bool given_one_frame() const { return m_meshes[0].positions.data.one_frame; }
   std::size_t num_frames() const { return m_cloth->num_frames(); }
   /// The planes of the first frame given (a lattice plan's planes follow each frame's cloth).
   std::size_t num_planes() const {
@@ -405,6 +520,24 @@ class PyEngine {
   std::string kind() const { return engine_kind_name(m_engine->kind()); }
 
  private:
+  /// The occluders option: (faces, positions) pairs or pleat.load results, checked with the GIL.
+  void add_occluders(const py::object& occluders) {
+    if (occluders.is_none()) return;
+    std::size_t k = 0;
+    for (py::handle occluder : occluders) {
+      const std::string name = "occluders[" + std::to_string(k++) + "]";
+      if (py::hasattr(occluder, "faces") && py::hasattr(occluder, "positions")) {
+        m_meshes.push_back(mesh_arrays(occluder.attr("faces"), occluder.attr("positions"), name + " "));
+      } else {
+        if (!py::isinstance<py::sequence>(occluder) || py::isinstance<py::str>(occluder) ||
+            py::len(occluder) != 2)
+          bad(name + ": expected a (faces, positions) pair or a pleat.load result");
+        const py::sequence pair = py::reinterpret_borrow<py::sequence>(occluder);
+        m_meshes.push_back(mesh_arrays(pair[0], pair[1], name + " "));
+      }
+    }
+  }
+
   FrameResult allocate_result() const {
     const py::ssize_t v = py::ssize_t(m_cloth->num_input_vertices());
     FrameResult result;
@@ -462,7 +595,82 @@ class PyEngine {
   std::unique_ptr<Scene> m_scene;
   std::unique_ptr<Engine> m_engine;
   std::shared_ptr<const std::vector<Index>> m_welded_of_input;
+  InterruptCheck m_interrupt;
 };
+
+/// The frame indices `frames` selects among `count`: None (all), an int, a slice, a str "A:B" or "N" as
+/// `pleat visibility --frames` reads it, or a sequence of ints; negatives count from the end.
+std::vector<std::size_t> frame_selection(const py::object& frames, std::size_t count) {
+  const py::object all = py::module_::import("builtins").attr("range")(count);
+  py::object chosen;
+  if (frames.is_none()) {
+    chosen = all;
+  } else if (py::isinstance<py::str>(frames)) {  // "A:B", "A:", ":B", "N"
+    const std::string text = frames.cast<std::string>();
+    const std::size_t colon = text.find(':');
+    const auto bound = [&](const std::string& part) -> py::object {
+      if (part.empty()) return py::none();
+      try {
+        std::size_t used = 0;
+        const long long value = std::stoll(part, &used);
+        if (used == part.size()) return py::int_(value);
+      } catch (const std::exception&) {
+      }
+      throw py::value_error("frames: '" + text + "' is not A:B, A:, :B or N");
+    };
+    if (colon == std::string::npos) {
+      py::list one;
+      one.append(all[bound(text)]);
+      chosen = one;
+    } else {
+      chosen = all[py::slice(bound(text.substr(0, colon)), bound(text.substr(colon + 1)), py::none())];
+    }
+  } else if (py::isinstance<py::slice>(frames)) {
+    chosen = all[frames];
+  } else if (py::isinstance<py::int_>(frames) || py::hasattr(frames, "__index__")) {
+    py::list one;
+    one.append(all[frames]);
+    chosen = one;
+  } else {
+    py::list many;
+    for (py::handle f : frames) many.append(all[f]);
+    chosen = many;
+  }
+  std::vector<std::size_t> indices;
+  for (py::handle f : chosen) indices.push_back(f.cast<std::size_t>());
+  if (indices.empty()) throw py::value_error("frames: selects no frame of " + std::to_string(count));
+  return indices;
+}
+
+/// pleat.sky_visibility: the engine's options, and frames=, progress=, out= (python/pleat/__init__.py).
+py::array_t<double> sky_visibility(py::object faces, py::object positions, py::kwargs kwargs) {
+  const auto take = [&](const char* name) {
+    if (!kwargs.contains(name)) return py::object(py::none());
+    return kwargs.attr("pop")(name).cast<py::object>();
+  };
+  const py::object frames = take("frames"), progress = take("progress"), out_given = take("out");
+  auto engine =
+      std::make_unique<PyEngine>(faces, positions, engine_options(kwargs, {"frames", "progress", "out"}));
+  const std::vector<std::size_t> chosen = frame_selection(frames, engine->num_frames());
+  const py::ssize_t n = py::ssize_t(chosen.size()), v = py::ssize_t(engine->num_vertices());
+  const bool one = engine->given_one_frame() && frames.is_none();
+  const std::vector<py::ssize_t> shape =
+      one ? std::vector<py::ssize_t>{v, 2} : std::vector<py::ssize_t>{n, v, 2};
+  py::array_t<double> out;
+  if (out_given.is_none()) {
+    out = py::array_t<double>(shape);
+  } else {
+    const py::array given = py::reinterpret_borrow<py::array>(out_given);
+    if (!py::isinstance<py::array>(out_given) || !given.dtype().is(py::dtype::of<double>()) ||
+        !(given.flags() & py::array::c_style) || !given.writeable() ||
+        std::vector<py::ssize_t>(given.shape(), given.shape() + given.ndim()) != shape)
+      bad("out: expected a writable C-contiguous float64 array of shape (" + std::to_string(one ? v : n) +
+          (one ? "" : ", " + std::to_string(v)) + ", 2)");
+    out = py::reinterpret_borrow<py::array_t<double>>(out_given);
+  }
+  engine->sky_visibility_of(chosen, progress, out.mutable_data());
+  return out;
+}
 
 /// pleat.load's fields: faces (F, 3) int64, positions (T, V, 3) float64, fps, source frames.
 py::tuple load(const std::string& path, const std::optional<std::string>& cache) {
@@ -536,26 +744,20 @@ contact_tolerance: how far behind an open occluder cloth still rests on it, and 
 vertices are reported (None: half the mean edge length); threads: None or 0 for all cores.
 C-contiguous float64/float32 positions are read in place, not copied: leave them unchanged while the engine
 lives (animated occluders are read from them frame by frame).)")
-      .def(py::init<py::object, py::object, const std::string&, py::object, py::object, py::object,
-                    py::object, bool, double, const std::string&, bool, py::object, py::object, py::object,
-                    py::object, double, py::object>(),
-           py::arg("faces"), py::arg("positions"), py::kw_only(), py::arg("engine") = "kinetic",
-           py::arg("orientations") = py::none(), py::arg("spacing") = py::none(),
-           py::arg("spacing_edges") = py::none(), py::arg("planes") = py::none(), py::arg("adaptive") = false,
-           py::arg("max_missing") = 0.05, py::arg("cone_storage") = "aimed-on-fan", py::arg("paper") = false,
-           py::arg("plan") = py::none(), py::arg("occluders") = py::tuple(), py::arg("ground") = py::none(),
-           py::arg("threads") = py::none(), py::arg("max_edit_fraction") = 0.5,
-           py::arg("contact_tolerance") = py::none())
+      .def(py::init([](py::object faces, py::object positions, py::kwargs options) {
+             return std::make_unique<PyEngine>(faces, positions, engine_options(options));
+           }),
+           py::arg("faces"), py::arg("positions"))
       .def("compute", &PyEngine::compute, py::arg("positions"), py::kw_only(), py::arg("frame_index") = 0,
            py::arg("keep_cones") = true,
            "compute(positions, *, frame_index=0, keep_cones=True) -> FrameResult: the frame whose (V, 3) "
            "positions are given; frame_index (< the frames given to Engine) picks the animated occluders' "
            "positions. keep_cones=False leaves out the cones (FrameResult.cone), which cost memory.")
-      .def("_sky_visibility_of_frames", &PyEngine::sky_visibility_of_frames)
       .def_property_readonly("num_vertices", &PyEngine::num_vertices)
       .def_property_readonly("num_frames", &PyEngine::num_frames)
       .def_property_readonly("num_planes", &PyEngine::num_planes)
       .def_property_readonly("engine", &PyEngine::kind);
 
   m.def("_load", &load, py::arg("path"), py::arg("cache") = py::none());
+  m.def("_sky_visibility", &sky_visibility, py::arg("faces"), py::arg("positions"));
 }
