@@ -40,6 +40,7 @@
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/gltf_writer.hpp"
 #include "sim_io/mesh_sequence.hpp"
+#include "sim_io/up_axis.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
 #include "support/byte_stream.hpp"
@@ -65,7 +66,7 @@ struct ShadeOptions {
   int width = 800;
   int height = 600;
   std::string camera;
-  std::string up = "0,1,0";
+  std::string up = "auto";
   int render_every = 1;
   int turntable = 0;
   bool hide_occluders = false;
@@ -73,14 +74,6 @@ struct ShadeOptions {
   SceneOptions scene;
   ChunkOptions chunking;
 };
-
-glm::dvec3 parse_vec3(const std::string& text, const char* option) {
-  glm::dvec3 v;
-  char tail = 0;
-  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &v.x, &v.y, &v.z, &tail) != 3)
-    throw std::invalid_argument(std::string(option) + ": expected x,y,z, got '" + text + "'");
-  return v;
-}
 
 /// OUT.glb -> OUT_NAME.glb
 std::filesystem::path setup_output(const std::filesystem::path& output, const std::string& name) {
@@ -145,6 +138,10 @@ void run_shade(const ShadeOptions& options) {
   const Scene& world = *world_holder;
   std::vector<std::size_t> frame_ids;
   for (std::size_t i = first; i < last; ++i) frame_ids.push_back(i);
+  // The input's up: the camera's, and the turn that stands the glb up in glTF's Y-up space.
+  UpChoice up;
+  together([&] { up = choose_up(options.up, options.scene.ground, sequence); });
+  if (!up.warning.empty() && World::root()) std::cerr << "pleat: warning: " << up.warning << '\n';
 
   ShadeParams shade_params;
   shade_params.albedo = options.albedo;
@@ -220,7 +217,7 @@ void run_shade(const ShadeOptions& options) {
       writers.push_back(std::make_unique<ShadedGlbWriter>(
           path, sequence, frame_ids, fps,
           /*with_visibility=*/true, frame_bounds,
-          options.glb_layout == "input" ? GlbLayout::Input : GlbLayout::Sides));
+          options.glb_layout == "input" ? GlbLayout::Input : GlbLayout::Sides, up.turn));
   });
 
   const bool render = !options.render_dir.empty();
@@ -237,7 +234,7 @@ void run_shade(const ShadeOptions& options) {
         camera = parse_camera(options.camera);
       } else {
         AutoFrameParams framing;
-        framing.up = parse_vec3(options.up, "--up");
+        framing.up = up.up;
         framing.aspect = double(options.width) / options.height;
         camera = auto_frame(sequence.bounds(), framing);
       }
@@ -256,7 +253,6 @@ void run_shade(const ShadeOptions& options) {
     const bool occluded = world.num_occluders() > 0;
     const bool draw_occluders = occluded && !options.hide_occluders;
     const MeshTopology& drawn = draw_occluders ? world.topology() : topology;
-    const glm::dvec3 up = glm::normalize(parse_vec3(options.up, "--up"));
     std::vector<glm::vec3> occluder_grey;
     auto with_occluders = [&](const std::vector<glm::vec3>& cloth) {
       if (!draw_occluders) return cloth;
@@ -291,7 +287,7 @@ void run_shade(const ShadeOptions& options) {
           const std::vector<glm::dvec3> normals = vertex_normals(drawn, drawn_frame);
           occluder_grey.clear();
           for (Index v = topology.num_vertices; v < drawn.num_vertices; ++v)
-            occluder_grey.push_back(glm::vec3(float(0.30 + 0.10 * std::abs(glm::dot(normals[v], up)))));
+            occluder_grey.push_back(glm::vec3(float(0.30 + 0.10 * std::abs(glm::dot(normals[v], up.up)))));
         }
       }
       ByteWriter bytes;
@@ -362,6 +358,8 @@ void run_shade(const ShadeOptions& options) {
           << "\n";
     for (std::size_t s = 0; s < setups.size(); ++s) {
       out << "wrote " << outputs[s].string();
+      if (!up.turn.identity())
+        out << " (up " << up.name << ", from " << up.source << ", turned to glTF's +y)";
       if (render) out << " and images in " << render_dirs[s].string();
       out << (setups[s].name.empty() ? "" : " (setup " + setups[s].name + ")") << '\n';
       std::istringstream lights(setups[s].describe());
@@ -422,7 +420,11 @@ void register_shade_command(CLI::App& app) {
       ->check(CLI::Range(16, 16384));
   cmd->add_option("--camera", options->camera,
                   "ex,ey,ez,tx,ty,tz,ux,uy,uz[,fov] (default: auto-framed 3/4 view)");
-  cmd->add_option("--up", options->up, "world up for the auto-framed camera (Blender data: 0,0,1)")
+  cmd->add_option(
+         "--up", options->up,
+         "the input's up: x, y, z, -x, -y, -z, a vector X,Y,Z, or auto (the side of --ground, else the way "
+         "the cloth falls, else y). The glb is turned so that it stands up in glTF's Y-up space (a "
+         "Blender Z-up cache imports upright); the auto-framed camera and the renders' occluders use it")
       ->capture_default_str();
   cmd->add_option("--render-every", options->render_every,
                   "render the frames whose source frame number is a multiple of N")
@@ -444,7 +446,7 @@ void register_shade_command(CLI::App& app) {
       "point:0.6,-0.8,1.2,I=3 \\\n"
       "      --light 'area:-0.5,-1.5,2;0.5,-1.5,2;0.5,-0.5,2;-0.5,-0.5,2,L=4' --albedo 0.5 --frames 0:30\n"
       "  pleat shade flag.glb -o flag.glb --light env:studio.hdr,up=0,1,0,scale=1.5 --render renders/ --up "
-      "0,1,0\n"
+      "y\n"
       "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --relight setups.json   # "
       "curtain_<name>.glb\n"
       "  pleat visibility curtain.obj --cache curtain.pc2 -o A.csv --cones curtain.cones   # cones once, "

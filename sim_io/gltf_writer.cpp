@@ -136,8 +136,13 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
 
 ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
                                  std::vector<std::size_t> frames, double fps, bool with_visibility,
-                                 const std::vector<PositionBounds>& bounds, GlbLayout layout)
-    : m_sequence(sequence), m_frames(std::move(frames)), m_with_visibility(with_visibility), m_file(path) {
+                                 const std::vector<PositionBounds>& bounds, GlbLayout layout,
+                                 const AxisTurn& turn)
+    : m_sequence(sequence),
+      m_frames(std::move(frames)),
+      m_with_visibility(with_visibility),
+      m_turn(turn),
+      m_file(path) {
   if (!bounds.empty() && bounds.size() != m_frames.size())
     throw std::invalid_argument("ShadedGlbWriter: one bounds per frame");
   if (m_frames.empty()) throw std::invalid_argument("ShadedGlbWriter: no frames");
@@ -160,7 +165,7 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
         input.normals.clear();
         break;
       }
-      n /= length;
+      n = turn(n / length);
     }
     if (!std::all_of(input.texcoords.begin(), input.texcoords.end(),
                      [](glm::vec2 t) { return std::isfinite(t.x) && std::isfinite(t.y); }))
@@ -218,7 +223,8 @@ ShadedGlbWriter::ShadedGlbWriter(const std::filesystem::path& path, const MeshSe
   json children = json::array();
   for (std::size_t j = 0; j < F; ++j) {
     // Exact float bounds of the positions as they will be stored.
-    const auto [lo, hi] = bounds.empty() ? position_bounds(sequence.frame(m_frames[j])) : bounds[j];
+    auto [lo, hi] = bounds.empty() ? position_bounds(sequence.frame(m_frames[j])) : bounds[j];
+    turn.bounds(lo, hi);
     const std::uint64_t offset = frames_offset + j * frame_bytes;
     const std::size_t vec3_view = buffer_views.size();
     buffer_views.push_back({{"buffer", 0},
@@ -439,7 +445,7 @@ void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& positions,
   std::vector<float> values;
   values.reserve(4 * count);
   for (std::size_t g = 0; g < count; ++g) {
-    const glm::vec3& p = positions[welded(g)];
+    const glm::vec3 p = m_turn(positions[welded(g)]);
     values.insert(values.end(), {p.x, p.y, p.z});
   }
   std::ostream& out = m_file.stream();
@@ -462,7 +468,8 @@ void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& positions,
       values.clear();
       for (std::size_t g = 0; g < count; ++g) {
         const glm::vec4& b = side->bent_cone[welded(g)];
-        values.insert(values.end(), {b.x, b.y, b.z, b.w});
+        const glm::vec3 n = m_turn(glm::vec3(b));
+        values.insert(values.end(), {n.x, n.y, n.z, b.w});
       }
       put_floats(out, values);
     }

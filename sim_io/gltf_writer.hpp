@@ -31,6 +31,7 @@
 
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/mesh_sequence.hpp"
+#include "sim_io/up_axis.hpp"
 
 namespace pleat {
 
@@ -70,11 +71,14 @@ class ShadedGlbWriter {
   ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
                   std::vector<std::size_t> frames, double fps, bool with_visibility = false,
                   GlbLayout layout = GlbLayout::Sides);
-  /// The same with each frame's position_bounds() given (frame j: bounds[j]), so the constructor reads no
-  /// frame: for a writer whose frames' positions come from elsewhere (other processes, cli/run_chunks.hpp).
+  /// The same with each frame's position_bounds() given (frame j: bounds[j], in the input's axes), so the
+  /// constructor reads no frame: for a writer whose frames' positions come from elsewhere (other processes,
+  /// cli/run_chunks.hpp). `turn` turns every position, normal and bent normal written (an input whose up is
+  /// not +Y stood up in glTF's Y-up space: sim_io/up_axis.hpp).
   ShadedGlbWriter(const std::filesystem::path& path, const MeshSequence& sequence,
                   std::vector<std::size_t> frames, double fps, bool with_visibility,
-                  const std::vector<PositionBounds>& bounds, GlbLayout layout = GlbLayout::Sides);
+                  const std::vector<PositionBounds>& bounds, GlbLayout layout = GlbLayout::Sides,
+                  const AxisTurn& turn = {});
   ~ShadedGlbWriter();
   ShadedGlbWriter(const ShadedGlbWriter&) = delete;
   ShadedGlbWriter& operator=(const ShadedGlbWriter&) = delete;
@@ -95,6 +99,7 @@ class ShadedGlbWriter {
   std::vector<std::size_t> m_frames;
   bool m_with_visibility = false;
   std::vector<Index> m_welded_of_vertex;  // the input layout's vertices' welded vertices; empty: the welded
+  AxisTurn m_turn;
   std::size_t m_next = 0;
   std::size_t m_tail_bytes = 0;  // animation data written by finish()
   std::vector<unsigned char> m_tail;

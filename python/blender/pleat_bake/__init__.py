@@ -113,7 +113,17 @@ classes = (PleatSettings, bake.PLEAT_OT_bake, results.PLEAT_OT_load, shading.PLE
            shading.PLEAT_OT_material, PLEAT_PT_object, PLEAT_PT_sidebar)
 
 
+def _numpy_bool_for_gltf_import():
+    """Blender 3.4's glTF importer uses numpy.bool, which numpy 1.24 removed (Debian 12 has both): File ▸
+    Import ▸ glTF fails with "module 'numpy' has no attribute 'bool'". The alias meant the builtin bool."""
+    import numpy
+
+    if bpy.app.version < (3, 6, 0) and "bool" not in numpy.__dict__:
+        numpy.bool = bool
+
+
 def register():
+    _numpy_bool_for_gltf_import()
     for c in classes:
         bpy.utils.register_class(c)
     bpy.types.Scene.pleat = bpy.props.PointerProperty(type=PleatSettings)
