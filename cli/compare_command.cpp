@@ -69,18 +69,6 @@ glm::dvec3 parse_up(const std::string& text) {
   return v;
 }
 
-/// Viridis (matplotlib's perceptually uniform map), sampled at 9 stops, in sRGB; t in [0, 1].
-glm::vec3 viridis(double t) {
-  static const std::array<glm::vec3, 9> stops = {
-      glm::vec3(68, 1, 84),    glm::vec3(71, 44, 122),  glm::vec3(59, 81, 139),
-      glm::vec3(44, 113, 142), glm::vec3(33, 144, 141), glm::vec3(39, 173, 129),
-      glm::vec3(92, 200, 99),  glm::vec3(170, 220, 50), glm::vec3(253, 231, 37)};
-  const double x = std::clamp(t, 0.0, 1.0) * (stops.size() - 1);
-  const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(x), stops.size() - 2);
-  const float f = static_cast<float>(x - double(i));
-  return glm::mix(stops[i], stops[i + 1], f) / 255.0f;
-}
-
 /// The smallest of 1, 2, 2.5, 5 x 10^k that is >= x (a legend's end value).
 double nice_ceiling(double x) {
   if (!(x > 0.0)) return 1.0;
@@ -95,32 +83,6 @@ std::string format_number(double x) {
   s.precision(3);
   s << x;
   return s.str();
-}
-
-/// Appends a legend under `image`: a colour bar from 0 to `top` with end and middle labels and a title.
-Image with_legend(const Image& image, double top, const std::string& title) {
-  constexpr int kScale = 2, kPad = 8, kBar = 14, kText = 7 * kScale;
-  const int height = image.height + kPad + kBar + 4 + kText + kPad + kText + kPad;
-  Image out(image.width, height, {40, 40, 40});
-  std::copy(image.rgb.begin(), image.rgb.end(), out.rgb.begin());
-  const int x0 = kPad, x1 = image.width - kPad;
-  const int y0 = image.height + kPad;
-  for (int x = x0; x < x1; ++x) {
-    const glm::vec3 c = viridis(double(x - x0) / std::max(1, x1 - x0 - 1));
-    const glm::u8vec3 rgb(static_cast<std::uint8_t>(std::lround(255 * c.x)),
-                          static_cast<std::uint8_t>(std::lround(255 * c.y)),
-                          static_cast<std::uint8_t>(std::lround(255 * c.z)));
-    for (int y = y0; y < y0 + kBar; ++y) out.set_pixel(x, y, rgb);
-  }
-  const int ty = y0 + kBar + 4;
-  const glm::u8vec3 ink(235, 235, 235);
-  const std::string lo = "0", mid = format_number(top / 2), hi = format_number(top);
-  draw_text(out, x0, ty, lo, ink, kScale);
-  draw_text(out, (x0 + x1 - text_width(mid, kScale)) / 2, ty, mid, ink, kScale);
-  draw_text(out, x1 - text_width(hi, kScale), ty, hi, ink, kScale);
-  draw_text(out, std::max(kPad, (image.width - text_width(title, kScale)) / 2), ty + kText + kPad, title, ink,
-            kScale);
-  return out;
 }
 
 double percentile(std::vector<double> values, double q) {
@@ -235,8 +197,8 @@ void run_compare(const CompareOptions& options) {
     for (std::size_t v = 0; v < n; ++v) heat[s][v] = viridis(difference[s][v] / top);
   }
   const Image heat_image =
-      with_legend(render_image(scene, frame, heat[0], heat[1], camera, options.width, options.height), top,
-                  "LUMINANCE, REF MEAN " + format_number(reference_mean));
+      with_legend(render_image(scene, frame, heat[0], heat[1], camera, options.width, options.height), 0.0,
+                  top, "LUMINANCE, REF MEAN " + format_number(reference_mean));
   char pt_label[64];
   std::snprintf(pt_label, sizeof pt_label, "PATH TRACED (%d PATHS)", 2 * trace.paths_per_vertex);
   const std::array<LabeledImage, 3> panels = {LabeledImage{&ours_image, "PLEAT CONES"},

@@ -67,6 +67,7 @@ struct ShadeOptions {
   int height = 600;
   std::string camera;
   std::string up = "auto";
+  std::string render_mode = "shaded";
   int render_every = 1;
   int turntable = 0;
   bool hide_occluders = false;
@@ -94,6 +95,31 @@ void side_visibility(const FrameVisibility& visibility, Side side, SideVisibilit
     const double cosine = std::clamp(1.0 - m.solid_angle / (2.0 * M_PI), -1.0, 1.0);
     out.bent_cone[v] = glm::vec4(glm::vec3(m.bent_normal), float(cosine));
   }
+}
+
+/// The renders' colours of the occluders (the vertices of `drawn` after the cloth's `cloth_vertices`): a
+/// slate grey lit from `up`, and the ground planes (the last `ground_vertices`) a light warm grey, so that
+/// both stand apart from the cloth and from the background.
+std::vector<glm::vec3> occluder_colours(const MeshTopology& drawn, const Frame& frame, Index cloth_vertices,
+                                        std::size_t ground_vertices, const glm::dvec3& up) {
+  const std::vector<glm::dvec3> normals = vertex_normals(drawn, frame);
+  std::vector<glm::vec3> colours;
+  for (Index v = cloth_vertices; v < drawn.num_vertices; ++v) {
+    if (v >= drawn.num_vertices - ground_vertices)
+      colours.push_back({0.78f, 0.75f, 0.70f});
+    else
+      colours.push_back(glm::vec3(float(0.28 + 0.30 * std::abs(glm::dot(normals[v], up)))) *
+                        glm::vec3(0.90f, 0.95f, 1.0f));
+  }
+  return colours;
+}
+
+/// --render-mode sky-visibility: each side's A through viridis (0 dark blue, 1 yellow).
+std::array<std::vector<glm::vec3>, 2> sky_colours(const std::array<SideVisibility, 2>& sides) {
+  std::array<std::vector<glm::vec3>, 2> colours;
+  for (int s = 0; s < 2; ++s)
+    for (float a : sides[s].sky_visibility) colours[s].push_back(viridis(a));
+  return colours;
 }
 
 std::vector<Lighting> gather_lightings(const ShadeOptions& options) {
@@ -249,10 +275,11 @@ void run_shade(const ShadeOptions& options) {
     std::unique_ptr<EmbreeScene> scene;
     FrameVisibility from_cache;
     std::array<SideVisibility, 2> sides;
-    // The images show the occluders (neutral grey, lit from --up) unless --hide-occluders.
+    // The images show the occluders (slate grey lit from --up, the ground light) unless --hide-occluders.
     const bool occluded = world.num_occluders() > 0;
     const bool draw_occluders = occluded && !options.hide_occluders;
     const MeshTopology& drawn = draw_occluders ? world.topology() : topology;
+    const bool sky_mode = options.render_mode == "sky-visibility";
     std::vector<glm::vec3> occluder_grey;
     auto with_occluders = [&](const std::vector<glm::vec3>& cloth) {
       if (!draw_occluders) return cloth;
@@ -283,12 +310,9 @@ void run_shade(const ShadeOptions& options) {
           scene = std::make_unique<EmbreeScene>(drawn, drawn_frame);
         else
           scene->update(drawn_frame);
-        if (draw_occluders) {
-          const std::vector<glm::dvec3> normals = vertex_normals(drawn, drawn_frame);
-          occluder_grey.clear();
-          for (Index v = topology.num_vertices; v < drawn.num_vertices; ++v)
-            occluder_grey.push_back(glm::vec3(float(0.30 + 0.10 * std::abs(glm::dot(normals[v], up.up)))));
-        }
+        if (draw_occluders)
+          occluder_grey =
+              occluder_colours(drawn, drawn_frame, topology.num_vertices, world.num_ground_vertices(), up.up);
       }
       ByteWriter bytes;
       bytes.put(std::chrono::duration<double>(t1 - t0).count());
@@ -304,7 +328,16 @@ void run_shade(const ShadeOptions& options) {
         const std::vector<glm::vec3> front = to_srgb(shaded.front(), tone);
         const std::vector<glm::vec3> back = to_srgb(shaded.back(), tone);
         bytes.put(seconds).put_array(front).put_array(back);
-        if (render_this) {
+        if (render_this && sky_mode) {  // A itself, with a legend
+          const auto [sky_front, sky_back] = sky_colours(sides);
+          char name[64];
+          std::snprintf(name, sizeof name, "frame_%04lld.png", static_cast<long long>(number));
+          write_png(
+              render_dirs[s] / name,
+              with_legend(render_image(*scene, drawn_frame, with_occluders(sky_front),
+                                       with_occluders(sky_back), *camera, options.width, options.height),
+                          0.0, 1.0, "SKY VISIBILITY A: 0 CLOSED IN, 1 OPEN SKY"));
+        } else if (render_this) {
           char name[64];
           std::snprintf(name, sizeof name, "frame_%04lld.png", static_cast<long long>(number));
           if (options.turntable > 0 && frame_ids.size() == 1) {
@@ -412,6 +445,12 @@ void register_shade_command(CLI::App& app) {
   cmd->add_option("--render", options->render_dir,
                   "also write PNG images of the shaded frames into DIR (with --relight: DIR/<setup>/), as "
                   "frame_NNNN.png, NNNN the source frame number (PC2 scene frame, OBJ-sequence file number)");
+  cmd->add_option(
+         "--render-mode", options->render_mode,
+         "what the images show: shaded (the lit cloth) or sky-visibility (A of the side seen, through "
+         "the viridis colour map, with a legend)")
+      ->check(CLI::IsMember({"shaded", "sky-visibility"}))
+      ->capture_default_str();
   cmd->add_option("--width", options->width, "image width")
       ->capture_default_str()
       ->check(CLI::Range(16, 16384));

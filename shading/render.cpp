@@ -387,6 +387,50 @@ void draw_text(Image& image, int x, int y, std::string_view text, glm::u8vec3 co
   }
 }
 
+glm::vec3 viridis(double t) {
+  static const std::array<glm::vec3, 9> stops = {
+      glm::vec3(68, 1, 84),    glm::vec3(71, 44, 122),  glm::vec3(59, 81, 139),
+      glm::vec3(44, 113, 142), glm::vec3(33, 144, 141), glm::vec3(39, 173, 129),
+      glm::vec3(92, 200, 99),  glm::vec3(170, 220, 50), glm::vec3(253, 231, 37)};
+  const double x = std::clamp(t, 0.0, 1.0) * (stops.size() - 1);
+  const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(x), stops.size() - 2);
+  const float f = static_cast<float>(x - double(i));
+  return glm::mix(stops[i], stops[i + 1], f) / 255.0f;
+}
+
+namespace {
+std::string legend_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+}  // namespace
+
+Image with_legend(const Image& image, double lo, double hi, std::string_view title) {
+  constexpr int kScale = 2, kPad = 8, kBar = 14, kText = 7 * kScale;
+  const int height = image.height + kPad + kBar + 4 + kText + kPad + kText + kPad;
+  Image out(image.width, height, {40, 40, 40});
+  std::copy(image.rgb.begin(), image.rgb.end(), out.rgb.begin());
+  const int x0 = kPad, x1 = image.width - kPad;
+  const int y0 = image.height + kPad;
+  for (int x = x0; x < x1; ++x) {
+    const glm::vec3 c = viridis(double(x - x0) / std::max(1, x1 - x0 - 1));
+    const glm::u8vec3 rgb(static_cast<std::uint8_t>(std::lround(255 * c.x)),
+                          static_cast<std::uint8_t>(std::lround(255 * c.y)),
+                          static_cast<std::uint8_t>(std::lround(255 * c.z)));
+    for (int y = y0; y < y0 + kBar; ++y) out.set_pixel(x, y, rgb);
+  }
+  const int ty = y0 + kBar + 4;
+  const glm::u8vec3 ink(235, 235, 235);
+  const std::string low = legend_number(lo), mid = legend_number((lo + hi) / 2), high = legend_number(hi);
+  draw_text(out, x0, ty, low, ink, kScale);
+  draw_text(out, (x0 + x1 - text_width(mid, kScale)) / 2, ty, mid, ink, kScale);
+  draw_text(out, x1 - text_width(high, kScale), ty, high, ink, kScale);
+  draw_text(out, std::max(kPad, (image.width - text_width(title, kScale)) / 2), ty + kText + kPad, title, ink,
+            kScale);
+  return out;
+}
+
 Image side_by_side(std::span<const LabeledImage> panels) {
   constexpr int kScale = 2, kPad = 6, kGap = 4;
   const int bar = 7 * kScale + 2 * kPad;

@@ -116,6 +116,14 @@ struct LabeledImage {
   const Image* image = nullptr;
   std::string label;
 };
+/// Viridis (matplotlib's perceptually uniform colour map, dark blue to yellow), sampled at 9 stops, in sRGB;
+/// t in [0, 1] (clamped).
+glm::vec3 viridis(double t);
+
+/// `image` with a legend appended under it: a viridis bar from `lo` to `hi` with its ends' and middle's
+/// values, and `title` under it.
+Image with_legend(const Image& image, double lo, double hi, std::string_view title);
+
 /// Panels side by side, each under a dark label bar, separated by a thin gap; panels of different heights
 /// are top-aligned on the background.
 Image side_by_side(std::span<const LabeledImage> panels);

@@ -69,6 +69,8 @@ class Scene {
   /// `cloth`, frame i of the cloth already read, with the occluders' positions at that frame appended.
   Frame with_occluders(std::size_t i, Frame cloth) const;
   std::size_t num_occluders() const { return m_occluders.size() + m_grounds.size(); }
+  /// The ground planes' corners: the last vertices of topology() and of a frame with occluders.
+  std::size_t num_ground_vertices() const { return m_grounds.size(); }
 
  private:
   void add(std::vector<LoadedOccluder> occluders, const std::vector<GroundPlane>& grounds,

@@ -178,3 +178,46 @@ TEST(Render, SideBySideComposesLabelledPanels) {
 
 }  // namespace
 }  // namespace pleat
+
+namespace pleat {
+namespace {
+
+/// `pleat shade --render-mode sky-visibility` draws A itself through viridis with a legend under the image,
+/// and the ground in its own light colour (the old renders drew it as the background's grey).
+TEST(Render, ShadeShowsSkyVisibilityWithALegendAndTheGroundApart) {
+  test::TempDir dir;
+  const std::string pile = std::string(PLEAT_SOURCE_DIR) + "/data/pile/pile.obj";
+  const auto run =
+      test::run_pleat("shade " + pile + " --cache " + std::string(PLEAT_SOURCE_DIR) +
+                      "/data/pile/pile.pc2 --frames 0:1 --ground y=0 --render-mode sky-visibility "
+                      "--render " +
+                      (dir / "r").string() + " --width 200 --height 150 -q -o " + (dir / "o.glb").string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::filesystem::path png;
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "r")) png = entry.path();
+  int w = 0, h = 0, channels = 0;
+  unsigned char* data = stbi_load(png.string().c_str(), &w, &h, &channels, 3);
+  ASSERT_NE(data, nullptr) << png;
+  const auto at = [&](int x, int y) {
+    return glm::ivec3(data[(y * w + x) * 3], data[(y * w + x) * 3 + 1], data[(y * w + x) * 3 + 2]);
+  };
+  EXPECT_EQ(w, 200);
+  EXPECT_GT(h, 150 + 40);  // the legend under the image
+  // The legend's bar runs from viridis(0) to viridis(1).
+  const glm::ivec3 low = at(8, 150 + 10), high = at(200 - 9, 150 + 10);
+  EXPECT_LE(glm::length(glm::vec3(low - glm::ivec3(68, 1, 84))), 4.0f);
+  EXPECT_LE(glm::length(glm::vec3(high - glm::ivec3(253, 231, 37))), 4.0f);
+  // The cloth in colour (viridis is nowhere grey), the ground in its light warm grey at the image's corner.
+  int coloured = 0;
+  for (int y = 0; y < 150; ++y)
+    for (int x = 0; x < w; ++x) {
+      const glm::ivec3 c = at(x, y);
+      if (std::abs(c.g - c.r) > 40 || std::abs(c.b - c.g) > 40) ++coloured;
+    }
+  EXPECT_GT(coloured, 200);
+  EXPECT_LE(glm::length(glm::vec3(at(2, 2) - glm::ivec3(199, 191, 179))), 6.0f);
+  stbi_image_free(data);
+}
+
+}  // namespace
+}  // namespace pleat
