@@ -11,7 +11,7 @@ packages=(cmake ninja-build lld make g++ pkg-config  # the build: CMakePresets.j
           libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev python3-matplotlib
           clang libfuzzer-14-dev clang-format  # scripts/check_sanitized.sh and the format check
           openmpi-bin libopenmpi-dev  # mpirun -np N pleat visibility|shade (cli/world.hpp; PLEAT_MPI)
-          pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
+          pybind11-dev python3-dev python3-numpy python3-pytest python3-tqdm  # the Python module (python/), its tests
           python3-setuptools python3-pip python3-venv  # pip install --no-build-isolation . (pyproject.toml)
           libjs-three chromium  # pleat view's three.js, and the browser its test runs headless
           blender)  # the add-on's test (tests/blender/bake_test.py) runs Blender headless

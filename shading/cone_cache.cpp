@@ -227,6 +227,8 @@ struct ConeCacheReader::Impl {
     if (!in) fail(place, "cannot read the cone cache");
     return reinterpret_cast<const unsigned char*>(block.data());
   }
+  /// Cached frame `index` into `out`; `frame`, when given, must be the positions it was computed for.
+  void read_frame(std::size_t index, const Frame* frame, FrameVisibility& out);
 };
 
 ConeCacheReader::ConeCacheReader(const std::filesystem::path& path) : m_impl(std::make_unique<Impl>()) {
@@ -318,7 +320,15 @@ std::size_t ConeCacheReader::index_of_frame(std::size_t frame) const {
 }
 
 void ConeCacheReader::read_frame(std::size_t index, const Frame& frame, FrameVisibility& out) {
-  Impl& r = *m_impl;
+  m_impl->read_frame(index, &frame, out);
+}
+
+void ConeCacheReader::read_frame_unchecked(std::size_t index, FrameVisibility& out) {
+  m_impl->read_frame(index, nullptr, out);
+}
+
+void ConeCacheReader::Impl::read_frame(std::size_t index, const Frame* frame, FrameVisibility& out) {
+  Impl& r = *this;
   const Index n = r.header.vertices;
   const std::string place = "frame " + std::to_string(r.header.frames.at(index));
   const std::uint64_t start = r.offsets[index], size = r.offsets[index + 1] - start;
@@ -343,7 +353,7 @@ void ConeCacheReader::read_frame(std::size_t index, const Frame& frame, FrameVis
     return v;
   };
   need(8);
-  if (bytes::load_u64_le(p) != positions_fingerprint(frame))
+  if (frame != nullptr && bytes::load_u64_le(p) != positions_fingerprint(*frame))
     r.fail(place, "the cones were computed for other positions of this frame (a different simulation)");
   p += 8;
   need(24 * std::uint64_t(n));

@@ -124,6 +124,9 @@ class ConeCacheReader {
   /// normals (stats are left empty). Throws InputError naming the frame and the byte where it is malformed,
   /// or when `frame` (the input's positions for it) is not the frame the cones were computed for.
   void read_frame(std::size_t index, const Frame& frame, FrameVisibility& out);
+  /// The same for a reader that has no positions to check the frame against (the Python module's
+  /// read_cone_cache, which reads the values only).
+  void read_frame_unchecked(std::size_t index, FrameVisibility& out);
 
   struct Impl;
 

@@ -22,9 +22,10 @@ Float arrays of any byte order are read (float64 and float32 in place, others co
 ValueError (InputError, a ValueError, for what the library rejects: non-finite coordinates, ...); bad files
 raise InputError naming the file and the place.
 """
-from ._pleat import Engine, FrameResult, InputError, __version__, _load, _sky_visibility
+from ._pleat import Engine, FrameResult, InputError, __version__, _load, _read_cone_cache, _sky_visibility
 
-__all__ = ["Engine", "FrameResult", "InputError", "LoadedMesh", "load", "sky_visibility", "__version__"]
+__all__ = ["ConeCache", "Engine", "FrameResult", "InputError", "LoadedMesh", "load", "read_cone_cache",
+           "sky_visibility", "__version__"]
 
 
 class LoadedMesh:
@@ -56,6 +57,34 @@ def load(path, cache=None):
     path = os.fspath(path)
     faces, positions, fps, source_frames = _load(path, None if cache is None else os.fspath(cache))
     return LoadedMesh(faces, positions, fps, source_frames, path)
+
+
+class ConeCache:
+    """The values of a cone cache (`pleat visibility --cones`), per input vertex.
+
+    sky_visibility: (T, V, 2) float64, A of the front and back
+    frames: (T,) int64, each frame's index in the input (what --frames counts; the cache does not hold the
+        source's frame numbers: LoadedMesh.source_frames[frames] gives them)
+    times: (T,) float64, seconds
+    """
+
+    __slots__ = ("sky_visibility", "frames", "times", "path")
+
+    def __init__(self, sky_visibility, frames, times, path):
+        self.sky_visibility, self.frames, self.times, self.path = sky_visibility, frames, times, path
+
+    def __repr__(self):
+        t, v, _ = self.sky_visibility.shape
+        return f"<pleat.ConeCache {self.path!r}: {t} frames x {v} vertices>"
+
+
+def read_cone_cache(path):
+    """Reads the values of a cone cache. Raises InputError naming the file and the byte where it is
+    malformed."""
+    import os
+
+    path = os.fspath(path)
+    return ConeCache(*_read_cone_cache(path), path)
 
 
 def sky_visibility(faces, positions, *, frames=None, progress=None, out=None, **options):

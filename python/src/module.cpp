@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "kinetic/engine.hpp"
+#include "shading/cone_cache.hpp"
 #include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/scene.hpp"
@@ -642,6 +643,39 @@ std::vector<std::size_t> frame_selection(const py::object& frames, std::size_t c
   return indices;
 }
 
+/// pleat.read_cone_cache's fields: A (T, I, 2) per input vertex, the input frame indices (T,), the times
+/// (T,).
+py::tuple read_cone_cache(const std::string& path) {
+  std::optional<ConeCacheReader> reader;
+  {
+    py::gil_scoped_release release;
+    reader.emplace(path);
+  }
+  const ConeCacheHeader& header = reader->header();
+  const py::ssize_t frames = py::ssize_t(header.frames.size()),
+                    inputs = py::ssize_t(header.welded_of_input.size());
+  py::array_t<double> sky({frames, inputs, py::ssize_t(2)});
+  py::array_t<std::int64_t> indices(frames);
+  py::array_t<double> times(frames);
+  double* a = sky.mutable_data();
+  std::int64_t* f = indices.mutable_data();
+  double* t = times.mutable_data();
+  {
+    py::gil_scoped_release release;
+    FrameVisibility frame;
+    for (py::ssize_t k = 0; k < frames; ++k) {
+      reader->read_frame_unchecked(std::size_t(k), frame);
+      for (py::ssize_t v = 0; v < inputs; ++v)
+        for (int side = 0; side < 2; ++side)
+          a[(k * inputs + v) * 2 + side] =
+              frame.measures[side][header.welded_of_input[std::size_t(v)]].sky_visibility;
+      f[k] = header.frames[std::size_t(k)];
+      t[k] = header.times[std::size_t(k)];
+    }
+  }
+  return py::make_tuple(sky, indices, times);
+}
+
 /// pleat.sky_visibility: the engine's options, and frames=, progress=, out= (python/pleat/__init__.py).
 py::array_t<double> sky_visibility(py::object faces, py::object positions, py::kwargs kwargs) {
   const auto take = [&](const char* name) {
@@ -760,4 +794,5 @@ lives (animated occluders are read from them frame by frame).)")
 
   m.def("_load", &load, py::arg("path"), py::arg("cache") = py::none());
   m.def("_sky_visibility", &sky_visibility, py::arg("faces"), py::arg("positions"));
+  m.def("_read_cone_cache", &read_cone_cache, py::arg("path"));
 }

@@ -230,7 +230,7 @@ with open(os.path.join(args.work, "cube.obj"), "w") as out:
 csv_path = os.path.join(args.work, "visibility.csv")
 run = subprocess.run([args.pleat, "visibility", os.path.join(frames_dir, "cloth_%04d.obj"), "--occluder",
                       os.path.join(args.work, "cube.obj"), "--ground", f"z={GROUND!r}",
-                      "--engine", "kinetic",
+                      "--engine", "kinetic", "--cones", os.path.join(args.work, "visibility.cones"),
                       "-o", csv_path, "-q"], capture_output=True, text=True)
 if run.returncode != 0:
     print("FAILED: pleat visibility:", run.stdout, run.stderr)
@@ -261,16 +261,16 @@ def played(obj, frame):
     return attribute(obj.data, playback.FRONT), attribute(obj.data, playback.BACK)
 
 
-# Results computed elsewhere, loaded onto a copy of the cloth's mesh (the same vertices): the CLI's CSV and the
-# add-on's own cache play back at the scene frames their source frames name.
+# Results computed elsewhere, loaded onto a copy of the cloth's mesh (the same vertices): the CLI's CSV and
+# cone cache and the add-on's own cache play back at the scene frames their source frames name.
 copy = cloth.copy()
 copy.data = cloth.data.copy()
 copy.modifiers.clear()
 del copy[playback.CACHE_PROPERTY]
 scene.collection.objects.link(copy)
 bpy.context.view_layer.objects.active = copy
-for source in (csv_path, cache_file):
-    result = bpy.ops.pleat.load_sky_visibility(filepath=source)
+for source in (csv_path, os.path.join(args.work, "visibility.cones"), cache_file):
+    result = bpy.ops.pleat.load_sky_visibility(filepath=source, first_frame=FIRST)
     expect(result == {"FINISHED"}, f"loading {source} returned {result}")
     for frame in (FIRST, 16, LAST):
         got = played(copy, frame)

@@ -124,3 +124,18 @@ def test_dir_is_the_api_and_big_endian_arrays_are_read():
     assert np.array_equal(pleat.sky_visibility(faces.astype(">i4"), positions.astype(">f8")), native)
     assert np.array_equal(pleat.sky_visibility(faces.astype(">u2"), positions.astype(">f4")),
                           pleat.sky_visibility(faces, positions.astype("<f4")))
+
+
+def test_read_cone_cache_equals_the_csv(tmp_path, data):
+    pc2 = tmp_path / "drape.pc2"
+    from conftest import truncate_pc2
+
+    truncate_pc2(data / "drape" / "drape.pc2", pc2, 4)
+    cones = tmp_path / "drape.cones"
+    csv_values = run_cli(data / "drape" / "drape.obj", "--cache", pc2, "--frames", "1:4", "--cones", cones)
+    cache = pleat.read_cone_cache(cones)
+    assert np.array_equal(cache.sky_visibility, csv_values)
+    assert cache.frames.tolist() == [1, 2, 3]
+    assert np.allclose(np.diff(cache.times), 1 / 24)
+    with pytest.raises(pleat.InputError, match="drape.obj"):
+        pleat.read_cone_cache(data / "drape" / "drape.obj")

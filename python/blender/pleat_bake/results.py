@@ -2,9 +2,10 @@
 # a cone cache (`pleat visibility --cones`) or an add-on cache (.npz) and plays it back on the active mesh as
 # a bake does (playback.py): the file must have the mesh's vertex count (the values go on its vertices in
 # order, as the input of `pleat visibility` had them), and its frames are keyed by their source frame
-# numbers (the CSV's source_frame column: PC2 start frame + index x sample rate, OBJ-sequence file numbers;
-# a cone cache's frame times x its frame rate), which for a cache exported from this scene are the scene's
-# frames. The values are copied into the object's own cache beside the .blend (cache.py).
+# numbers (the CSV's source_frame column: PC2 start frame + index x sample rate, OBJ-sequence file numbers),
+# which for a cache exported from this scene are the scene's frames. A cone cache holds input frame indices
+# only: its frame i goes to the operator's First frame + i. The values are copied into the object's own cache
+# beside the .blend (cache.py).
 
 import os
 
@@ -44,23 +45,27 @@ def read_csv(path):
     return frames, front, back
 
 
-def read_cones(path):
-    """(source frames, front, back) of a cone cache, read by the pleat module (one reader of the format)."""
+def read_cones(path, first_frame):
+    """(scene frames, front, back) of a cone cache, read by the pleat module (one reader of the format); its
+    input frame i is scene frame first_frame + i."""
     import pleat
 
     cones = pleat.read_cone_cache(path)
-    return cones.source_frames, cones.sky_visibility[:, :, 0], cones.sky_visibility[:, :, 1]
+    frames = first_frame + cones.frames.astype(np.int64)
+    return frames, cones.sky_visibility[:, :, 0], cones.sky_visibility[:, :, 1]
 
 
-READERS = {".csv": read_csv, ".cones": read_cones, ".npz": cache.read}
-
-
-def load_onto(obj, path):
+def load_onto(obj, path, first_frame):
     """Reads `path` (by its extension) and makes it obj's playback cache; returns (frames, where stored)."""
-    reader = READERS.get(os.path.splitext(path)[1].lower())
-    if reader is None:
+    kind = os.path.splitext(path)[1].lower()
+    if kind == ".csv":
+        frames, front, back = read_csv(path)
+    elif kind == ".cones":
+        frames, front, back = read_cones(path, first_frame)
+    elif kind == ".npz":
+        frames, front, back = cache.read(path)
+    else:
         raise ValueError(f"{path}: not a .csv, .cones or .npz file")
-    frames, front, back = reader(path)
     vertices = len(obj.data.vertices)
     if front.shape[1] != vertices:
         raise ValueError(f"{path} has {front.shape[1]} vertices, {obj.name}'s mesh {vertices}: load it onto "
@@ -81,19 +86,24 @@ class PLEAT_OT_load(bpy.types.Operator):
 
     filepath: bpy.props.StringProperty(subtype="FILE_PATH")
     filter_glob: bpy.props.StringProperty(default="*.csv;*.cones;*.npz", options={"HIDDEN"})
+    first_frame: bpy.props.IntProperty(
+        name="First frame", default=1,
+        description="A cone cache's frames are the input's frame indices: the scene frame of the input's "
+                    "first frame (a CSV names its source frames itself)")
 
     @classmethod
     def poll(cls, context):
         return context.active_object is not None and context.active_object.type == "MESH"
 
     def invoke(self, context, event):
+        self.first_frame = context.scene.frame_start
         context.window_manager.fileselect_add(self)
         return {"RUNNING_MODAL"}
 
     def execute(self, context):
         obj = context.active_object
         try:
-            frames, target = load_onto(obj, bpy.path.abspath(self.filepath))
+            frames, target = load_onto(obj, bpy.path.abspath(self.filepath), self.first_frame)
         except ImportError as e:
             self.report({"ERROR"}, f"a cone cache is read by the pleat module, not importable here ({e})")
             return {"CANCELLED"}
