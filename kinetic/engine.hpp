@@ -31,7 +31,7 @@ struct EngineParams {
   kinetic::KineticPolicy policy;  ///< kinetic only: repair or rebuild
   /// VisibilityParams::poll, for either engine: an exception it throws leaves compute() and the engine
   /// usable (the kinetic one starts again from the next frame it is given, with the same results).
-  std::function<void()> poll;
+  std::function<void()> poll = {};
 };
 
 class Engine {

@@ -80,10 +80,7 @@ struct KineticPolicy {
 }  // namespace kinetic
 
 struct KineticParams {
-  bool parallel = true;  ///< TBB-parallel over slices and vertices
-  /// As VisibilityParams::poll. An exception it throws abandons the frame and leaves the slices between
-  /// two frames: build a new engine (pleat::Engine does) before the next frame.
-  std::function<void()> poll;
+  bool parallel = true;           ///< TBB-parallel over slices and vertices
   kinetic::KineticPolicy policy;  ///< repair or rebuild
   /// Check every slice's invariants after each interval (KineticSlice::check_invariants, exact); a violation
   /// throws InvariantError. On in Debug builds.
@@ -92,6 +89,9 @@ struct KineticParams {
 #else
   bool check_invariants = true;
 #endif
+  /// As VisibilityParams::poll. An exception it throws abandons the frame and leaves the slices between
+  /// two frames: build a new engine (pleat::Engine does) before the next frame.
+  std::function<void()> poll = {};
 };
 
 /// What the kinetic engine did, per slice and interval (KineticSlice::advance), summed over slices for a

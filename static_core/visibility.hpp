@@ -26,7 +26,7 @@ struct VisibilityParams {
   /// Called during a frame, from the thread that did the work, after each slice and every 256 assembled
   /// vertices: where a caller checks for an interrupt (the Python module: Ctrl+C). It may throw to abandon
   /// the frame; the exception leaves compute(), and the engine stays usable. Empty: not called.
-  std::function<void()> poll;
+  std::function<void()> poll = {};
 };
 
 /// One frame, one shot. Validates the topology and the frame.
