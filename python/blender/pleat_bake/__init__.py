@@ -17,8 +17,9 @@
 #   baked frame's values hold. The node group "pleat sky visibility" brings them into materials (shading.py);
 #   results computed elsewhere (a CSV, a cone cache) load onto the object the same way (results.py).
 #
-# Blender 3.4 and later (4.x: the node group API differences are handled in shading.py); the module pleat
-# must be built for Blender's Python version. python/blender/install.py installs both.
+# Blender 3.4 and later: 4.0's node group interface API is handled in shading.py; nothing here uses what 4.x
+# removed (Mesh.calc_normals, use_auto_smooth, bgl, vertex_colors). The module pleat must be built for
+# Blender's Python version. python/blender/install.py installs both.
 
 bl_info = {
     "name": "pleat: bake sky visibility",
