@@ -23,12 +23,21 @@ def generated(tmp_path, resolution, frames):
     return pleat.load(obj, cache=obj.with_suffix(".pc2"))
 
 
+@pytest.fixture
+def ctrl_c():
+    """Python's own SIGINT handler (KeyboardInterrupt), also where the test runner was started with SIGINT
+    ignored (a background job of a non-interactive shell, where Python leaves it ignored)."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 def interrupter(delay):
     """A thread that, started, sends this process SIGINT after `delay` seconds (Ctrl+C in a terminal)."""
     return threading.Timer(delay, os.kill, (os.getpid(), signal.SIGINT))
 
 
-def test_interrupt_between_frames_keeps_the_finished_ones(tmp_path):
+def test_interrupt_between_frames_keeps_the_finished_ones(tmp_path, ctrl_c):
     cloth = generated(tmp_path, 40, 40)
     out = np.full((40, cloth.positions.shape[1], 2), np.nan)
     timer = interrupter(0.05)
@@ -50,7 +59,7 @@ def test_interrupt_between_frames_keeps_the_finished_ones(tmp_path):
                                                                 frames=slice(0, finished)))
 
 
-def test_interrupt_inside_a_long_frame(tmp_path):
+def test_interrupt_inside_a_long_frame(tmp_path, ctrl_c):
     cloth = generated(tmp_path, 160, 2)  # 25,600 vertices: a frame takes seconds on one thread
     engine = pleat.Engine(cloth.faces, cloth.positions, threads=1)
     timer = interrupter(0.3)
