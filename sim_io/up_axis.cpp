@@ -62,9 +62,8 @@ std::array<int, 2> fall_direction(const MeshSequence& cloth) {
 UpChoice choose_up(std::string_view text, std::string_view ground, const MeshSequence& cloth) {
   std::array<int, 2> from_ground{-1, 0};
   if (!ground.empty()) {
-    const GroundPlane plane = parse_ground_plane(ground);
-    // Up is the side of the plane the cloth is on (its first frame's centroid).
-    from_ground = {plane.axis, centroid(cloth.frame(0))[plane.axis] >= plane.height ? 1 : -1};
+    const GroundPlane plane = parse_ground_plane(ground);  // up: its open side
+    from_ground = {plane.axis, plane.up > 0 ? 1 : -1};
   }
   const std::array<int, 2> fall = fall_direction(cloth);
   UpChoice choice;
