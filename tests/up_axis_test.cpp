@@ -55,7 +55,7 @@ TEST(UpAxis, AutoTakesTheGroundElseY) {
   EXPECT_EQ(up.source, "--ground z=0");
   EXPECT_EQ(up.turn(glm::vec3(0, 0, 1)), glm::vec3(0, 1, 0));
   EXPECT_EQ(choose_up("auto", "-z=3", resting).name, "-z");  // a ground solid on its +z side
-  up = choose_up("auto", "", falling);                      // a fall alone turns nothing: it warns
+  up = choose_up("auto", "", falling);                       // a fall alone turns nothing: it warns
   EXPECT_EQ(up.name, "+y");
   EXPECT_EQ(up.warning,
             "up +y (the default), but the cloth falls along -z: if +z is up, give --up z or --ground");
