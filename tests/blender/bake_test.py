@@ -160,6 +160,8 @@ settings = scene.pleat
 settings.occluders = occluders
 settings.engine = "kinetic"
 settings.ground, settings.ground_height = True, GROUND
+settings.contact_tolerance = 0.01
+expect(bake.engine_options(settings).get("contact_tolerance") == 0.01, "the contact tolerance is not passed on")
 
 # A cancelled bake (the generator closed early, as Esc does) writes nothing and restores the frame.
 scene.frame_set(5)
@@ -229,7 +231,7 @@ with open(os.path.join(args.work, "cube.obj"), "w") as out:
     out.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in triangles)
 csv_path = os.path.join(args.work, "visibility.csv")
 run = subprocess.run([args.pleat, "visibility", os.path.join(frames_dir, "cloth_%04d.obj"), "--occluder",
-                      os.path.join(args.work, "cube.obj"), "--ground", f"z={GROUND!r}",
+                      os.path.join(args.work, "cube.obj"), "--ground", f"z={GROUND!r}", "--contact-tolerance", "0.01",
                       "--engine", "kinetic", "--cones", os.path.join(args.work, "visibility.cones"),
                       "-o", csv_path, "-q"], capture_output=True, text=True)
 if run.returncode != 0:

@@ -60,6 +60,11 @@ class PleatSettings(bpy.types.PropertyGroup):
     ground: bpy.props.BoolProperty(
         name="Ground", default=False, description="An infinite ground plane z = height blocks the sky")
     ground_height: bpy.props.FloatProperty(name="Height", default=0.0, unit="LENGTH")
+    contact_tolerance: bpy.props.FloatProperty(
+        name="Contact tolerance", default=0.0, min=0.0, unit="LENGTH",
+        description="How far behind an open occluder (a plane) the cloth still rests on it; cloth inside a closed "
+                    "occluder or under the ground always does, and deeper vertices are reported "
+                    "(0: pleat's default, half the cloth's mean edge length)")
 
 
 class PLEAT_PT_panel:
@@ -82,6 +87,7 @@ class PLEAT_PT_panel:
         sub = row.row()
         sub.enabled = settings.ground
         sub.prop(settings, "ground_height")
+        layout.prop(settings, "contact_tolerance")
         layout.operator(bake.PLEAT_OT_bake.bl_idname, icon="RENDER_ANIMATION")
         layout.operator(results.PLEAT_OT_load.bl_idname, icon="IMPORT")
         obj = context.active_object

@@ -101,6 +101,8 @@ def engine_options(settings):
             options["paper"] = True
     if settings.ground:
         options["ground"] = f"z={settings.ground_height!r}"
+    if settings.contact_tolerance > 0.0:
+        options["contact_tolerance"] = settings.contact_tolerance
     return options
 
 
