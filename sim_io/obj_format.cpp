@@ -10,6 +10,7 @@
 
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/input_file.hpp"
+#include "sim_io/polygon_triangulation.hpp"
 #include "static_core/input_error.hpp"
 
 namespace pleat {
@@ -122,95 +123,167 @@ void read_numbers(Tokens& tokens, int required, double* out, const char* what, c
 
 }  // namespace
 
-ObjMesh read_obj(const std::filesystem::path& path) {
-  const std::string file = path.string();
-  const std::string text = read_whole_file(path);
-  ObjMesh mesh;
-  IndexList vertex_index{"vertex", "vertices"}, texcoord_index{"texture coordinate", "texture coordinates"},
-      normal_index{"normal", "normals"};
-  struct Corner {
-    std::int64_t v, t, n;  // t, n: -1 when the corner names none
-  };
-  std::vector<Corner> corners;
+namespace {
 
-  std::size_t line_number = 0;
-  std::size_t begin = 0;
-  while (begin < text.size()) {
-    std::size_t end = text.find('\n', begin);
-    if (end == std::string::npos) end = text.size();
-    std::string_view line(text.data() + begin, end - begin);
-    begin = end + 1;
-    ++line_number;
-    if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+// One corner of an `f` statement: 0-based indices of its vertex, texture coordinate and normal (-1: none).
+struct Corner {
+  std::int64_t v, t, n;
+};
+
+// The OBJ's statements as read: everything of ObjMesh but the triangles, and every polygon's corners.
+struct ParsedObj {
+  ObjMesh mesh;
+  std::vector<Corner> corners;  // polygon p's: corners[mesh.polygon_starts[p] .. mesh.polygon_starts[p + 1])
+};
+
+ParsedObj starting_parse() {
+  ParsedObj parsed;
+  parsed.mesh.polygon_starts.push_back(0);
+  return parsed;
+}
+
+class ObjParser {
+ public:
+  explicit ObjParser(std::string file) : m_file(std::move(file)) {}
+
+  void parse(std::string_view text) {
+    if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // a UTF-8 byte-order mark
+    std::size_t line_number = 0;
+    std::size_t begin = 0;
+    while (begin < text.size()) {
+      std::size_t end = text.find('\n', begin);
+      if (end == std::string::npos) end = text.size();
+      std::string_view line = text.substr(begin, end - begin);
+      begin = end + 1;
+      ++line_number;
+      if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+      statement(line, line_number);
+    }
+  }
+
+  ParsedObj finish() {
+    ObjMesh& mesh = m_parsed.mesh;
+    m_vertex_index.check(mesh.positions.size(), m_file);
+    m_texcoord_index.check(mesh.texcoords.size(), m_file);
+    m_normal_index.check(mesh.normals.size(), m_file);
+    if (mesh.positions.size() > std::size_t(UINT32_MAX))
+      throw InputError(m_file, "", "too many vertices for 32-bit indices");
+    if (mesh.positions.empty()) throw InputError(m_file, "", "empty mesh: no vertices");
+    if (mesh.num_polygons == 0) throw InputError(m_file, "", "empty mesh: no faces");
+    return std::move(m_parsed);
+  }
+
+ private:
+  void statement(std::string_view line, std::size_t line_number) {
     Tokens tokens(line);
     std::string_view keyword;
-    if (!tokens.next(keyword)) continue;
-
+    if (!tokens.next(keyword)) return;
+    ObjMesh& mesh = m_parsed.mesh;
     if (keyword == "v") {
-      glm::dvec3 p;
-      for (int k = 0; k < 3; ++k) {
-        std::string_view token;
-        if (!tokens.next(token))
-          throw InputError(file, at_line(line_number), "vertex has fewer than 3 coordinates");
-        if (!parse_double(token, p[k]))
-          throw InputError(file, at_line(line_number),
-                           "vertex coordinate '" + std::string(token) + "' is not a number");
-        if (!std::isfinite(p[k]))
-          throw InputError(
-              file, at_line(line_number),
-              "vertex " + std::to_string(mesh.positions.size()) + " has a non-finite coordinate");
-      }
-      mesh.positions.push_back(p);  // extra values (w, or r g b vertex colours) are ignored
+      mesh.positions.push_back(vertex(tokens, line_number));  // w or r g b colours are ignored
     } else if (keyword == "vt") {
       double uv[2];
-      read_numbers<2>(tokens, 1, uv, "texture coordinate", file, line_number);  // a w is ignored
+      read_numbers<2>(tokens, 1, uv, "texture coordinate", m_file, line_number);  // a w is ignored
       mesh.texcoords.emplace_back(uv[0], uv[1]);
     } else if (keyword == "vn") {
       double n[3];
-      read_numbers<3>(tokens, 3, n, "normal", file, line_number);
+      read_numbers<3>(tokens, 3, n, "normal", m_file, line_number);
       mesh.normals.emplace_back(n[0], n[1], n[2]);
     } else if (keyword == "f") {
-      corners.clear();
-      std::string_view token;
-      while (tokens.next(token)) {
-        const std::size_t slash = token.find('/');
-        Corner c{vertex_index.resolve(token.substr(0, slash), std::int64_t(mesh.positions.size()), file,
-                                      line_number, token),
-                 -1, -1};
-        if (slash != std::string_view::npos) {
-          const std::string_view rest = token.substr(slash + 1);
-          const std::size_t second = rest.find('/');
-          const std::string_view t = rest.substr(0, second);
-          if (!t.empty())
-            c.t = texcoord_index.resolve(t, std::int64_t(mesh.texcoords.size()), file, line_number, token);
-          if (second != std::string_view::npos && second + 1 < rest.size())
-            c.n = normal_index.resolve(rest.substr(second + 1), std::int64_t(mesh.normals.size()), file,
-                                       line_number, token);
-        }
-        corners.push_back(c);
-      }
-      if (corners.size() < 3)
-        throw InputError(file, at_line(line_number),
-                         "face has " + std::to_string(corners.size()) + " corners, needs 3");
-      for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
-        mesh.triangles.push_back({Index(corners[0].v), Index(corners[k].v), Index(corners[k + 1].v)});
-        for (const Corner* c : {&corners[0], &corners[k], &corners[k + 1]}) {
-          mesh.corner_texcoords.push_back(c->t);
-          mesh.corner_normals.push_back(c->n);
-        }
-      }
-      ++mesh.num_polygons;
+      face(tokens, line_number);
     }
   }
-  vertex_index.check(mesh.positions.size(), file);
-  texcoord_index.check(mesh.texcoords.size(), file);
-  normal_index.check(mesh.normals.size(), file);
-  if (mesh.positions.size() > std::size_t(UINT32_MAX))
-    throw InputError(file, "", "too many vertices for 32-bit indices");
-  if (mesh.positions.empty()) throw InputError(file, "", "empty mesh: no vertices");
-  if (mesh.triangles.empty()) throw InputError(file, "", "empty mesh: no faces");
-  return mesh;
+
+  glm::dvec3 vertex(Tokens& tokens, std::size_t line_number) const {
+    glm::dvec3 p;
+    for (int k = 0; k < 3; ++k) {
+      std::string_view token;
+      if (!tokens.next(token))
+        throw InputError(m_file, at_line(line_number), "vertex has fewer than 3 coordinates");
+      if (!parse_double(token, p[k]))
+        throw InputError(m_file, at_line(line_number),
+                         "vertex coordinate '" + std::string(token) + "' is not a number");
+      if (!std::isfinite(p[k]))
+        throw InputError(
+            m_file, at_line(line_number),
+            "vertex " + std::to_string(m_parsed.mesh.positions.size()) + " has a non-finite coordinate");
+    }
+    return p;
+  }
+
+  void face(Tokens& tokens, std::size_t line_number) {
+    ObjMesh& mesh = m_parsed.mesh;
+    const std::size_t first = m_parsed.corners.size();
+    std::string_view token;
+    while (tokens.next(token)) {
+      const std::size_t slash = token.find('/');
+      Corner c{m_vertex_index.resolve(token.substr(0, slash), std::int64_t(mesh.positions.size()), m_file,
+                                      line_number, token),
+               -1, -1};
+      if (slash != std::string_view::npos) {
+        const std::string_view rest = token.substr(slash + 1);
+        const std::size_t second = rest.find('/');
+        const std::string_view t = rest.substr(0, second);
+        if (!t.empty())
+          c.t = m_texcoord_index.resolve(t, std::int64_t(mesh.texcoords.size()), m_file, line_number, token);
+        if (second != std::string_view::npos && second + 1 < rest.size())
+          c.n = m_normal_index.resolve(rest.substr(second + 1), std::int64_t(mesh.normals.size()), m_file,
+                                       line_number, token);
+      }
+      m_parsed.corners.push_back(c);
+      mesh.polygon_corners.push_back(Index(c.v));
+    }
+    const std::size_t count = m_parsed.corners.size() - first;
+    if (count < 3)
+      throw InputError(m_file, at_line(line_number),
+                       "face has " + std::to_string(count) + " corners, needs 3");
+    mesh.polygon_starts.push_back(m_parsed.corners.size());
+    ++mesh.num_polygons;
+  }
+
+  std::string m_file;
+  ParsedObj m_parsed = starting_parse();
+  IndexList m_vertex_index{"vertex", "vertices"};
+  IndexList m_texcoord_index{"texture coordinate", "texture coordinates"};
+  IndexList m_normal_index{"normal", "normals"};
+};
+
+ParsedObj parse_obj(const std::filesystem::path& path) {
+  ObjParser parser(path.string());
+  parser.parse(read_whole_file(path));
+  return parser.finish();
 }
+
+// The triangles of every polygon in its plane (polygon_triangulation.hpp), with their corners' attributes.
+void triangulate(ParsedObj& parsed) {
+  ObjMesh& mesh = parsed.mesh;
+  std::vector<glm::dvec3> points;
+  for (std::size_t p = 0; p < mesh.num_polygons; ++p) {
+    const std::size_t first = mesh.polygon_starts[p], last = mesh.polygon_starts[p + 1];
+    points.clear();
+    for (std::size_t k = first; k < last; ++k)
+      points.push_back(mesh.positions[std::size_t(parsed.corners[k].v)]);
+    for (const auto& triangle : triangulate_polygon(points)) {
+      mesh.triangles.push_back({Index(parsed.corners[first + triangle[0]].v),
+                                Index(parsed.corners[first + triangle[1]].v),
+                                Index(parsed.corners[first + triangle[2]].v)});
+      for (std::size_t k : triangle) {
+        mesh.corner_texcoords.push_back(parsed.corners[first + k].t);
+        mesh.corner_normals.push_back(parsed.corners[first + k].n);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+ObjMesh read_obj(const std::filesystem::path& path) {
+  ParsedObj parsed = parse_obj(path);
+  triangulate(parsed);
+  return std::move(parsed.mesh);
+}
+
+ObjMesh read_obj_polygons(const std::filesystem::path& path) { return parse_obj(path).mesh; }
 
 SurfaceAttributes surface_of(const ObjMesh& mesh) {
   SurfaceAttributes surface;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <functional>
 #include <map>
 #include <optional>
 
@@ -125,21 +126,62 @@ std::vector<std::int64_t> numbers_in_names(const std::vector<std::filesystem::pa
   return numbers;
 }
 
+// A file name split around the last run of digits of its stem: f_0012.obj is ("f_", "0012", ".obj").
+struct NumberedName {
+  std::string prefix, digits, suffix;
+  long long number = 0;
+};
+
+std::optional<NumberedName> split_number(const std::string& filename) {
+  const std::string stem = std::filesystem::path(filename).stem().string();
+  const auto last = stem.find_last_of("0123456789");
+  if (last == std::string::npos) return std::nullopt;
+  const auto before = stem.find_last_not_of("0123456789", last);
+  const std::size_t begin = before == std::string::npos ? 0 : before + 1;
+  NumberedName name{filename.substr(0, begin), stem.substr(begin, last + 1 - begin),
+                    filename.substr(last + 1)};
+  const auto [stop, error] =
+      std::from_chars(name.digits.data(), name.digits.data() + name.digits.size(), name.number);
+  if (error != std::errc()) return std::nullopt;
+  return name;
+}
+
+// Refuses a numbering that is not regular: the numbers (increasing) must advance by one step throughout, 1
+// (every frame) or the first two files' difference (every Nth frame exported). Throws InputError naming the
+// first missing file (`name_of` a number) and the sequence (`what`).
+void check_regular_numbering(const std::vector<long long>& numbers,
+                             const std::function<std::string(long long)>& name_of, const std::string& what) {
+  if (numbers.size() < 2) return;
+  const long long step = numbers[1] - numbers[0];
+  for (std::size_t i = 1; i < numbers.size(); ++i) {
+    if (numbers[i] - numbers[i - 1] == step) continue;
+    const bool later = numbers[i] - numbers[i - 1] > step;
+    throw InputError(later ? name_of(numbers[i - 1] + step) : what, "",
+                     std::string(later ? "missing frame" : "irregular numbering") +
+                         " in the numbered sequence " + what + " (found " + std::to_string(numbers[0]) +
+                         " to " + std::to_string(numbers[i - 1]) +
+                         (step == 1 ? "" : " every " + std::to_string(step)) + ", then " +
+                         std::to_string(numbers[i]) + ")");
+  }
+}
+
+// Frames after the first are parsed for their positions and polygons only: their polygons must be the first
+// frame's, and they are split into triangles as the first frame's are.
 class ObjSequenceSource : public FrameSource {
  public:
-  ObjSequenceSource(std::vector<std::filesystem::path> files, std::vector<Triangle> triangles,
-                    std::size_t num_vertices, double scene_fps)
+  ObjSequenceSource(std::vector<std::filesystem::path> files, const ObjMesh& first, double scene_fps)
       : m_files(std::move(files)),
         m_numbers(numbers_in_names(m_files)),
-        m_triangles(std::move(triangles)),
-        m_num_vertices(num_vertices),
+        m_polygon_corners(first.polygon_corners),
+        m_polygon_starts(first.polygon_starts),
+        m_num_vertices(first.positions.size()),
         m_scene_fps(scene_fps) {}
 
   std::size_t num_frames() const override { return m_files.size(); }
   std::int64_t source_frame(std::size_t i) const override { return m_numbers.at(i); }
   double frame_time(std::size_t i) const override { return double(m_numbers.at(i)) / m_scene_fps; }
   std::vector<glm::dvec3> read_frame(std::size_t i) const override {
-    ObjMesh mesh = read_obj(m_files.at(i));
+    ObjMesh mesh = read_obj_polygons(m_files.at(i));
     const std::string file = m_files[i].string();
     const std::string first = m_files.front().string();
     if (mesh.positions.size() != m_num_vertices)
@@ -147,23 +189,27 @@ class ObjSequenceSource : public FrameSource {
                        "vertex-count mismatch: " + std::to_string(mesh.positions.size()) +
                            " vertices, the first frame (" + first + ") has " +
                            std::to_string(m_num_vertices));
-    if (mesh.triangles.size() != m_triangles.size())
+    if (mesh.num_polygons + 1 != m_polygon_starts.size())
       throw InputError(file, "frame " + std::to_string(i),
                        "connectivity differs from the first frame (" + first +
-                           "): " + std::to_string(mesh.triangles.size()) + " triangles instead of " +
-                           std::to_string(m_triangles.size()));
-    const auto mismatch = std::mismatch(mesh.triangles.begin(), mesh.triangles.end(), m_triangles.begin());
-    if (mismatch.first != mesh.triangles.end())
-      throw InputError(file, "frame " + std::to_string(i),
-                       "connectivity differs from the first frame (" + first + ") at triangle " +
-                           std::to_string(mismatch.first - mesh.triangles.begin()));
+                           "): " + std::to_string(mesh.num_polygons) + " faces instead of " +
+                           std::to_string(m_polygon_starts.size() - 1));
+    for (std::size_t p = 0; p < mesh.num_polygons; ++p)
+      if (mesh.polygon_starts[p + 1] != m_polygon_starts[p + 1] ||
+          !std::equal(mesh.polygon_corners.begin() + std::ptrdiff_t(mesh.polygon_starts[p]),
+                      mesh.polygon_corners.begin() + std::ptrdiff_t(mesh.polygon_starts[p + 1]),
+                      m_polygon_corners.begin() + std::ptrdiff_t(m_polygon_starts[p])))
+        throw InputError(
+            file, "frame " + std::to_string(i),
+            "connectivity differs from the first frame (" + first + ") at face " + std::to_string(p));
     return std::move(mesh.positions);
   }
 
  private:
   std::vector<std::filesystem::path> m_files;
   std::vector<std::int64_t> m_numbers;
-  std::vector<Triangle> m_triangles;
+  std::vector<Index> m_polygon_corners;
+  std::vector<std::size_t> m_polygon_starts;
   std::size_t m_num_vertices;
   double m_scene_fps;
 };
@@ -206,17 +252,54 @@ std::vector<std::filesystem::path> expand_frame_pattern(const std::string& patte
   if (ec) throw InputError(pattern, "", "cannot list " + dir.string() + ": " + ec.message());
   if (numbered.empty()) throw InputError(pattern, "", "no file matches the pattern");
   std::vector<std::filesystem::path> files;
-  long long expected = numbered.begin()->first;
-  for (const auto& [n, path] : numbered) {
-    if (n != expected)
-      throw InputError((dir / parsed->format(expected)).string(), "",
-                       "missing frame in the numbered sequence " + pattern + " (found up to " +
-                           std::to_string(expected - 1) + ", then " + std::to_string(n) + ")");
-    files.push_back(path);
-    ++expected;
-  }
+  std::vector<long long> numbers;
+  for (const auto& [n, path] : numbered) numbers.push_back(n), files.push_back(path);
+  check_regular_numbering(
+      numbers, [&](long long n) { return (dir / parsed->format(n)).string(); }, pattern);
   return files;
 }
+
+namespace {
+
+// Refuses a directory whose .obj files (two or more, in natural order) are not one numbered sequence: each
+// name the same text around its last run of digits, the numbers distinct and regular
+// (check_regular_numbering).
+void check_one_sequence(const std::filesystem::path& directory, const std::vector<std::string>& names) {
+  if (names.size() < 2) return;
+  const auto not_one = [&](const std::string& why) {
+    return InputError(directory.string(), "",
+                      "its .obj files are not one numbered sequence: " + why +
+                          " (give each sequence its own directory, or name one by a pattern like "
+                          "frames/f_%04d.obj)");
+  };
+  std::vector<NumberedName> split;
+  for (const std::string& name : names) {
+    std::optional<NumberedName> numbered = split_number(name);
+    if (!numbered) throw not_one(name + " has no frame number in its name");
+    if (!split.empty() &&
+        (numbered->prefix != split.front().prefix || numbered->suffix != split.front().suffix))
+      throw not_one(names.front() + " and " + name + " differ in more than their frame numbers");
+    if (!split.empty() && numbered->number == split.back().number)
+      throw not_one(names[split.size() - 1] + " and " + name + " both number frame " +
+                    std::to_string(numbered->number));
+    split.push_back(std::move(*numbered));
+  }
+  std::vector<long long> numbers;
+  for (const NumberedName& n : split) numbers.push_back(n.number);
+  const NumberedName& first = split.front();
+  const bool padded = first.digits.size() > 1 && first.digits.front() == '0';
+  check_regular_numbering(
+      numbers,
+      [&](long long n) {
+        std::string digits = std::to_string(n);
+        if (padded && digits.size() < first.digits.size())
+          digits.insert(0, first.digits.size() - digits.size(), '0');
+        return (directory / (first.prefix + digits + first.suffix)).string();
+      },
+      directory.string());
+}
+
+}  // namespace
 
 std::vector<std::filesystem::path> list_obj_directory(const std::filesystem::path& directory) {
   std::vector<std::string> names;
@@ -229,6 +312,7 @@ std::vector<std::filesystem::path> list_obj_directory(const std::filesystem::pat
   if (ec) throw InputError(directory.string(), "", "cannot list the directory: " + ec.message());
   if (names.empty()) throw InputError(directory.string(), "", "no .obj files in the directory");
   std::sort(names.begin(), names.end(), natural_less);
+  check_one_sequence(directory, names);
   std::vector<std::filesystem::path> files;
   files.reserve(names.size());
   for (const auto& n : names) files.push_back(directory / n);
@@ -240,10 +324,9 @@ MeshSequence load_obj_sequence(const std::string& name, const std::vector<std::f
   if (files.empty()) throw InputError(name, "", "no frames");
   ObjMesh first = read_obj(files.front());
   const auto num_vertices = Index(first.positions.size());
-  std::vector<Triangle> triangles = first.triangles;
   SurfaceAttributes surface = surface_of(first);
-  auto source =
-      std::make_unique<ObjSequenceSource>(files, std::move(first.triangles), num_vertices, scene_fps);
+  auto source = std::make_unique<ObjSequenceSource>(files, first, scene_fps);
+  std::vector<Triangle> triangles = std::move(first.triangles);
   return MeshSequence(name, std::move(triangles), num_vertices, std::move(source), scan, std::move(surface));
 }
 

@@ -1,12 +1,14 @@
 // Numbered OBJ sequences: one OBJ file per frame, all with the same connectivity (same vertex count and the
 // same faces), positions changing. Named either by a printf pattern ("frames/f_%04d.obj": every number
-// present in the pattern's directory, in numeric order, without gaps) or by a directory (its .obj files in
-// name order, runs of digits compared as numbers so f_2 comes before f_10).
+// present in the pattern's directory, in numeric order) or by a directory (its .obj files in name order, runs
+// of digits compared as numbers so f_2 comes before f_10; two or more must be one sequence: the same name
+// around the last run of digits, distinct numbers). Either way the numbers advance by one regular step (1, or
+// N for every Nth frame exported): a gap is refused, naming the missing file.
 //
-// Frame i's source frame number is the last run of digits in its file's name (frame_0012.obj: 12) when every
-// file's name has one and they increase strictly, else i; it sits at time number / scene_fps. Opening reads
-// the first file (for the connectivity); read_frame(i) parses file i and checks its connectivity against the
-// first, so a long sequence streams.
+// Frame i's source frame number is the last run of digits in its file's name (frame_0012.obj: 12); it sits at
+// time number / scene_fps. Opening reads the first file (for the connectivity, and the triangles its
+// positions give its polygons); read_frame(i) parses file i and checks its polygons against the first's, so a
+// long sequence streams.
 #pragma once
 
 #include <filesystem>
@@ -21,10 +23,13 @@ namespace pleat {
 bool is_frame_pattern(const std::string& input);
 
 /// The frame files of a printf pattern, in numeric order. Throws InputError(pattern) when the pattern is
-/// malformed, when no file matches, or naming the first missing file of a gap.
+/// malformed, when no file matches, or naming the first missing file of a gap (numbers not advancing by
+/// one regular step).
 std::vector<std::filesystem::path> expand_frame_pattern(const std::string& pattern);
 
-/// The .obj files of a directory in natural name order. Throws InputError(directory) when there are none.
+/// The .obj files of a directory in natural name order. Throws InputError(directory) when there are none,
+/// when two or more are not one numbered sequence (a name without a number, another name around it, a number
+/// twice), and InputError naming the first missing file of a gap.
 std::vector<std::filesystem::path> list_obj_directory(const std::filesystem::path& directory);
 
 /// Loads (and welds) the sequence of OBJ files. Throws InputError naming the file that differs in

@@ -56,6 +56,39 @@ std::vector<Scene::LoadedOccluder> load_occluders(const std::vector<OccluderSpec
   return loaded;
 }
 
+std::string frame_range(const MeshSequence& mesh) {
+  const std::int64_t first = mesh.source_frame(0), last = mesh.source_frame(mesh.num_frames() - 1);
+  return first == last ? "frame " + std::to_string(first)
+                       : "frames " + std::to_string(first) + " to " + std::to_string(last);
+}
+
+/// The occluder's frame for each of the cloth's, paired by source frame number (FrameSource::source_frame):
+/// an animated occluder must run at the cloth's rate and hold every source frame the cloth holds. Throws
+/// InputError naming the occluder, with both ranges, otherwise.
+std::vector<std::size_t> pair_frames(const MeshSequence& cloth, const MeshSequence& mesh,
+                                     const std::string& name) {
+  const std::size_t frames = cloth.num_frames();
+  if (frames > 1 && std::abs(mesh.frame_rate() - cloth.frame_rate()) > 1e-6 * cloth.frame_rate())
+    throw InputError(name, "",
+                     "the occluder runs at " + std::to_string(mesh.frame_rate()) +
+                         " frames per second, the cloth at " + std::to_string(cloth.frame_rate()));
+  std::vector<std::size_t> paired(frames);
+  std::size_t j = 0;  // both number their frames in increasing order
+  for (std::size_t i = 0; i < frames; ++i) {
+    const std::int64_t number = cloth.source_frame(i);
+    while (j < mesh.num_frames() && mesh.source_frame(j) < number) ++j;
+    if (j == mesh.num_frames() || mesh.source_frame(j) != number)
+      throw InputError(name, "",
+                       "the animated occluder has no source frame " + std::to_string(number) + " (it holds " +
+                           frame_range(mesh) + " in " + std::to_string(mesh.num_frames()) +
+                           " frames, the cloth " + frame_range(cloth) + " in " + std::to_string(frames) +
+                           "): an animated occluder needs a frame of the same number for each of the cloth's "
+                           "(a static one, a single frame)");
+    paired[i] = j;
+  }
+  return paired;
+}
+
 }  // namespace
 
 Scene::Scene(const MeshSequence& cloth, const std::vector<OccluderSpec>& occluders,
@@ -74,25 +107,12 @@ Scene Scene::with_loaded(const MeshSequence& cloth, std::vector<LoadedOccluder> 
 void Scene::add(std::vector<LoadedOccluder> occluders, const std::vector<GroundPlane>& grounds,
                 std::optional<double> contact_tolerance) {
   const MeshSequence& cloth = *m_cloth;
-  const std::size_t frames = cloth.num_frames();
   for (LoadedOccluder& loaded : occluders) {
-    MeshSequence& mesh = loaded.mesh;
-    const std::string& name = loaded.name;
-    if (mesh.num_frames() != 1 && mesh.num_frames() != frames)
-      throw InputError(name, "",
-                       "the occluder has " + std::to_string(mesh.num_frames()) + " frames, the cloth " +
-                           std::to_string(frames) +
-                           " (an animated occluder needs the cloth's frames; a static "
-                           "one, a single frame)");
-    if (mesh.num_frames() > 1 && frames > 1 &&
-        std::abs(mesh.frame_rate() - cloth.frame_rate()) > 1e-6 * cloth.frame_rate())
-      throw InputError(name, "",
-                       "the occluder runs at " + std::to_string(mesh.frame_rate()) +
-                           " frames per second, the cloth "
-                           "at " +
-                           std::to_string(cloth.frame_rate()));
-    Occluder occluder{std::move(mesh), {}};
-    if (occluder.mesh.num_frames() == 1) occluder.still = occluder.mesh.frame(0).positions;
+    Occluder occluder{std::move(loaded.mesh), {}, {}};
+    if (occluder.mesh.num_frames() == 1)
+      occluder.still = occluder.mesh.frame(0).positions;
+    else
+      occluder.frame_of = pair_frames(cloth, occluder.mesh, loaded.name);
     m_occluders.push_back(std::move(occluder));
   }
   // Every occluder's triangles over vertices numbered after the cloth's (and the previous occluders').
@@ -143,7 +163,7 @@ Frame Scene::with_occluders(std::size_t i, Frame frame) const {
     if (!o.still.empty()) {
       frame.positions.insert(frame.positions.end(), o.still.begin(), o.still.end());
     } else {
-      const Frame moving = o.mesh.frame(i);
+      const Frame moving = o.mesh.frame(o.frame_of.at(i));
       frame.positions.insert(frame.positions.end(), moving.positions.begin(), moving.positions.end());
     }
   }

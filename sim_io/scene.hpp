@@ -38,14 +38,16 @@ class Scene {
   /// The cloth alone.
   explicit Scene(const MeshSequence& cloth);
   /// The cloth with its occluders, each read with load_sequence: one of a single frame holds for every
-  /// frame, an animated one must have the cloth's frame count and rate. A ground plane is an occluding plane
-  /// of the topology (MeshTopology::planes), which the cone engines apply exactly; for ray casting and
-  /// rendering it stands as a square centred under the cloth whose side is 100 diagonals of the box of all
-  /// its frames (MeshSequence::bounds): seen from a cloth vertex at height h above it, its edge is at most h
-  /// / (50 diagonals) rad above the horizon, a sliver whose cosine-weighted share of the hemisphere is below
-  /// (h / 50 diagonals)^2. (Larger would stretch the relative offsets of ray casting,
-  /// shading/embree_scene.hpp.) Throws InputError naming the occluder's file on anything unreadable or
-  /// mismatched. `cloth` must outlive the scene.
+  /// frame; an animated one must run at the cloth's rate and is paired with the cloth frame by frame by
+  /// source frame number (MeshSequence::source_frame: a PC2 starting at scene frame 50 pairs its sample 0
+  /// with the cloth's frame numbered 50), so it must hold every number the cloth holds (it may hold more). A
+  /// ground plane is an occluding plane of the topology (MeshTopology::planes), which the cone engines apply
+  /// exactly; for ray casting and rendering it stands as a square centred under the cloth whose side is 100
+  /// diagonals of the box of all its frames (MeshSequence::bounds): seen from a cloth vertex at height h
+  /// above it, its edge is at most h / (50 diagonals) rad above the horizon, a sliver whose cosine-weighted
+  /// share of the hemisphere is below (h / 50 diagonals)^2. (Larger would stretch the relative offsets of ray
+  /// casting, shading/embree_scene.hpp.) Throws InputError naming the occluder's file on anything unreadable
+  /// or mismatched. `cloth` must outlive the scene.
   ///
   /// The contact tolerance (MeshTopology::contact_tolerance, docs/method.md §6.2) is `contact_tolerance`
   /// when given (finite, >= 0; else InputError), else half the mean edge length of the cloth's first frame.
@@ -56,7 +58,7 @@ class Scene {
     std::string name;
     MeshSequence mesh;
   };
-  /// The same with occluders already loaded: the same checks (frame count and rate), naming each by its
+  /// The same with occluders already loaded: the same checks (frame rate and numbers), naming each by its
   /// name.
   static Scene with_loaded(const MeshSequence& cloth, std::vector<LoadedOccluder> occluders,
                            const std::vector<GroundPlane>& grounds,
@@ -77,7 +79,8 @@ class Scene {
            std::optional<double> contact_tolerance);
   struct Occluder {
     MeshSequence mesh;
-    std::vector<glm::dvec3> still;  ///< the positions of an occluder of one frame (else empty)
+    std::vector<glm::dvec3> still;      ///< the positions of an occluder of one frame (else empty)
+    std::vector<std::size_t> frame_of;  ///< animated: its frame paired with each of the cloth's
   };
   const MeshSequence* m_cloth;
   std::vector<Occluder> m_occluders;
