@@ -9,12 +9,13 @@
 
 namespace pleat::cli {
 
-void parse_frame_range(const std::string& text, std::size_t count, std::size_t& first, std::size_t& last) {
+void parse_frame_range(const std::string& text, std::size_t count, std::size_t& first, std::size_t& last,
+                       const std::string& option) {
   first = 0;
   last = count;
   if (text.empty()) return;
-  auto parse = [&](const std::string& s, std::size_t fallback) -> std::size_t {
-    if (s.empty()) return fallback;
+  const auto total = static_cast<long long>(count);
+  const auto number = [&](const std::string& s) {
     std::size_t used = 0;
     long long v = 0;
     try {
@@ -22,21 +23,32 @@ void parse_frame_range(const std::string& text, std::size_t count, std::size_t& 
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != s.size()) throw std::invalid_argument("--frames: '" + text + "' is not A:B or N");
-    if (v < 0) v += static_cast<long long>(count);
-    if (v < 0) v = 0;
-    return std::min<std::size_t>(static_cast<std::size_t>(v), count);
+    if (s.empty() || used != s.size())
+      throw std::invalid_argument(option + ": '" + text + "' is not A:B or N");
+    return v;
   };
   const std::size_t colon = text.find(':');
-  if (colon == std::string::npos) {
-    first = parse(text, 0);
-    last = std::min(count, first + 1);
-  } else {
-    first = parse(text.substr(0, colon), 0);
-    last = parse(text.substr(colon + 1), count);
+  if (colon == std::string::npos) {  // an index, as Python's list[N]: it must exist
+    const long long n = number(text);
+    if (n >= total || n < -total)
+      throw std::invalid_argument(option + ": frame " + text + " is out of range: the input has " +
+                                  std::to_string(count) + (count == 1 ? " frame (0" : " frames (0 to ") +
+                                  (count == 1 ? "" : std::to_string(count - 1)) + ", or -1 to -" +
+                                  std::to_string(count) + " from the end)");
+    first = static_cast<std::size_t>(n < 0 ? n + total : n);
+    last = first + 1;
+    return;
   }
+  // A slice, as Python's list[A:B]: negative ends count from the end, ends beyond the frames are clamped.
+  const auto end = [&](const std::string& s, long long fallback) {
+    long long v = s.empty() ? fallback : number(s);
+    if (v < 0) v += total;
+    return static_cast<std::size_t>(std::clamp(v, 0LL, total));
+  };
+  first = end(text.substr(0, colon), 0);
+  last = end(text.substr(colon + 1), total);
   if (first >= last)
-    throw std::invalid_argument("--frames: '" + text + "' selects no frame of " + std::to_string(count));
+    throw std::invalid_argument(option + ": '" + text + "' selects no frame of " + std::to_string(count));
 }
 
 void create_parent_directory(const std::filesystem::path& output) {
@@ -158,29 +170,30 @@ void PlanOptions::add_to(CLI::App& command) {
       "--orientations", orientations,
       "plane orientations (6: the paper's axis-aligned ones; other counts are spread over the sphere)"));
   placement.back()->check(CLI::Range(1, 1000));
-  CLI::Option* absolute =
-      command
-          .add_option(
-              "--spacing", spacing,
-              "distance between parallel planes (default: 1/2 of the average edge length; with --paper one)")
-          ->check(CLI::NonNegativeNumber);
+  // Each value is checked as it is parsed, by the library's check (PlanOptions::check: the Python module's).
+  const auto checked = [this](auto& field) {
+    return [this, &field](const auto& value) {
+      field = value;
+      check(Naming::CommandLine);
+    };
+  };
+  CLI::Option* absolute = command.add_option_function<double>(
+      "--spacing", checked(spacing),
+      "distance between parallel planes, > 0 (default: 1/2 of the average edge length; with --paper one)");
   placement.push_back(absolute);
   placement.push_back(
       command
-          .add_option(
-              "--spacing-edges", spacing_edges,
-              "distance between parallel planes in average edge lengths of the first frame (default 0.5: "
+          .add_option_function<double>(
+              "--spacing-edges", checked(spacing_edges),
+              "distance between parallel planes in average edge lengths of the first frame, > 0 (default "
+              "0.5: "
               "every measured sequence within mean error 0.02 of ray-traced truth; 0.75 costs about 0.7x as "
               "much per frame)")
-          ->check(CLI::PositiveNumber)
           ->excludes(absolute));
-  placement.push_back(
-      command
-          .add_option(
-              "--planes", planes_per_orientation,
-              "planes per orientation, spread over the extent of every frame (overrides --spacing and "
-              "--spacing-edges)")
-          ->check(CLI::NonNegativeNumber));
+  placement.push_back(command.add_option_function<int>(
+      "--planes", checked(planes_per_orientation),
+      "planes per orientation, >= 1, spread over the extent of every frame (overrides --spacing and "
+      "--spacing-edges)"));
   placement.push_back(command.add_flag(
       "--adaptive", adaptive,
       "place planes by the paper's recursive median split (§2.3.3) on the first frame instead of evenly"));
@@ -215,7 +228,7 @@ void PlanOptions::add_to(CLI::App& command) {
 }
 
 SlicingPlan PlanOptions::make(const MeshSequence& sequence) const {
-  SlicingPlan plan = pleat::PlanOptions::make(sequence);
+  SlicingPlan plan = pleat::PlanOptions::make(sequence, Naming::CommandLine);
   if (!save_plan.empty()) {
     create_parent_directory(save_plan);
     write_plan_file(save_plan, plan);

@@ -20,9 +20,12 @@
 
 namespace pleat::cli {
 
-/// Parses "A:B" (half-open, Python style: either end may be left out, negatives count from the end) or
-/// "N" (that frame only) against `count` frames into [first, last). Throws std::invalid_argument.
-void parse_frame_range(const std::string& text, std::size_t count, std::size_t& first, std::size_t& last);
+/// Parses "A:B" (a slice, Python style: half-open, either end may be left out, negatives count from the end,
+/// ends beyond the frames are clamped; it must select a frame) or "N" (an index, Python style: that frame
+/// only, negative from the end; it must exist) against `count` frames into [first, last). Throws
+/// std::invalid_argument naming `option` (the option the text came from).
+void parse_frame_range(const std::string& text, std::size_t count, std::size_t& first, std::size_t& last,
+                       const std::string& option = "--frames");
 
 /// The cloth a subcommand reads: INPUT (an .obj with --cache, a numbered OBJ sequence, .gltf or .glb).
 struct InputOptions {

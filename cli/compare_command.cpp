@@ -27,10 +27,12 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/global_options.hpp"
+#include "cli/input_warnings.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
 #include "shading/path_trace.hpp"
 #include "shading/render.hpp"
+#include "shading/scene_render.hpp"
 #include "shading/shade.hpp"
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/load_sequence.hpp"
@@ -106,7 +108,7 @@ void run_compare(const CompareOptions& options) {
   const MeshTopology& topology = sequence.topology();
   const Scene world = options.scene.make(sequence);  // the cloth in its scene: occluders block, get no cones
   std::size_t first = 0, last = 0;
-  parse_frame_range(options.frame, sequence.num_frames(), first, last);
+  parse_frame_range(options.frame, sequence.num_frames(), first, last, "--frame");
   if (last != first + 1)
     throw std::invalid_argument("--frame: give one frame N, got '" + options.frame + "'");
   const Frame frame = sequence.frame(first);
@@ -115,6 +117,7 @@ void run_compare(const CompareOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const SlicingPlan plan = options.plan.make(sequence);
+  warn_about_cloth(sequence, first);
   const Frame world_frame = world.with_occluders(first, frame);
   const FrameVisibility visibility = compute_visibility(world.topology(), world_frame, plan);
   const auto t1 = Clock::now();
@@ -185,11 +188,13 @@ void run_compare(const CompareOptions& options) {
   }
   ToneMapParams tone;
   tone.exposure = options.exposure;
-  const Image ours_image = render_image(scene, frame, to_srgb(shaded.front(), tone),
-                                        to_srgb(shaded.back(), tone), camera, options.width, options.height);
-  const Image reference_image =
-      render_image(scene, frame, to_srgb(reference[0], tone), to_srgb(reference[1], tone), camera,
-                   options.width, options.height);
+  SceneRenderer renderer(world.topology(),
+                         parse_up(options.up));  // the cloth in its scene, as shade draws it
+  renderer.set_frame(world_frame);
+  const Image ours_image = renderer.render(to_srgb(shaded.front(), tone), to_srgb(shaded.back(), tone),
+                                           camera, options.width, options.height);
+  const Image reference_image = renderer.render(to_srgb(reference[0], tone), to_srgb(reference[1], tone),
+                                                camera, options.width, options.height);
   const double top = nice_ceiling(std::max(p99, 1e-12));
   std::array<std::vector<glm::vec3>, 2> heat;
   for (int s = 0; s < 2; ++s) {
@@ -197,8 +202,8 @@ void run_compare(const CompareOptions& options) {
     for (std::size_t v = 0; v < n; ++v) heat[s][v] = viridis(difference[s][v] / top);
   }
   const Image heat_image =
-      with_legend(render_image(scene, frame, heat[0], heat[1], camera, options.width, options.height), 0.0,
-                  top, "LUMINANCE, REF MEAN " + format_number(reference_mean));
+      with_legend(renderer.render(heat[0], heat[1], camera, options.width, options.height), 0.0, top,
+                  "LUMINANCE, REF MEAN " + format_number(reference_mean));
   char pt_label[64];
   std::snprintf(pt_label, sizeof pt_label, "PATH TRACED (%d PATHS)", 2 * trace.paths_per_vertex);
   const std::array<LabeledImage, 3> panels = {LabeledImage{&ours_image, "PLEAT CONES"},

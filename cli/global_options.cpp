@@ -71,6 +71,8 @@ void add_global_options(CLI::App& app, const std::string& version) {
 }
 
 int exit_status_of(const std::exception& error) {
+  if (dynamic_cast<const ArgumentError*>(&error))
+    return kFailure;  // pleat handed an entry a bad frame: a bug
   if (dynamic_cast<const InputError*>(&error) || dynamic_cast<const std::invalid_argument*>(&error))
     return kUsage;
   return kFailure;

@@ -29,7 +29,8 @@ enum ExitStatus { kSuccess = 0, kFailure = 1, kUsage = 2 };
 
 /// The exit status of a run that failed with `error`: kUsage for bad input or usage (InputError, which
 /// includes refused outputs; std::invalid_argument, which the CLI's argument checks and the parsers of
-/// --light, --camera, --frames throw), kFailure for anything else.
+/// --light, --camera, --frames throw), kFailure for anything else, ArgumentError included (a library entry
+/// handed a bad frame by pleat itself: a bug).
 int exit_status_of(const std::exception& error);
 
 /// "Exit status: ..." and "Outputs: ...", the end of every subcommand's --help.

@@ -28,6 +28,7 @@
 #include "cli/commands.hpp"
 #include "cli/contact_warning.hpp"
 #include "cli/global_options.hpp"
+#include "cli/input_warnings.hpp"
 #include "cli/job_error.hpp"
 #include "cli/run_chunks.hpp"
 #include "cli/shared_load.hpp"
@@ -36,6 +37,7 @@
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
 #include "shading/render.hpp"
+#include "shading/scene_render.hpp"
 #include "shading/shade.hpp"
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/gltf_writer.hpp"
@@ -97,23 +99,6 @@ void side_visibility(const FrameVisibility& visibility, Side side, SideVisibilit
   }
 }
 
-/// The renders' colours of the occluders (the vertices of `drawn` after the cloth's `cloth_vertices`): a
-/// slate grey lit from `up`, and the ground planes (the last `ground_vertices`) a light warm grey, so that
-/// both stand apart from the cloth and from the background.
-std::vector<glm::vec3> occluder_colours(const MeshTopology& drawn, const Frame& frame, Index cloth_vertices,
-                                        std::size_t ground_vertices, const glm::dvec3& up) {
-  const std::vector<glm::dvec3> normals = vertex_normals(drawn, frame);
-  std::vector<glm::vec3> colours;
-  for (Index v = cloth_vertices; v < drawn.num_vertices; ++v) {
-    if (v >= drawn.num_vertices - ground_vertices)
-      colours.push_back({0.78f, 0.75f, 0.70f});
-    else
-      colours.push_back(glm::vec3(float(0.28 + 0.30 * std::abs(glm::dot(normals[v], up)))) *
-                        glm::vec3(0.90f, 0.95f, 1.0f));
-  }
-  return colours;
-}
-
 /// --render-mode sky-visibility: each side's A through viridis (0 dark blue, 1 yellow).
 std::array<std::vector<glm::vec3>, 2> sky_colours(const std::array<SideVisibility, 2>& sides) {
   std::array<std::vector<glm::vec3>, 2> colours;
@@ -139,19 +124,206 @@ std::vector<Lighting> gather_lightings(const ShadeOptions& options) {
   return setups;
 }
 
+/// Refuses, before any work, outputs that cannot be written (check_outputs): one glb per setup with
+/// --relight.
+void check_shade_outputs(const ShadeOptions& options, const std::vector<Lighting>& setups, bool relight) {
+  std::vector<OutputFile> files;
+  if (options.output == kStandardOutput)
+    files.push_back({"-o", options.output, /*stdout_allowed=*/!relight});  // --relight: one file per setup
+  else
+    for (const Lighting& setup : setups)
+      files.push_back({"-o", relight ? setup_output(options.output, setup.name).string() : options.output});
+  check_outputs(files, {{"--render", options.render_dir}, {"--checkpoint", options.chunking.checkpoint}});
+}
+
+/// The exact float bounds of every selected frame, for the glb's header: one pass over the frames, each rank
+/// over its share, so rank 0 writes the glb without reading any frame itself. Collective.
+std::vector<PositionBounds> selected_frame_bounds(const MeshSequence& sequence, std::size_t first,
+                                                  std::size_t last) {
+  const std::size_t count = last - first;
+  std::vector<float> lows(3 * count, std::numeric_limits<float>::max());
+  std::vector<float> highs(3 * count, std::numeric_limits<float>::lowest());
+  together([&] {
+    const auto [a, b] = share_of(first, last, World::rank(), World::size());
+    for (std::size_t i = a; i < b; ++i) {
+      const PositionBounds bounds = position_bounds(sequence.frame(i));
+      for (int k = 0; k < 3; ++k)
+        lows[3 * (i - first) + k] = bounds.lo[k], highs[3 * (i - first) + k] = bounds.hi[k];
+    }
+  });
+  all_reduce_bounds(lows, highs);
+  std::vector<PositionBounds> frame_bounds(count);
+  for (std::size_t j = 0; j < count; ++j)
+    for (int k = 0; k < 3; ++k)
+      frame_bounds[j].lo[k] = lows[3 * j + k], frame_bounds[j].hi[k] = highs[3 * j + k];
+  return frame_bounds;
+}
+
+/// Where --render writes (a directory per setup with --relight) and from where: --camera, or auto-framed on
+/// the whole sequence (the camera stays put while the cloth moves, and a frame's image is the same from any
+/// range or split).
+struct RenderTargets {
+  std::vector<std::filesystem::path> directories;
+  Camera camera;
+};
+
+RenderTargets render_targets(const ShadeOptions& options, const std::vector<Lighting>& setups, bool relight,
+                             const MeshSequence& sequence, const glm::dvec3& up) {
+  RenderTargets targets;
+  for (const Lighting& setup : setups) {
+    targets.directories.push_back(relight ? std::filesystem::path(options.render_dir) / setup.name
+                                          : std::filesystem::path(options.render_dir));
+    std::filesystem::create_directories(targets.directories.back());
+  }
+  if (!options.camera.empty()) {
+    targets.camera = parse_camera(options.camera);
+  } else {
+    AutoFrameParams framing;
+    framing.up = up;
+    framing.aspect = double(options.width) / options.height;
+    targets.camera = auto_frame(sequence.bounds(), framing);
+  }
+  return targets;
+}
+
+/// What shading a chunk of frames reads (run_shade's state).
+struct ShadeJob {
+  const ShadeOptions& options;
+  const MeshSequence& sequence;
+  const Scene& world;
+  const std::vector<Lighting>& setups;
+  const SlicingPlan& plan;
+  ConeCacheReader* cache;                  ///< the cones from a cone cache, else null: computed with `plan`
+  const std::vector<std::size_t>& cached;  ///< per selected frame: its frame in the cache
+  std::size_t first = 0, count = 0;        ///< the selected frames
+  ShadeParams shade;
+  ToneMapParams tone;
+  const RenderTargets* render = nullptr;  ///< null: no images
+  const UpChoice& up;                     ///< the input's up (choose_up)
+};
+
+/// One chunk: the cones of each frame, then every setup's shading (and images, the scene drawn as
+/// SceneRenderer draws it unless --hide-occluders); the colours and the visibility attributes go to rank 0
+/// as bytes (consume_shaded reads them).
+void shade_chunk(const ShadeJob& job, std::size_t chunk_first, std::size_t chunk_last,
+                 const EmitFrame& emit) {
+  const ShadeOptions& options = job.options;
+  std::optional<StaticVisibility> engine;  // reused across the chunk's frames
+  if (!job.cache) engine.emplace(job.world.topology(), job.plan);
+  FrameVisibility from_cache;
+  std::array<SideVisibility, 2> sides;
+  const bool occluded = job.world.num_occluders() > 0;
+  std::optional<SceneRenderer> renderer;
+  if (job.render) renderer.emplace(job.world.topology(), job.up.up, !options.hide_occluders);
+  const bool sky_mode = options.render_mode == "sky-visibility";
+  for (std::size_t f = chunk_first; f < chunk_last; ++f) {
+    const Frame frame = job.sequence.frame(f);
+    const Frame in_scene = occluded ? job.world.with_occluders(f, frame) : Frame{};
+    const Frame& world_frame = occluded ? in_scene : frame;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (job.cache) job.cache->read_frame(job.cached[f - job.first], frame, from_cache);
+    const FrameVisibility& visibility =
+        job.cache ? from_cache
+                  : compute_frame([&]() -> const FrameVisibility& { return engine->compute(world_frame); },
+                                  options.in, f);
+    const auto t1 = std::chrono::steady_clock::now();
+    for (Side side : kBothSides) side_visibility(visibility, side, sides[int(side)]);
+    // Source frame numbers, not positions in the range: the same frames are rendered however the shot is
+    // split, under the names the artist's scene gives them.
+    const std::int64_t number = job.sequence.source_frame(f);
+    const bool render_this = job.render && number % options.render_every == 0;
+    if (render_this) renderer->set_frame(world_frame);
+    ByteWriter bytes;
+    bytes.put(std::chrono::duration<double>(t1 - t0).count());
+    bytes.put<std::uint64_t>(visibility.stats.penetrating_vertices)
+        .put(visibility.stats.deepest_penetration)
+        .put<std::uint32_t>(input_vertex(job.sequence, visibility.stats.deepest_vertex));
+    bytes.put_array(std::vector<glm::vec3>(frame.positions.begin(), frame.positions.end()));
+    for (const SideVisibility& side : sides) bytes.put_array(side.sky_visibility).put_array(side.bent_cone);
+    for (std::size_t s = 0; s < job.setups.size(); ++s) {
+      const auto s0 = std::chrono::steady_clock::now();
+      const ShadedFrame shaded =
+          shade_frame(job.sequence.topology(), frame, visibility, job.setups[s], job.shade);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+      const std::vector<glm::vec3> front = to_srgb(shaded.front(), job.tone);
+      const std::vector<glm::vec3> back = to_srgb(shaded.back(), job.tone);
+      bytes.put(seconds).put_array(front).put_array(back);
+      if (!render_this) continue;
+      const std::filesystem::path& directory = job.render->directories[s];
+      char name[64];
+      std::snprintf(name, sizeof name, "frame_%04lld.png", static_cast<long long>(number));
+      if (sky_mode) {  // A itself, with a legend
+        const auto [sky_front, sky_back] = sky_colours(sides);
+        write_png(directory / name, with_legend(renderer->render(sky_front, sky_back, job.render->camera,
+                                                                 options.width, options.height),
+                                                0.0, 1.0, "SKY VISIBILITY A: 0 CLOSED IN, 1 OPEN SKY"));
+      } else if (options.turntable > 0 && job.count == 1)
+        renderer->turntable(directory, "turntable", front, back, job.render->camera, options.turntable,
+                            options.width, options.height);
+      else
+        write_png(directory / name,
+                  renderer->render(front, back, job.render->camera, options.width, options.height));
+    }
+    emit(f, bytes.take());
+  }
+}
+
+/// Rank 0: frame f's bytes from shade_chunk into every setup's glb; adds up the cone and shading times and
+/// the vertices sunk deeper than the contact tolerance.
+void consume_shaded(std::size_t f, std::string_view payload,
+                    std::vector<std::unique_ptr<ShadedGlbWriter>>& writers, double& cone_seconds,
+                    double& shade_seconds, ContactWarning& contact) {
+  ByteReader bytes(payload);
+  cone_seconds += bytes.get<double>();
+  const auto penetrating = bytes.get<std::uint64_t>();
+  const auto deepest = bytes.get<double>();
+  contact.add(f, penetrating, deepest, bytes.get<std::uint32_t>());
+  const auto positions = bytes.get_array<glm::vec3>();
+  std::array<SideVisibility, 2> sides;
+  for (SideVisibility& side : sides) {
+    side.sky_visibility = bytes.get_array<float>();
+    side.bent_cone = bytes.get_array<glm::vec4>();
+  }
+  for (auto& writer : writers) {
+    shade_seconds += bytes.get<double>();
+    const auto front = bytes.get_array<glm::vec3>();
+    const auto back = bytes.get_array<glm::vec3>();
+    writer->add_frame(positions, front, back, sides[0], sides[1]);
+  }
+}
+
+/// What was shaded and written, for report().
+std::string shade_summary(const ShadeJob& job, const ChunkJob& chunks,
+                          const std::vector<std::filesystem::path>& outputs, double cone_seconds,
+                          double shade_seconds) {
+  std::ostringstream out;
+  const double n = double(job.count);
+  out << "shaded " << job.count << " frames of " << job.sequence.topology().num_vertices
+      << " vertices: cones " << (job.cache ? "read from " + job.options.cones + " in " : std::string())
+      << 1e3 * cone_seconds / n << " ms/frame, shading " << 1e3 * shade_seconds / (n * job.setups.size())
+      << " ms/frame per setup\n";
+  if (chunks.bounds.size() > 2 || World::distributed())
+    out << "  " << chunks.bounds.size() - 1 << " chunks over " << World::size() << " ranks"
+        << (chunks.kept_chunks ? ", " + std::to_string(chunks.kept_chunks) + " kept from the checkpoint" : "")
+        << "\n";
+  for (std::size_t s = 0; s < job.setups.size(); ++s) {
+    out << "wrote " << outputs[s].string();
+    if (!job.up.turn.identity())
+      out << " (up " << job.up.name << ", from " << job.up.source << ", turned to glTF's +y)";
+    if (job.render) out << " and images in " << job.render->directories[s].string();
+    out << (job.setups[s].name.empty() ? "" : " (setup " + job.setups[s].name + ")") << '\n';
+    std::istringstream lights(job.setups[s].describe());
+    for (std::string line; std::getline(lights, line);) out << "  " << line << '\n';
+  }
+  return out.str();
+}
+
 void run_shade(const ShadeOptions& options) {
   std::vector<Lighting> setups;
   together([&] { setups = gather_lightings(options); });
   const bool relight = !options.relight_file.empty();
   together([&] {
-    if (!World::root()) return;
-    std::vector<OutputFile> files;
-    if (options.output == kStandardOutput)
-      files.push_back({"-o", options.output, /*stdout_allowed=*/!relight});  // --relight: one file per setup
-    else
-      for (const Lighting& setup : setups)
-        files.push_back({"-o", relight ? setup_output(options.output, setup.name).string() : options.output});
-    check_outputs(files, {{"--render", options.render_dir}, {"--checkpoint", options.chunking.checkpoint}});
+    if (World::root()) check_shade_outputs(options, setups, relight);
   });
   const SharedSequence input = load_shared(options.in.input, options.in.cache);
   const MeshSequence& sequence = input.sequence;
@@ -161,20 +333,12 @@ void run_shade(const ShadeOptions& options) {
   // The cloth in its scene: the engine slices the occluders with it (every rank reads them).
   std::optional<Scene> world_holder;
   together([&] { world_holder.emplace(options.scene.make(sequence)); });
-  const Scene& world = *world_holder;
   std::vector<std::size_t> frame_ids;
   for (std::size_t i = first; i < last; ++i) frame_ids.push_back(i);
   // The input's up: the camera's, and the turn that stands the glb up in glTF's Y-up space.
   UpChoice up;
   together([&] { up = choose_up(options.up, options.scene.ground, sequence); });
   if (!up.warning.empty() && World::root()) std::cerr << "pleat: warning: " << up.warning << '\n';
-
-  ShadeParams shade_params;
-  shade_params.albedo = options.albedo;
-  shade_params.exposure = options.exposure;
-  shade_params.interreflection = !options.no_interreflection;
-  ToneMapParams tone;
-  tone.exposure = options.exposure;
 
   // The cones: from a cone cache (checked against the mesh and every selected frame before anything is
   // written; each rank opens it and reads its own frames), or computed per frame with a plan made by rank 0
@@ -190,6 +354,7 @@ void run_shade(const ShadeOptions& options) {
     } else if (World::root()) {
       plan = options.plan.make(sequence);
     }
+    if (World::root()) warn_about_cloth(sequence, first);
   });
   if (!cache) broadcast_plan(plan);
 
@@ -204,30 +369,9 @@ void run_shade(const ShadeOptions& options) {
   }
   for (const Lighting& setup : setups) options_key.add(setup.name).add(setup.describe());
   options_key.add_value(options.albedo).add_value(options.exposure).add_value(options.no_interreflection);
-  const ChunkJob job = plan_chunks(input, first, last, options.chunking.chunks, cache ? nullptr : &plan,
-                                   options.chunking.checkpoint, options_key.value());
-
-  // One pass over the selected frames, each rank over its share: the exact float bounds of every frame for
-  // the glb's header. Rank 0 thus writes the glb without reading any frame itself. The auto-framed camera
-  // frames the whole sequence (it stays put while the cloth moves, and a frame's image is the same from
-  // any range or split).
-  const std::size_t count = last - first;
-  std::vector<float> lows(3 * count, std::numeric_limits<float>::max());
-  std::vector<float> highs(3 * count, std::numeric_limits<float>::lowest());
-  together([&] {
-    const auto [a, b] = share_of(first, last, World::rank(), World::size());
-    for (std::size_t i = a; i < b; ++i) {
-      const Frame frame = sequence.frame(i);
-      const PositionBounds bounds = position_bounds(frame);
-      for (int k = 0; k < 3; ++k)
-        lows[3 * (i - first) + k] = bounds.lo[k], highs[3 * (i - first) + k] = bounds.hi[k];
-    }
-  });
-  all_reduce_bounds(lows, highs);
-  std::vector<PositionBounds> frame_bounds(count);
-  for (std::size_t j = 0; j < count; ++j)
-    for (int k = 0; k < 3; ++k)
-      frame_bounds[j].lo[k] = lows[3 * j + k], frame_bounds[j].hi[k] = highs[3 * j + k];
+  const ChunkJob chunks = plan_chunks(input, first, last, options.chunking.chunks, cache ? nullptr : &plan,
+                                      options.chunking.checkpoint, options_key.value());
+  const std::vector<PositionBounds> frame_bounds = selected_frame_bounds(sequence, first, last);
 
   // Outputs: one glb per setup (streamed frame by frame, on rank 0), and optionally images (written by the
   // rank that shades the frame).
@@ -245,161 +389,31 @@ void run_shade(const ShadeOptions& options) {
           /*with_visibility=*/true, frame_bounds,
           options.glb_layout == "input" ? GlbLayout::Input : GlbLayout::Sides, up.turn));
   });
+  std::optional<RenderTargets> render;
+  if (!options.render_dir.empty())
+    together([&] { render.emplace(render_targets(options, setups, relight, sequence, up.up)); });
 
-  const bool render = !options.render_dir.empty();
-  std::optional<Camera> camera;
-  std::vector<std::filesystem::path> render_dirs;
-  if (render) {
-    together([&] {
-      for (const Lighting& setup : setups) {
-        render_dirs.push_back(relight ? std::filesystem::path(options.render_dir) / setup.name
-                                      : std::filesystem::path(options.render_dir));
-        std::filesystem::create_directories(render_dirs.back());
-      }
-      if (!options.camera.empty()) {
-        camera = parse_camera(options.camera);
-      } else {
-        AutoFrameParams framing;
-        framing.up = up.up;
-        framing.aspect = double(options.width) / options.height;
-        camera = auto_frame(sequence.bounds(), framing);
-      }
-    });
-  }
-
-  // One chunk: the cones of each frame, then every setup's shading (and images); the colours and the
-  // visibility attributes go to rank 0 as bytes.
-  const auto compute = [&](std::size_t chunk_first, std::size_t chunk_last, const EmitFrame& emit) {
-    std::optional<StaticVisibility> engine;  // reused across the chunk's frames
-    if (!cache) engine.emplace(world.topology(), plan);
-    std::unique_ptr<EmbreeScene> scene;
-    FrameVisibility from_cache;
-    std::array<SideVisibility, 2> sides;
-    // The images show the occluders (slate grey lit from --up, the ground light) unless --hide-occluders.
-    const bool occluded = world.num_occluders() > 0;
-    const bool draw_occluders = occluded && !options.hide_occluders;
-    const MeshTopology& drawn = draw_occluders ? world.topology() : topology;
-    const bool sky_mode = options.render_mode == "sky-visibility";
-    std::vector<glm::vec3> occluder_grey;
-    auto with_occluders = [&](const std::vector<glm::vec3>& cloth) {
-      if (!draw_occluders) return cloth;
-      std::vector<glm::vec3> all = cloth;
-      all.insert(all.end(), occluder_grey.begin(), occluder_grey.end());
-      return all;
-    };
-    for (std::size_t f = chunk_first; f < chunk_last; ++f) {
-      const std::size_t j = f - first;
-      const Frame frame = sequence.frame(f);
-      const Frame in_scene = occluded ? world.with_occluders(f, frame) : Frame{};
-      const Frame& world_frame = occluded ? in_scene : frame;
-      const auto t0 = std::chrono::steady_clock::now();
-      if (cache) cache->read_frame(cached[j], frame, from_cache);
-      const FrameVisibility& visibility =
-          cache ? from_cache
-                : compute_frame([&]() -> const FrameVisibility& { return engine->compute(world_frame); },
-                                options.in, f);
-      const auto t1 = std::chrono::steady_clock::now();
-      for (Side side : kBothSides) side_visibility(visibility, side, sides[int(side)]);
-      // Source frame numbers, not positions in the range: the same frames are rendered however the shot is
-      // split, under the names the artist's scene gives them.
-      const std::int64_t number = sequence.source_frame(f);
-      const bool render_this = render && number % options.render_every == 0;
-      const Frame& drawn_frame = draw_occluders ? world_frame : frame;
-      if (render_this) {
-        if (!scene)
-          scene = std::make_unique<EmbreeScene>(drawn, drawn_frame);
-        else
-          scene->update(drawn_frame);
-        if (draw_occluders)
-          occluder_grey =
-              occluder_colours(drawn, drawn_frame, topology.num_vertices, world.num_ground_vertices(), up.up);
-      }
-      ByteWriter bytes;
-      bytes.put(std::chrono::duration<double>(t1 - t0).count());
-      bytes.put<std::uint64_t>(visibility.stats.penetrating_vertices)
-          .put(visibility.stats.deepest_penetration)
-          .put<std::uint32_t>(input_vertex(sequence, visibility.stats.deepest_vertex));
-      bytes.put_array(std::vector<glm::vec3>(frame.positions.begin(), frame.positions.end()));
-      for (const SideVisibility& side : sides) bytes.put_array(side.sky_visibility).put_array(side.bent_cone);
-      for (std::size_t s = 0; s < setups.size(); ++s) {
-        const auto s0 = std::chrono::steady_clock::now();
-        const ShadedFrame shaded = shade_frame(topology, frame, visibility, setups[s], shade_params);
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
-        const std::vector<glm::vec3> front = to_srgb(shaded.front(), tone);
-        const std::vector<glm::vec3> back = to_srgb(shaded.back(), tone);
-        bytes.put(seconds).put_array(front).put_array(back);
-        if (render_this && sky_mode) {  // A itself, with a legend
-          const auto [sky_front, sky_back] = sky_colours(sides);
-          char name[64];
-          std::snprintf(name, sizeof name, "frame_%04lld.png", static_cast<long long>(number));
-          write_png(
-              render_dirs[s] / name,
-              with_legend(render_image(*scene, drawn_frame, with_occluders(sky_front),
-                                       with_occluders(sky_back), *camera, options.width, options.height),
-                          0.0, 1.0, "SKY VISIBILITY A: 0 CLOSED IN, 1 OPEN SKY"));
-        } else if (render_this) {
-          char name[64];
-          std::snprintf(name, sizeof name, "frame_%04lld.png", static_cast<long long>(number));
-          if (options.turntable > 0 && frame_ids.size() == 1) {
-            render_turntable(render_dirs[s], "turntable", drawn, drawn_frame, with_occluders(front),
-                             with_occluders(back), *camera, options.turntable, options.width, options.height);
-          } else {
-            write_png(render_dirs[s] / name,
-                      render_image(*scene, drawn_frame, with_occluders(front), with_occluders(back), *camera,
-                                   options.width, options.height));
-          }
-        }
-      }
-      emit(f, bytes.take());
-    }
-  };
+  ShadeParams shade;
+  shade.albedo = options.albedo;
+  shade.exposure = options.exposure;
+  shade.interreflection = !options.no_interreflection;
+  ToneMapParams tone;
+  tone.exposure = options.exposure;
+  const ShadeJob job{options, sequence, *world_holder, setups, plan, cache ? &*cache : nullptr,
+                     cached,  first,    last - first,  shade,  tone, render ? &*render : nullptr,
+                     up};
   double cone_seconds = 0.0, shade_seconds = 0.0;
   ContactWarning contact;
-  const auto consume = [&](std::size_t f, std::string_view payload) {
-    ByteReader bytes(payload);
-    cone_seconds += bytes.get<double>();
-    const auto penetrating = bytes.get<std::uint64_t>();
-    const auto deepest = bytes.get<double>();
-    contact.add(f, penetrating, deepest, bytes.get<std::uint32_t>());
-    const auto positions = bytes.get_array<glm::vec3>();
-    std::array<SideVisibility, 2> sides;
-    for (SideVisibility& side : sides) {
-      side.sky_visibility = bytes.get_array<float>();
-      side.bent_cone = bytes.get_array<glm::vec4>();
-    }
-    for (std::size_t s = 0; s < setups.size(); ++s) {
-      shade_seconds += bytes.get<double>();
-      const auto front = bytes.get_array<glm::vec3>();
-      const auto back = bytes.get_array<glm::vec3>();
-      writers[s]->add_frame(positions, front, back, sides[0], sides[1]);
-    }
-  };
-  run_chunks(job, "shade", compute, consume);
+  run_chunks(
+      chunks, "shade",
+      [&](std::size_t a, std::size_t b, const EmitFrame& emit) { shade_chunk(job, a, b, emit); },
+      [&](std::size_t f, std::string_view payload) {
+        consume_shaded(f, payload, writers, cone_seconds, shade_seconds, contact);
+      });
   if (!World::root()) return;
-  contact.warn(world.topology().contact_tolerance, std::cerr);
+  contact.warn(job.world.topology().contact_tolerance, std::cerr);
   for (auto& writer : writers) writer->finish();
-
-  {
-    std::ostringstream out;
-    const double n = double(frame_ids.size());
-    out << "shaded " << frame_ids.size() << " frames of " << topology.num_vertices << " vertices: cones "
-        << (cache ? "read from " + options.cones + " in " : std::string()) << 1e3 * cone_seconds / n
-        << " ms/frame, shading " << 1e3 * shade_seconds / (n * setups.size()) << " ms/frame per setup\n";
-    if (job.bounds.size() > 2 || World::distributed())
-      out << "  " << job.bounds.size() - 1 << " chunks over " << World::size() << " ranks"
-          << (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "")
-          << "\n";
-    for (std::size_t s = 0; s < setups.size(); ++s) {
-      out << "wrote " << outputs[s].string();
-      if (!up.turn.identity())
-        out << " (up " << up.name << ", from " << up.source << ", turned to glTF's +y)";
-      if (render) out << " and images in " << render_dirs[s].string();
-      out << (setups[s].name.empty() ? "" : " (setup " + setups[s].name + ")") << '\n';
-      std::istringstream lights(setups[s].describe());
-      for (std::string line; std::getline(lights, line);) out << "  " << line << '\n';
-    }
-    report() << out.str();
-  }
+  report() << shade_summary(job, chunks, outputs, cone_seconds, shade_seconds);
 }
 
 }  // namespace

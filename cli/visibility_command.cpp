@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "cli/contact_warning.hpp"
 #include "cli/global_options.hpp"
+#include "cli/input_warnings.hpp"
 #include "cli/job_error.hpp"
 #include "cli/run_chunks.hpp"
 #include "cli/shared_load.hpp"
@@ -18,8 +19,8 @@
 #include "kinetic/kinetic_visibility.hpp"
 #include "shading/cone_cache.hpp"
 #include "sim_io/atomic_file.hpp"
+#include "sim_io/mesh_report.hpp"
 #include "sim_io/mesh_sequence.hpp"
-#include "sim_io/self_intersections.hpp"
 #include "sim_io/visibility_csv.hpp"
 #include "static_core/visibility.hpp"
 #include "support/byte_stream.hpp"
@@ -106,17 +107,10 @@ void run(const VisibilityOptions& options) {
   together([&] {
     if (!World::root()) return;
     plan = options.plan.make(sequence);
-    // The algorithm assumes a surface free of self-intersections: a warning, not a failure (later frames are
-    // not checked; `pleat info --check-intersections` checks them all).
-    const Frame frame = sequence.frame(first);
+    warn_about_cloth(sequence, first);  // later frames are not checked: `pleat info` checks them all
     std::vector<SlicingPlane> planes;
-    planes_for_frame(plan, cloth_vertices(topology), frame, planes);
+    planes_for_frame(plan, cloth_vertices(topology), sequence.frame(first), planes);
     first_planes = planes.size();
-    if (const std::size_t pairs = self_intersecting_faces(topology, frame).size(); pairs > 0)
-      std::cerr << "pleat: warning: frame " << first << " self-intersects (" << pairs
-                << (pairs == 1 ? " face pair" : " face pairs")
-                << "); visibility near the intersections is unreliable (`pleat info "
-                   "--check-intersections` lists every frame's)\n";
   });
   broadcast_plan(plan);
   const double planned_at = World::seconds();
@@ -148,7 +142,7 @@ void run(const VisibilityOptions& options) {
     create_parent_directory(options.output);
     if (!options.stats.empty()) create_parent_directory(options.stats);
     if (!options.timings.empty()) create_parent_directory(options.timings);
-    csv.emplace(options.output, sequence.welded_of_input());
+    csv.emplace(options.output, sequence.welded_of_input(), isolated_vertices(topology));
     if (!options.cones.empty()) {
       create_parent_directory(options.cones);
       std::vector<std::uint32_t> frame_ids;

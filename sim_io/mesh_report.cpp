@@ -79,6 +79,16 @@ std::size_t count_far_flung(const MeshTopology& topology, const Frame& frame, In
   return count;
 }
 
+std::vector<Index> isolated_vertices(const MeshTopology& topology) {
+  std::vector<char> used(topology.num_vertices, 0);
+  for (const Triangle& t : topology.triangles)
+    for (Index v : t) used[v] = 1;
+  std::vector<Index> isolated;
+  for (Index v = 0; v < topology.num_vertices; ++v)
+    if (!used[v]) isolated.push_back(v);
+  return isolated;
+}
+
 MeshReport report_mesh(const MeshSequence& sequence,
                        const std::function<void(std::size_t, const Frame&)>& per_frame) {
   MeshReport r;

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <functional>
 #include <glm/vec3.hpp>
+#include <vector>
 
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/mesh.hpp"
@@ -33,6 +34,10 @@ TopologyCounts count_topology(const MeshTopology& topology);
 
 /// Faces whose three corners are collinear (or coincide) in `frame`, exactly.
 std::size_t count_degenerate_faces(const MeshTopology& topology, const Frame& frame);
+
+/// The vertices no triangle uses, in increasing order: they have no surface, so no visibility (the CSV
+/// leaves their fields empty, the Python module gives NaN; docs/method.md §12). O(V + F).
+std::vector<Index> isolated_vertices(const MeshTopology& topology);
 
 struct MeshReport {
   Index input_vertices = 0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
@@ -56,6 +57,53 @@ void check_frame_size(const std::string& name, std::size_t frame, std::size_t go
                          " vertices, the mesh has " + std::to_string(expected));
 }
 
+std::string number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
+
+// Every coordinate finite and within kMaxCoordinate (mesh_sequence.hpp).
+void check_coordinates(const std::string& name, std::size_t frame, const std::vector<glm::dvec3>& positions) {
+  for (std::size_t v = 0; v < positions.size(); ++v)
+    for (int k = 0; k < 3; ++k) {
+      const double c = positions[v][k];
+      if (!std::isfinite(c))
+        throw InputError(name, frame_place(frame) + ", vertex " + std::to_string(v), "non-finite coordinate");
+      if (std::abs(c) > kMaxCoordinate)
+        throw InputError(name, frame_place(frame) + ", vertex " + std::to_string(v),
+                         "coordinate " + number(c) + " beyond +-" + number(kMaxCoordinate) +
+                             " (pleat's double arithmetic would overflow; scale the scene down)");
+    }
+}
+
+// The cloth at least kMinExtent across (mesh_sequence.hpp): `bounds` of every frame.
+void check_extent(const std::string& name, const Bounds& bounds) {
+  const glm::dvec3 d = bounds.hi - bounds.lo;
+  const double extent = std::max({d.x, d.y, d.z});
+  if (!(extent >= kMinExtent))
+    throw InputError(name, "",
+                     extent > 0
+                         ? "the mesh spans only " + number(extent) + " (less than " + number(kMinExtent) +
+                               ": pleat's double arithmetic would underflow; scale the scene up)"
+                         : "the mesh has no extent: every vertex lies at one point in every frame");
+}
+
+// Frame times (finite, increasing strictly) and source frame numbers.
+void read_times(const std::string& name, const FrameSource& frames, std::vector<double>& times,
+                std::vector<std::int64_t>& source_frames) {
+  const std::size_t num_frames = frames.num_frames();
+  times.resize(num_frames);
+  source_frames.resize(num_frames);
+  for (std::size_t i = 0; i < num_frames; ++i) {
+    times[i] = frames.frame_time(i);
+    if (!std::isfinite(times[i])) throw InputError(name, frame_place(i), "frame time is not finite");
+    source_frames[i] = frames.source_frame(i);
+    if (i > 0 && !(times[i] > times[i - 1]))
+      throw InputError(name, frame_place(i), "frame times must increase strictly");
+  }
+}
+
 }  // namespace
 
 std::unique_ptr<FrameSource> make_memory_source(std::vector<std::vector<glm::dvec3>> frames,
@@ -100,15 +148,7 @@ MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangl
                              std::to_string(num_input_vertices) + " vertices)");
   const std::size_t num_frames = frames->num_frames();
   if (num_frames == 0) throw InputError(n, "", "no frames");
-  impl->times.resize(num_frames);
-  impl->source_frames.resize(num_frames);
-  for (std::size_t i = 0; i < num_frames; ++i) {
-    impl->times[i] = frames->frame_time(i);
-    if (!std::isfinite(impl->times[i])) throw InputError(n, frame_place(i), "frame time is not finite");
-    impl->source_frames[i] = frames->source_frame(i);
-    if (i > 0 && !(impl->times[i] > impl->times[i - 1]))
-      throw InputError(n, frame_place(i), "frame times must increase strictly");
-  }
+  read_times(n, *frames, impl->times, impl->source_frames);
 
   // Welding by partition refinement: two input vertices stay in one class while they coincide in every
   // frame read so far. Every frame is read once (validating it) even after no class can split any more.
@@ -126,10 +166,7 @@ MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangl
     for (std::size_t i = scan_first; i < std::min(num_frames, scan_last); ++i) {
       const std::vector<glm::dvec3> positions = frames->read_frame(i);
       check_frame_size(n, i, positions.size(), num_input_vertices);
-      for (Index v = 0; v < num_input_vertices; ++v)
-        for (int k = 0; k < 3; ++k)
-          if (!std::isfinite(positions[v][k]))
-            throw InputError(n, frame_place(i) + ", vertex " + std::to_string(v), "non-finite coordinate");
+      check_coordinates(n, i, positions);
       if (scan.on_frame) scan.on_frame(i, positions);
       for (Index v = 0; v < num_input_vertices; ++v)
         if (used[v]) impl->bounds.add(positions[v]);
@@ -152,6 +189,7 @@ MeshSequence::MeshSequence(std::string name, std::vector<Triangle> input_triangl
     num_classes = cls.empty() ? 0 : *std::max_element(cls.begin(), cls.end()) + 1;
   }
   if (scan.merge_bounds) scan.merge_bounds(impl->bounds);
+  check_extent(n, impl->bounds);
   // Welded vertices numbered by first appearance in input order.
   std::vector<Index> welded_of_class(num_classes, Index(-1));
   impl->welded_of_input.resize(num_input_vertices);

@@ -21,6 +21,12 @@ namespace pleat {
 /// OBJ sequences): Blender's default.
 inline constexpr double kDefaultSceneFps = 24.0;
 
+/// The range of coordinates pleat reads (MeshSequence checks every frame): pleat computes in doubles with
+/// products of several coordinate differences, which must neither overflow nor underflow, so that A does not
+/// depend on the scene's unit; far outside this range they do, and every A would be 0 (docs/method.md §12).
+inline constexpr double kMaxCoordinate = 1e30;  ///< |x|, |y|, |z| of every vertex of every frame
+inline constexpr double kMinExtent = 1e-30;     ///< the largest side of the box of every frame, at least
+
 /// A source of per-frame positions in the input's vertex order (one implementation per file format).
 class FrameSource {
  public:
@@ -68,10 +74,11 @@ class MeshSequence {
  public:
   /// Welds input vertices whose positions coincide exactly in every frame (glTF exporters split them at UV
   /// seams): one streaming pass over all frames, which also validates each of them (vertex count, finite
-  /// coordinates through the source) and that times are finite and strictly increasing. O(V) memory,
-  /// O(V) expected time per frame. Throws InputError naming `name` and the frame.
-  /// `scan` shares that pass between processes (LoadScan).
-  /// `surface`: per corner of input_triangles, or empty (std::invalid_argument on another size).
+  /// coordinates within kMaxCoordinate, through the source), that the mesh spans kMinExtent (the box of the
+  /// vertices the triangles use, over every frame) and that times are finite and strictly increasing. O(V)
+  /// memory, O(V) expected time per frame. Throws InputError naming `name` and the frame. `scan` shares that
+  /// pass between processes (LoadScan). `surface`: per corner of input_triangles, or empty
+  /// (std::invalid_argument on another size).
   MeshSequence(std::string name, std::vector<Triangle> input_triangles, Index num_input_vertices,
                std::unique_ptr<FrameSource> frames, const LoadScan& scan = {},
                SurfaceAttributes surface = {});

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -30,9 +31,13 @@ void append_integer(std::string& out, Integer v) {
 }  // namespace
 
 VisibilityCsvWriter::VisibilityCsvWriter(const std::filesystem::path& path,
-                                         std::vector<Index> welded_of_input)
+                                         std::vector<Index> welded_of_input,
+                                         const std::vector<Index>& without_surface)
     : m_welded_of_input(std::move(welded_of_input)), m_file(path) {
   for (Index w : m_welded_of_input) m_num_welded = std::max(m_num_welded, Index(w + 1));
+  m_without_surface.assign(m_num_welded, 0);
+  for (Index w : without_surface)
+    if (w < m_num_welded) m_without_surface[w] = 1;
   m_file.stream() << "frame,vertex,front,back,source_frame\n";
 }
 
@@ -51,9 +56,9 @@ void VisibilityCsvWriter::add_frame(std::size_t frame, std::int64_t source_frame
     chunk += ',';
     append_integer(chunk, v);
     chunk += ',';
-    append_number(chunk, front[w]);
+    if (!m_without_surface[w]) append_number(chunk, front[w]);
     chunk += ',';
-    append_number(chunk, back[w]);
+    if (!m_without_surface[w]) append_number(chunk, back[w]);
     chunk += ',';
     chunk += source;
     if (chunk.size() > 60 * 1024) {
@@ -103,11 +108,17 @@ std::vector<VisibilityRow> read_visibility_csv(const std::filesystem::path& path
     };
     parse(fields[0], r.frame);
     parse(fields[1], r.vertex);
-    parse(fields[2], r.front);
-    parse(fields[3], r.back);
+    if (fields[2].empty() != fields[3].empty())
+      throw InputError(file, place, "one side's visibility empty, the other's not");
+    if (fields[2].empty()) {  // a vertex without surface
+      r.front = r.back = std::numeric_limits<double>::quiet_NaN();
+    } else {
+      parse(fields[2], r.front);
+      parse(fields[3], r.back);
+      if (!std::isfinite(r.front) || !std::isfinite(r.back))
+        throw InputError(file, place, "non-finite visibility");
+    }
     parse(fields[4], r.source_frame);
-    if (!std::isfinite(r.front) || !std::isfinite(r.back))
-      throw InputError(file, place, "non-finite visibility");
     rows.push_back(r);
   }
   if (line == 0)

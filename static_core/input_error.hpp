@@ -35,4 +35,13 @@ class InputError : public std::runtime_error {
   std::string m_reason;
 };
 
+/// Bad arguments handed to a library entry (mesh_validation.hpp: a frame of the wrong size, a non-finite
+/// position, an index out of range); file() names the entry (e.g. "compute_visibility"). To a caller of the
+/// library it is bad input like any other InputError. The command line hands the entries only sequences it
+/// read and validated, so there it is a bug in pleat: exit status 1, not 2.
+class ArgumentError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 }  // namespace pleat

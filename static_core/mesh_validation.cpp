@@ -47,21 +47,21 @@ bool all_within(const std::vector<glm::dvec3>& positions, double limit) {
 
 void validate_topology(const MeshTopology& topology, const char* who) {
   if (topology.num_occluder_vertices > topology.num_vertices)
-    throw InputError(who, "",
+    throw ArgumentError(who, "",
                      std::to_string(topology.num_occluder_vertices) + " occluder vertices of " +
                          std::to_string(topology.num_vertices));
   if (topology.num_plane_triangles > topology.triangles.size())
-    throw InputError(who, "",
+    throw ArgumentError(who, "",
                      std::to_string(topology.num_plane_triangles) + " plane triangles of " +
                          std::to_string(topology.triangles.size()));
   for (std::size_t i = 0; i < topology.planes.size(); ++i) {
     const OccludingPlane& p = topology.planes[i];
     if (!(std::abs(glm::length(p.normal) - 1.0) < 1e-9) || !std::isfinite(p.offset))
-      throw InputError(who, "occluding plane " + std::to_string(i),
+      throw ArgumentError(who, "occluding plane " + std::to_string(i),
                        "needs a unit normal and a finite offset");
   }
   if (!(std::isfinite(topology.contact_tolerance) && topology.contact_tolerance >= 0.0))
-    throw InputError(who, "contact tolerance", "must be a finite distance >= 0");
+    throw ArgumentError(who, "contact tolerance", "must be a finite distance >= 0");
   Index largest = 0;
   for (const Triangle& t : topology.triangles) largest = std::max({largest, t[0], t[1], t[2]});
   if (topology.triangles.empty() || largest < topology.num_vertices) {
@@ -72,9 +72,9 @@ void validate_topology(const MeshTopology& topology, const char* who) {
       const Triangle& t = topology.triangles[f];
       const int of_occluders = (t[0] >= receivers) + (t[1] >= receivers) + (t[2] >= receivers);
       if (of_occluders % 3 != 0)
-        throw InputError(who, "triangle " + std::to_string(f), "joins cloth and occluder vertices");
+        throw ArgumentError(who, "triangle " + std::to_string(f), "joins cloth and occluder vertices");
       if (of_occluders == 0 && occluders)
-        throw InputError(who, "triangle " + std::to_string(f), "a cloth triangle after an occluder's");
+        throw ArgumentError(who, "triangle " + std::to_string(f), "a cloth triangle after an occluder's");
       occluders = occluders || of_occluders == 3;
     }
     return;
@@ -82,7 +82,7 @@ void validate_topology(const MeshTopology& topology, const char* who) {
   for (std::size_t f = 0; f < topology.triangles.size(); ++f)
     for (Index v : topology.triangles[f])
       if (v >= topology.num_vertices)
-        throw InputError(who, "triangle " + std::to_string(f),
+        throw ArgumentError(who, "triangle " + std::to_string(f),
                          "vertex index " + std::to_string(v) + " out of range (" +
                              std::to_string(topology.num_vertices) + " vertices)");
 }
@@ -96,7 +96,7 @@ std::string frame_place(const Frame& frame) {
 void validate_frame(const MeshTopology& topology, const Frame& frame, const char* who) {
   const std::size_t count = frame.positions.size();
   if (count != topology.num_vertices)
-    throw InputError(who, frame_place(frame),
+    throw ArgumentError(who, frame_place(frame),
                      std::string(count < topology.num_vertices ? "too few" : "too many") +
                          " positions: " + std::to_string(count) + " for " +
                          std::to_string(topology.num_vertices) + " vertices");
@@ -106,9 +106,9 @@ void validate_frame(const MeshTopology& topology, const Frame& frame, const char
     const std::string place = frame_place(frame) + ", vertex " + std::to_string(v);
     const std::string at = "(" + number(p.x) + ", " + number(p.y) + ", " + number(p.z) + ")";
     if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
-      throw InputError(who, place, "non-finite position " + at);
+      throw ArgumentError(who, place, "non-finite position " + at);
     if (!all_within({p}, kExactIntegers))
-      throw InputError(who, place,
+      throw InputError(who, place,  // a position far out: bad input, not a bad call
                        "position " + at +
                            " beyond +-2^53, where doubles stop holding every integer (an exploded "
                            "simulation, or a transform far from the origin?)");

@@ -11,10 +11,12 @@
 #include <pybind11/stl.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,6 +26,7 @@
 #include "kinetic/engine.hpp"
 #include "shading/cone_cache.hpp"
 #include "sim_io/load_sequence.hpp"
+#include "sim_io/mesh_report.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/scene.hpp"
 #include "sim_io/sequence_plan.hpp"
@@ -329,10 +332,10 @@ EngineOptions engine_options(const py::kwargs& kwargs, const std::vector<std::st
 PlanOptions plan_options_of(const EngineOptions& o) {
   PlanOptions plan;
   plan.orientations = option(o.orientations, plan.orientations, "orientations", "an int");
-  plan.spacing = option(o.spacing, 0.0, "spacing", "a number");
-  plan.spacing_edges = option(o.spacing_edges, 0.0, "spacing_edges", "a number");
-  if (!o.spacing_edges.is_none() && !(plan.spacing_edges > 0)) bad("spacing_edges: must be > 0");
-  plan.planes_per_orientation = option(o.planes, 0, "planes", "an int");
+  if (!o.spacing.is_none()) plan.spacing = option(o.spacing, 0.0, "spacing", "a number");
+  if (!o.spacing_edges.is_none())
+    plan.spacing_edges = option(o.spacing_edges, 0.0, "spacing_edges", "a number");
+  if (!o.planes.is_none()) plan.planes_per_orientation = option(o.planes, 0, "planes", "an int");
   plan.adaptive = option(o.adaptive, false, "adaptive", "a bool");
   plan.max_missing = option(o.max_missing, 0.05, "max_missing", "a number");
   plan.storage = option(o.cone_storage, std::string("aimed-on-fan"), "cone_storage", "a str");
@@ -416,6 +419,8 @@ class PyEngine {
       m_engine = std::make_unique<Engine>(m_scene->topology(), plan_options.make(*m_cloth), params);
     });
     m_welded_of_input = std::make_shared<const std::vector<Index>>(m_cloth->welded_of_input());
+    m_without_surface.assign(m_cloth->topology().num_vertices, 0);
+    for (Index w : isolated_vertices(m_cloth->topology())) m_without_surface[w] = 1;
   }
   PyEngine(const PyEngine&) = delete;
   PyEngine& operator=(const PyEngine&) = delete;
@@ -480,9 +485,11 @@ class PyEngine {
             }
             const std::vector<Index>& welded = *m_welded_of_input;
             double* row = out + k * vertices * 2;
+            const double nan = std::numeric_limits<double>::quiet_NaN();
             for (std::size_t v = 0; v < welded.size(); ++v) {
-              row[2 * v] = vis.measure(Side::Front, welded[v]).sky_visibility;
-              row[2 * v + 1] = vis.measure(Side::Back, welded[v]).sky_visibility;
+              const bool surface = !m_without_surface[welded[v]];  // else no visibility: NaN
+              row[2 * v] = surface ? vis.measure(Side::Front, welded[v]).sky_visibility : nan;
+              row[2 * v + 1] = surface ? vis.measure(Side::Back, welded[v]).sky_visibility : nan;
             }
           });
         }
@@ -555,12 +562,14 @@ class PyEngine {
     double* bent = out.bent;
     double* solid = out.solid;
     const std::vector<Index>& welded = *m_welded_of_input;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
     for (std::size_t v = 0; v < welded.size(); ++v)
       for (int s = 0; s < 2; ++s) {
         const ConeMeasures& m = vis.measure(Side(s), welded[v]);
-        sky[2 * v + s] = m.sky_visibility;
-        solid[2 * v + s] = m.solid_angle;
-        for (int c = 0; c < 3; ++c) bent[(2 * v + s) * 3 + c] = m.bent_normal[c];
+        const bool surface = !m_without_surface[welded[v]];  // else no visibility: NaN
+        sky[2 * v + s] = surface ? m.sky_visibility : nan;
+        solid[2 * v + s] = surface ? m.solid_angle : nan;
+        for (int c = 0; c < 3; ++c) bent[(2 * v + s) * 3 + c] = surface ? m.bent_normal[c] : nan;
       }
   }
 
@@ -575,6 +584,11 @@ class PyEngine {
       const glm::dvec3 p = view.at(0, v);
       if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
         throw InputError("positions", "vertex " + std::to_string(v), "non-finite coordinate");
+      if (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) > kMaxCoordinate)
+        throw InputError(
+            "positions", "vertex " + std::to_string(v),
+            "a coordinate beyond +-1e30 (pleat's double arithmetic would overflow; scale the scene "
+            "down)");
       const Index w = welded[v];
       if (first[w] == Index(-1)) {
         first[w] = Index(v);
@@ -597,6 +611,7 @@ class PyEngine {
   std::unique_ptr<Engine> m_engine;
   std::shared_ptr<const std::vector<Index>> m_welded_of_input;
   InterruptCheck m_interrupt;
+  std::vector<char> m_without_surface;  ///< per welded vertex: no triangle uses it
 };
 
 /// The frame indices `frames` selects among `count`: None (all), an int, a slice, a str "A:B" or "N" as

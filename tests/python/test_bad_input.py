@@ -106,7 +106,7 @@ def test_bad_compute_and_options():
         (dict(orientations=0), "orientations: 0 is not in 1..1000"),
         (dict(spacing=-1.0), "spacing: must be"),
         (dict(spacing=0.1, spacing_edges=0.5), "exclude each other"),
-        (dict(spacing_edges=0.0), "spacing_edges: must be > 0"),
+        (dict(spacing_edges=0.0), "spacing_edges: must be a finite number > 0, got 0"),
         (dict(max_missing=2.0), "max_missing"),
         (dict(cone_storage="nearest"), "cone_storage: 'nearest'"),
         (dict(plan="p.json", orientations=6), "a plan file fixes the planes"),
@@ -114,8 +114,6 @@ def test_bad_compute_and_options():
         (dict(threads=-1), "threads: must be >= 0"),
         (dict(occluders=[(faces,)]), r"occluders\[0\]: expected a \(faces, positions\) pair"),
         (dict(occluders=[(faces, positions[:, :, :2])]), r"occluders\[0\] positions: shape"),
-        (dict(occluders=[(faces, np.concatenate([positions] * 2))]),
-         r"occluders\[0\]: the occluder has 4 frames, the cloth 2"),
     ]:
         with pytest.raises(ValueError, match=message):
             pleat.Engine(faces, positions, **options)
