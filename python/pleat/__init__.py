@@ -18,9 +18,10 @@ Ctrl+C stops a computation promptly (between frames and inside a long one) with 
 frames finished before it are in `out` when one was given (a note on the exception says how many).
 progress= takes a tqdm bar (tqdm(total=...)) or any callable (done, total).
 
-Float arrays of any byte order are read (float64 and float32 in place, others converted). Bad arrays raise
-ValueError (InputError, a ValueError, for what the library rejects: non-finite coordinates, ...); bad files
-raise InputError naming the file and the place.
+A vertex no triangle uses has no surface, so its values are NaN (empty in the CSV). Float arrays of any byte
+order are read (float64 and float32 in place, others converted). Bad arrays raise ValueError (InputError, a
+ValueError, for what the library rejects: non-finite coordinates, coordinates beyond 2^53, a mesh less than 1e-30
+across, ...); bad files raise InputError naming the file and the place.
 """
 from ._pleat import Engine, FrameResult, InputError, __version__, _load, _read_cone_cache, _sky_visibility
 
