@@ -95,6 +95,48 @@ double percentile(std::vector<double> values, double q) {
   return values[k];
 }
 
+/// The cones' shading against the path-traced reference, per vertex and side, in luminance.
+struct Comparison {
+  std::array<std::vector<glm::vec3>, 2> reference;  ///< the mean of the two halves of the paths
+  std::array<std::vector<double>, 2> difference;    ///< |cones - reference|
+  double reference_mean = 0.0;                      ///< over every vertex and side
+  double mean_difference = 0.0, p95 = 0.0, p99 = 0.0;
+  double bias = 0.0;   ///< mean of cones - reference
+  double noise = 0.0;  ///< the reference's rms Monte-Carlo noise, from the halves' difference
+};
+
+Comparison compare_luminance(const ShadedFrame& shaded, const PathTracedFrame& half_a,
+                             const PathTracedFrame& half_b, std::size_t n) {
+  Comparison c;
+  std::vector<double> all_differences;
+  all_differences.reserve(2 * n);
+  double reference_sum = 0.0, signed_sum = 0.0, noise_squares = 0.0;
+  for (int s = 0; s < 2; ++s) {
+    c.reference[s].resize(n);
+    c.difference[s].resize(n);
+    for (std::size_t v = 0; v < n; ++v) {
+      c.reference[s][v] = 0.5f * (half_a.radiance[s][v] + half_b.radiance[s][v]);
+      const double ref = luminance(c.reference[s][v]);
+      const double ours = luminance(shaded.radiance[s][v]);
+      const double half_gap = 0.5 * (luminance(half_a.radiance[s][v]) - luminance(half_b.radiance[s][v]));
+      c.difference[s][v] = std::abs(ours - ref);
+      all_differences.push_back(c.difference[s][v]);
+      reference_sum += ref;
+      signed_sum += ours - ref;
+      noise_squares += half_gap * half_gap;  // E[(a - b)^2 / 4] = variance of the mean of a and b
+    }
+  }
+  const double count = 2.0 * double(n);
+  c.reference_mean = reference_sum / count;
+  for (double d : all_differences) c.mean_difference += d;
+  c.mean_difference /= count;
+  c.p95 = percentile(all_differences, 0.95);
+  c.p99 = percentile(all_differences, 0.99);
+  c.bias = signed_sum / count;
+  c.noise = std::sqrt(noise_squares / count);
+  return c;
+}
+
 void run_compare(const CompareOptions& options) {
   check_outputs({{"-o", options.output}});
   Lighting lighting;
@@ -146,35 +188,8 @@ void run_compare(const CompareOptions& options) {
   const auto t3 = Clock::now();
 
   const std::size_t n = topology.num_vertices;
-  std::array<std::vector<glm::vec3>, 2> reference;
-  std::array<std::vector<double>, 2> difference;
-  std::vector<double> all_differences;
-  all_differences.reserve(2 * n);
-  double reference_sum = 0.0, signed_sum = 0.0, noise_squares = 0.0;
-  for (int s = 0; s < 2; ++s) {
-    reference[s].resize(n);
-    difference[s].resize(n);
-    for (std::size_t v = 0; v < n; ++v) {
-      reference[s][v] = 0.5f * (half_a.radiance[s][v] + half_b.radiance[s][v]);
-      const double ref = luminance(reference[s][v]);
-      const double ours = luminance(shaded.radiance[s][v]);
-      const double half_gap = 0.5 * (luminance(half_a.radiance[s][v]) - luminance(half_b.radiance[s][v]));
-      difference[s][v] = std::abs(ours - ref);
-      all_differences.push_back(difference[s][v]);
-      reference_sum += ref;
-      signed_sum += ours - ref;
-      noise_squares += half_gap * half_gap;  // E[(a - b)^2 / 4] = variance of the mean of a and b
-    }
-  }
-  const double count = 2.0 * double(n);
-  const double reference_mean = reference_sum / count;
-  const double scale = reference_mean > 0.0 ? reference_mean : 1.0;
-  double mean_difference = 0.0;
-  for (double d : all_differences) mean_difference += d;
-  mean_difference /= count;
-  const double p95 = percentile(all_differences, 0.95);
-  const double p99 = percentile(all_differences, 0.99);
-  const double noise = std::sqrt(noise_squares / count);
+  const Comparison c = compare_luminance(shaded, half_a, half_b, n);
+  const double scale = c.reference_mean > 0.0 ? c.reference_mean : 1.0;
 
   // Images: same camera, same tone mapping; the difference map from 0 to a round value above its p99.
   Camera camera;
@@ -193,17 +208,17 @@ void run_compare(const CompareOptions& options) {
   renderer.set_frame(world_frame);
   const Image ours_image = renderer.render(to_srgb(shaded.front(), tone), to_srgb(shaded.back(), tone),
                                            camera, options.width, options.height);
-  const Image reference_image = renderer.render(to_srgb(reference[0], tone), to_srgb(reference[1], tone),
+  const Image reference_image = renderer.render(to_srgb(c.reference[0], tone), to_srgb(c.reference[1], tone),
                                                 camera, options.width, options.height);
-  const double top = nice_ceiling(std::max(p99, 1e-12));
+  const double top = nice_ceiling(std::max(c.p99, 1e-12));
   std::array<std::vector<glm::vec3>, 2> heat;
   for (int s = 0; s < 2; ++s) {
     heat[s].resize(n);
-    for (std::size_t v = 0; v < n; ++v) heat[s][v] = viridis(difference[s][v] / top);
+    for (std::size_t v = 0; v < n; ++v) heat[s][v] = viridis(c.difference[s][v] / top);
   }
   const Image heat_image =
       with_legend(renderer.render(heat[0], heat[1], camera, options.width, options.height), 0.0, top,
-                  "LUMINANCE, REF MEAN " + format_number(reference_mean));
+                  "LUMINANCE, REF MEAN " + format_number(c.reference_mean));
   char pt_label[64];
   std::snprintf(pt_label, sizeof pt_label, "PATH TRACED (%d PATHS)", 2 * trace.paths_per_vertex);
   const std::array<LabeledImage, 3> panels = {LabeledImage{&ours_image, "PLEAT CONES"},
@@ -221,8 +236,8 @@ void run_compare(const CompareOptions& options) {
         "frame %zu, %zu vertices x 2 sides: |cones - path traced| mean %.1f%%, p95 %.1f%% of the "
         "reference mean %.4g (bias %+.1f%%, reference noise %.1f%% rms at %d paths); cones %.0f ms, "
         "shading %.2f ms, path tracing %.1f s; wrote %s\n",
-        first, n, 100 * mean_difference / scale, 100 * p95 / scale, reference_mean,
-        100 * signed_sum / count / scale, 100 * noise / scale, 2 * trace.paths_per_vertex,
+        first, n, 100 * c.mean_difference / scale, 100 * c.p95 / scale, c.reference_mean,
+        100 * c.bias / scale, 100 * c.noise / scale, 2 * trace.paths_per_vertex,
         ms * std::chrono::duration<double>(t1 - t0).count(), ms * shade_seconds,
         std::chrono::duration<double>(t3 - t2).count(), output.string().c_str());
     report() << line;

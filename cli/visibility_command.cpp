@@ -77,15 +77,93 @@ nlohmann::json kinetic_json(const KineticFrameStats& k) {
   return out;
 }
 
+/// The streamed outputs of rank 0: the CSV and, with --cones, the cone cache.
+struct VisibilityOutputs {
+  std::optional<VisibilityCsvWriter> csv;
+  std::optional<ConeCacheWriter> cones;
+
+  /// Makes the outputs' directories and opens the writers for frames [first, last).
+  void open(const VisibilityOptions& options, const MeshSequence& sequence, std::size_t first,
+            std::size_t last, ConeEncoding encoding) {
+    create_parent_directory(options.output);
+    if (!options.stats.empty()) create_parent_directory(options.stats);
+    if (!options.timings.empty()) create_parent_directory(options.timings);
+    csv.emplace(options.output, sequence.welded_of_input(), isolated_vertices(sequence.topology()));
+    if (options.cones.empty()) return;
+    create_parent_directory(options.cones);
+    std::vector<std::uint32_t> frame_ids;
+    for (std::size_t f = first; f < last; ++f) frame_ids.push_back(std::uint32_t(f));
+    cones.emplace(options.cones, sequence.topology(), sequence.welded_of_input(), sequence.frame_rate(),
+                  options.plan.describe(), std::move(frame_ids), encoding);
+  }
+
+  /// Writes --stats and --timings, then renames the cone cache and, last, the CSV into place: the CSV exists
+  /// only when every other output was written.
+  void commit(const VisibilityOptions& options, const nlohmann::json& stats, nlohmann::json& timings) {
+    if (!options.stats.empty()) write_file_atomically(options.stats, stats.dump(2) + "\n");
+    timings["seconds_total"] = World::seconds();
+    if (!options.timings.empty()) write_file_atomically(options.timings, timings.dump(2) + "\n");
+    if (cones) cones->commit();
+    csv->commit();
+  }
+};
+
+/// "  N chunks over R ranks, K kept from the checkpoint\n" when the job was split, else "".
+std::string chunks_line(const ChunkJob& job) {
+  if (job.bounds.size() <= 2 && !World::distributed()) return "";
+  return "  " + std::to_string(job.bounds.size() - 1) + " chunks over " + std::to_string(World::size()) +
+         " ranks" +
+         (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "") + "\n";
+}
+
+/// Refuses, before any work, outputs that cannot be written (check_outputs).
+void check_visibility_outputs(const VisibilityOptions& options) {
+  check_outputs({{"-o", options.output},
+                 {"--stats", options.stats},
+                 {"--timings", options.timings},
+                 {"--cones", options.cones, /*stdout_allowed=*/false}},  // its frame table is written last
+                {{"--checkpoint", options.chunking.checkpoint}});
+}
+
+/// What decides the outputs' bytes: the checkpoint's job key.
+std::uint64_t job_key(const VisibilityOptions& options, const SlicingPlan& plan, ConeEncoding encoding) {
+  Fingerprint key;
+  key.add("visibility")
+      .add(options.scene.describe())
+      .add(options.engine)
+      .add(options.plan.describe())
+      .add_value(plan_fingerprint(plan))
+      .add(options.cones.empty() ? "no cones" : cone_encoding_name(encoding));  // a chunk holds its cones
+  return key.value();
+}
+
+/// A frame's --timings entry: its seconds, rank and time of finishing, and the rank's start-up times for a
+/// chunk's first frame (`startup`), else the kinetic engine's counters (of `engine`, if kinetic).
+nlohmann::json timing_json(std::size_t f, double seconds, const nlohmann::json* startup,
+                           const Engine* engine) {
+  nlohmann::json timing = {
+      {"frame", f}, {"seconds", seconds}, {"rank", World::rank()}, {"finished_at", World::seconds()}};
+  if (startup) {
+    timing["chunk_start"] = true;
+    timing["rank_startup"] = *startup;
+  } else if (engine && engine->kinetic_stats()) {
+    timing["kinetic"] = kinetic_json(*engine->kinetic_stats());
+  }
+  return timing;
+}
+
+/// Rank 0's look at the first requested frame: warnings about the cloth (warn_about_cloth; later frames are
+/// not checked, `pleat info` checks them all), and the number of planes that cut it (reported).
+std::size_t look_at_first_frame(const MeshSequence& sequence, const SlicingPlan& plan, std::size_t first) {
+  warn_about_cloth(sequence, first);
+  std::vector<SlicingPlane> planes;
+  planes_for_frame(plan, cloth_vertices(sequence.topology()), sequence.frame(first), planes);
+  return planes.size();
+}
+
 void run(const VisibilityOptions& options) {
   together([&] {
-    if (World::root())
-      check_outputs(
-          {{"-o", options.output},
-           {"--stats", options.stats},
-           {"--timings", options.timings},
-           {"--cones", options.cones, /*stdout_allowed=*/false}},  // its frame table is written last
-          {{"--checkpoint", options.chunking.checkpoint}});
+    if (World::root()) check_visibility_outputs(options);
   });
   const bool with_cones = !options.cones.empty();
   const ConeEncoding encoding =
@@ -107,28 +185,20 @@ void run(const VisibilityOptions& options) {
   together([&] {
     if (!World::root()) return;
     plan = options.plan.make(sequence);
-    warn_about_cloth(sequence, first);  // later frames are not checked: `pleat info` checks them all
-    std::vector<SlicingPlane> planes;
-    planes_for_frame(plan, cloth_vertices(topology), sequence.frame(first), planes);
-    first_planes = planes.size();
+    first_planes = look_at_first_frame(sequence, plan, first);
   });
   broadcast_plan(plan);
   const double planned_at = World::seconds();
 
-  Fingerprint options_key;  // what decides the output's bytes (the checkpoint's job key)
-  options_key.add("visibility")
-      .add(options.scene.describe())
-      .add(options.engine)
-      .add(options.plan.describe())
-      .add_value(plan_fingerprint(plan))
-      .add(with_cones ? cone_encoding_name(encoding) : "no cones");  // a chunk holds its cones if asked
   const ChunkJob job = plan_chunks(input, first, last, options.chunking.chunks, &plan,
-                                   options.chunking.checkpoint, options_key.value());
-  const double chunked_at = World::seconds();
+                                   options.chunking.checkpoint, job_key(options, plan, encoding));
+  const nlohmann::json startup = {
+      {"loaded_at", loaded_at}, {"planned_at", planned_at}, {"chunked_at", World::seconds()}};
 
   // Outputs, on rank 0 only: streamed in frame order, renamed into place at the end.
-  std::optional<VisibilityCsvWriter> csv;
-  std::optional<ConeCacheWriter> cones;
+  VisibilityOutputs outputs;
+  std::optional<VisibilityCsvWriter>& csv = outputs.csv;
+  std::optional<ConeCacheWriter>& cones = outputs.cones;
   nlohmann::json stats = {{"input", options.in.input},         {"engine", options.engine},
                           {"plan", options.plan.describe()},   {"planes", first_planes},
                           {"vertices", topology.num_vertices}, {"faces", topology.triangles.size()},
@@ -138,18 +208,7 @@ void run(const VisibilityOptions& options) {
                             {"chunks_from_checkpoint", job.kept_chunks},
                             {"frames", nlohmann::json::array()}};
   together([&] {
-    if (!World::root()) return;
-    create_parent_directory(options.output);
-    if (!options.stats.empty()) create_parent_directory(options.stats);
-    if (!options.timings.empty()) create_parent_directory(options.timings);
-    csv.emplace(options.output, sequence.welded_of_input(), isolated_vertices(topology));
-    if (!options.cones.empty()) {
-      create_parent_directory(options.cones);
-      std::vector<std::uint32_t> frame_ids;
-      for (std::size_t f = first; f < last; ++f) frame_ids.push_back(std::uint32_t(f));
-      cones.emplace(options.cones, topology, sequence.welded_of_input(), sequence.frame_rate(),
-                    options.plan.describe(), std::move(frame_ids), encoding);
-    }
+    if (World::root()) outputs.open(options, sequence, first, last, encoding);
   });
 
   VisibilityParams params;
@@ -172,14 +231,8 @@ void run(const VisibilityOptions& options) {
         front[v] = vis.measure(Side::Front, v).sky_visibility;
         back[v] = vis.measure(Side::Back, v).sky_visibility;
       }
-      nlohmann::json timing = {
-          {"frame", f}, {"seconds", seconds}, {"rank", World::rank()}, {"finished_at", World::seconds()}};
-      if (f == chunk_first) {
-        timing["chunk_start"] = true;
-        timing["rank_startup"] = {
-            {"loaded_at", loaded_at}, {"planned_at", planned_at}, {"chunked_at", chunked_at}};
-      } else if (engine.kinetic_stats())
-        timing["kinetic"] = kinetic_json(*engine.kinetic_stats());
+      const nlohmann::json timing = f == chunk_first ? timing_json(f, seconds, &startup, nullptr)
+                                                     : timing_json(f, seconds, nullptr, &engine);
       ByteWriter bytes;
       bytes.put_array(front).put_array(back);
       bytes.put<std::uint64_t>(vis.stats.crossing_slices);
@@ -215,19 +268,12 @@ void run(const VisibilityOptions& options) {
   timings["rank0_write_seconds"] = write_seconds;
   timings["gathered_bytes"] = gathered_bytes;
 
-  if (!options.stats.empty()) write_file_atomically(options.stats, stats.dump(2) + "\n");
-  timings["seconds_total"] = World::seconds();
-  if (!options.timings.empty()) write_file_atomically(options.timings, timings.dump(2) + "\n");
-  if (cones) cones->commit();
-  csv->commit();  // last: the CSV exists only when every other output was written
+  outputs.commit(options, stats, timings);
   report() << "wrote " << options.output << ": " << (last - first) << " frames x "
            << sequence.num_input_vertices() << " vertices (" << first_planes
            << (plan.spacing > 0 ? " planes in the first frame: " : " planes: ") << options.plan.describe()
-           << ")\n";
-  if (job.bounds.size() > 2 || World::distributed())
-    report() << "  " << job.bounds.size() - 1 << " chunks over " << World::size() << " ranks"
-             << (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "")
-             << "\n";
+           << ")\n"
+           << chunks_line(job);
   if (cones) report() << "wrote " << options.cones << ": the 3D cones of every frame\n";
   contact.warn(scene.topology().contact_tolerance, std::cerr);
   if (crossing_frames > 0)

@@ -1,6 +1,7 @@
 #include "sim_io/obj_format.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -257,21 +258,26 @@ ParsedObj parse_obj(const std::filesystem::path& path) {
 // The triangles of every polygon in its plane (polygon_triangulation.hpp), with their corners' attributes.
 void triangulate(ParsedObj& parsed) {
   ObjMesh& mesh = parsed.mesh;
+  const auto add = [&](std::size_t first, const std::array<std::size_t, 3>& triangle) {
+    mesh.triangles.push_back({Index(parsed.corners[first + triangle[0]].v),
+                              Index(parsed.corners[first + triangle[1]].v),
+                              Index(parsed.corners[first + triangle[2]].v)});
+    for (std::size_t k : triangle) {
+      mesh.corner_texcoords.push_back(parsed.corners[first + k].t);
+      mesh.corner_normals.push_back(parsed.corners[first + k].n);
+    }
+  };
   std::vector<glm::dvec3> points;
   for (std::size_t p = 0; p < mesh.num_polygons; ++p) {
     const std::size_t first = mesh.polygon_starts[p], last = mesh.polygon_starts[p + 1];
+    if (last - first == 3) {  // a triangle, as it is
+      add(first, {0, 1, 2});
+      continue;
+    }
     points.clear();
     for (std::size_t k = first; k < last; ++k)
       points.push_back(mesh.positions[std::size_t(parsed.corners[k].v)]);
-    for (const auto& triangle : triangulate_polygon(points)) {
-      mesh.triangles.push_back({Index(parsed.corners[first + triangle[0]].v),
-                                Index(parsed.corners[first + triangle[1]].v),
-                                Index(parsed.corners[first + triangle[2]].v)});
-      for (std::size_t k : triangle) {
-        mesh.corner_texcoords.push_back(parsed.corners[first + k].t);
-        mesh.corner_normals.push_back(parsed.corners[first + k].n);
-      }
-    }
+    for (const auto& triangle : triangulate_polygon(points)) add(first, triangle);
   }
 }
 

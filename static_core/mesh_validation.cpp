@@ -48,17 +48,17 @@ bool all_within(const std::vector<glm::dvec3>& positions, double limit) {
 void validate_topology(const MeshTopology& topology, const char* who) {
   if (topology.num_occluder_vertices > topology.num_vertices)
     throw ArgumentError(who, "",
-                     std::to_string(topology.num_occluder_vertices) + " occluder vertices of " +
-                         std::to_string(topology.num_vertices));
+                        std::to_string(topology.num_occluder_vertices) + " occluder vertices of " +
+                            std::to_string(topology.num_vertices));
   if (topology.num_plane_triangles > topology.triangles.size())
     throw ArgumentError(who, "",
-                     std::to_string(topology.num_plane_triangles) + " plane triangles of " +
-                         std::to_string(topology.triangles.size()));
+                        std::to_string(topology.num_plane_triangles) + " plane triangles of " +
+                            std::to_string(topology.triangles.size()));
   for (std::size_t i = 0; i < topology.planes.size(); ++i) {
     const OccludingPlane& p = topology.planes[i];
     if (!(std::abs(glm::length(p.normal) - 1.0) < 1e-9) || !std::isfinite(p.offset))
       throw ArgumentError(who, "occluding plane " + std::to_string(i),
-                       "needs a unit normal and a finite offset");
+                          "needs a unit normal and a finite offset");
   }
   if (!(std::isfinite(topology.contact_tolerance) && topology.contact_tolerance >= 0.0))
     throw ArgumentError(who, "contact tolerance", "must be a finite distance >= 0");
@@ -83,8 +83,8 @@ void validate_topology(const MeshTopology& topology, const char* who) {
     for (Index v : topology.triangles[f])
       if (v >= topology.num_vertices)
         throw ArgumentError(who, "triangle " + std::to_string(f),
-                         "vertex index " + std::to_string(v) + " out of range (" +
-                             std::to_string(topology.num_vertices) + " vertices)");
+                            "vertex index " + std::to_string(v) + " out of range (" +
+                                std::to_string(topology.num_vertices) + " vertices)");
 }
 
 std::string frame_place(const Frame& frame) {
@@ -97,9 +97,9 @@ void validate_frame(const MeshTopology& topology, const Frame& frame, const char
   const std::size_t count = frame.positions.size();
   if (count != topology.num_vertices)
     throw ArgumentError(who, frame_place(frame),
-                     std::string(count < topology.num_vertices ? "too few" : "too many") +
-                         " positions: " + std::to_string(count) + " for " +
-                         std::to_string(topology.num_vertices) + " vertices");
+                        std::string(count < topology.num_vertices ? "too few" : "too many") +
+                            " positions: " + std::to_string(count) + " for " +
+                            std::to_string(topology.num_vertices) + " vertices");
   if (all_finite(frame.positions) && all_within(frame.positions, kExactIntegers)) return;
   for (std::size_t v = 0; v < count; ++v) {
     const glm::dvec3& p = frame.positions[v];

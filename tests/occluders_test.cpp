@@ -361,7 +361,7 @@ TEST(Occluders, BadOccludersNameTheFile) {
   MeshTopology tri{.num_vertices = 3, .triangles = {{0, 1, 2}}};
   write_obj(dir / "t_0.obj", tri, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
   write_obj(dir / "t_1.obj", tri, {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}});
-  fails_naming((dir / "t_%d.obj").string(), "t_%d.obj", "2 frames, the cloth 3");
+  fails_naming((dir / "t_%d.obj").string(), "t_%d.obj", "in 2 frames, the cloth frames 0 to 2 in 3");
   EXPECT_THROW(parse_occluder_spec(""), std::invalid_argument);
   EXPECT_THROW(parse_occluder_spec("a.obj,cache="), std::invalid_argument);
   EXPECT_EQ(parse_occluder_spec("a.obj,cache=b.pc2").cache, "b.pc2");
