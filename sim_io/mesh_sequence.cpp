@@ -71,9 +71,11 @@ void check_coordinates(const std::string& name, std::size_t frame, const std::ve
       if (!std::isfinite(c))
         throw InputError(name, frame_place(frame) + ", vertex " + std::to_string(v), "non-finite coordinate");
       if (std::abs(c) > kMaxCoordinate)
-        throw InputError(name, frame_place(frame) + ", vertex " + std::to_string(v),
-                         "coordinate " + number(c) + " beyond +-" + number(kMaxCoordinate) +
-                             " (pleat's double arithmetic would overflow; scale the scene down)");
+        throw InputError(
+            name, frame_place(frame) + ", vertex " + std::to_string(v),
+            "coordinate " + number(c) +
+                " beyond +-2^53, where doubles stop holding every integer (an exploded simulation, "
+                "or a transform far from the origin?)");
     }
 }
 

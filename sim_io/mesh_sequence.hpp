@@ -21,11 +21,14 @@ namespace pleat {
 /// OBJ sequences): Blender's default.
 inline constexpr double kDefaultSceneFps = 24.0;
 
-/// The range of coordinates pleat reads (MeshSequence checks every frame): pleat computes in doubles with
-/// products of several coordinate differences, which must neither overflow nor underflow, so that A does not
-/// depend on the scene's unit; far outside this range they do, and every A would be 0 (docs/method.md §12).
-inline constexpr double kMaxCoordinate = 1e30;  ///< |x|, |y|, |z| of every vertex of every frame
-inline constexpr double kMinExtent = 1e-30;     ///< the largest side of the box of every frame, at least
+/// The range of coordinates pleat reads (MeshSequence checks every frame, docs/method.md §12). Beyond 2^53
+/// doubles skip integers, which the lattice of planes counts in (the engines refuse the same,
+/// static_core/mesh_validation.hpp); and pleat computes with products of several coordinate differences,
+/// which must not underflow, so that A does not depend on the scene's unit: far below kMinExtent they do, and
+/// every A would be 0.
+inline constexpr double kMaxCoordinate =
+    9007199254740992.0;                      ///< 2^53: |x|, |y|, |z| of every vertex and frame
+inline constexpr double kMinExtent = 1e-30;  ///< the largest side of the box of every frame, at least
 
 /// A source of per-frame positions in the input's vertex order (one implementation per file format).
 class FrameSource {

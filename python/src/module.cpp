@@ -585,10 +585,9 @@ class PyEngine {
       if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
         throw InputError("positions", "vertex " + std::to_string(v), "non-finite coordinate");
       if (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) > kMaxCoordinate)
-        throw InputError(
-            "positions", "vertex " + std::to_string(v),
-            "a coordinate beyond +-1e30 (pleat's double arithmetic would overflow; scale the scene "
-            "down)");
+        throw InputError("positions", "vertex " + std::to_string(v),
+                         "a coordinate beyond +-2^53, where doubles stop holding every integer (an exploded "
+                         "simulation, or a transform far from the origin?)");
       const Index w = welded[v];
       if (first[w] == Index(-1)) {
         first[w] = Index(v);

@@ -33,7 +33,7 @@ def test_a_spacing_wider_than_the_cloth_is_refused():
 @pytest.mark.parametrize("scale,message", [
     (1e-300, r"^positions: the mesh spans only 1e-300"),
     (1e-40, r"^positions: the mesh spans only 1e-40"),
-    (1e100, r"^positions:frame 0, vertex 1: coordinate 3\.3+e\+99 beyond \+-1e\+30"),
+    (1e100, r"^positions:frame 0, vertex 1: coordinate 3\.3+e\+99 beyond \+-2\^53"),
     (1e200, r"^positions:frame 0, vertex 1: coordinate"),
 ])
 def test_meshes_beyond_double_range_are_refused_naming_the_input(scale, message):
@@ -47,10 +47,10 @@ def test_within_the_range_the_unit_does_not_matter():
     positions[:, 5, 1] += 0.4  # a bump, so that A is not 1 everywhere
     reference = pleat.sky_visibility(faces, positions)
     assert reference.min() < 0.99
-    for scale in (2.0**-83, 2.0**83):  # about 1e-25, 1e25, exactly (a power of two): the same bits
+    for scale in (2.0**-83, 2.0**40):  # about 1e-25, 1e12, exactly (a power of two): the same bits
         assert np.array_equal(pleat.sky_visibility(faces, positions * scale), reference)
     engine = pleat.Engine(faces, positions)
-    with pytest.raises(ValueError, match=r"positions:vertex 1: a coordinate beyond \+-1e30"):
+    with pytest.raises(ValueError, match=r"positions:vertex 1: a coordinate beyond \+-2\^53"):
         engine.compute(positions[0] * 1e100)
 
 
