@@ -203,8 +203,8 @@ void run_compare(const CompareOptions& options) {
   }
   ToneMapParams tone;
   tone.exposure = options.exposure;
-  SceneRenderer renderer(world.topology(),
-                         parse_up(options.up));  // the cloth in its scene, as shade draws it
+  // The cloth in its scene, drawn as shade draws it.
+  SceneRenderer renderer(world.topology(), parse_up(options.up));
   renderer.set_frame(world_frame);
   const Image ours_image = renderer.render(to_srgb(shaded.front(), tone), to_srgb(shaded.back(), tone),
                                            camera, options.width, options.height);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -40,14 +41,18 @@ Png read_png(const fs::path& path) {
   return image;
 }
 
-bool neutral(const unsigned char* p) { return std::abs(p[0] - p[2]) <= 4 && std::abs(p[0] - p[1]) <= 4; }
-
-// The cloth is lit by an orange sky: its pixels are orange, the scene's (and the background) neutral grey.
+// The cloth is lit by an orange sky: its pixels are orange; the scene's (slate and warm greys) and the
+// background's are not.
 bool orange(const unsigned char* p) { return p[0] > p[2] + 40; }
+
+int largest_difference(const unsigned char* p, const unsigned char* q) {
+  return std::max({std::abs(p[0] - q[0]), std::abs(p[1] - q[1]), std::abs(p[2] - q[2])});
+}
 
 struct Counts {
   std::size_t cloth = 0;  ///< orange pixels in the scene's image
-  std::size_t scene = 0;  ///< neutral pixels that differ from the cloth-alone image by more than 6 levels
+  std::size_t scene =
+      0;  ///< pixels of neither cloth that differ from the cloth-alone image by more than 6 levels
 };
 
 // Compares the image of the cloth in its scene with that of the cloth alone (same camera).
@@ -60,7 +65,7 @@ Counts count_pixels(const Png& in_scene, const Png& alone) {
     for (int x = 0; x < in_scene.width; ++x) {
       const unsigned char *p = in_scene.at(x, y), *q = alone.at(x, y);
       counts.cloth += orange(p);
-      counts.scene += neutral(p) && neutral(q) && std::abs(int(p[0]) - int(q[0])) > 6;
+      counts.scene += !orange(p) && !orange(q) && largest_difference(p, q) > 6;
     }
   return counts;
 }
