@@ -34,6 +34,7 @@ if begin in text and end in text:
 else:
     print("run_frame_coherence: no headline markers in " + target + "; tables left in bench/results", file=sys.stderr)
 PY
+  BUILD_DIR="$build_dir" bash bench/make_front_picture.sh  # the README's picture, from today's engine
 fi
 echo "run_frame_coherence: $(( $(date +%s) - start )) s; wrote $out/frame_coherence.md, $out/frame_coherence.csv," \
      "$out/frame_coherence_headline.md, $out/frame_coherence_*.png" >&2
