@@ -39,7 +39,8 @@ std::size_t SliceVertexCounter::count(const Frame& frame) const {
     for (const auto& [a, b] : m_edges) {
       const auto [lo, hi] = std::minmax(height[a], height[b]);
       if (m_spacing > 0)  // the lattice planes (k + 1/2) * spacing in (lo, hi]
-        count += std::size_t(std::floor(hi / m_spacing - 0.5) - std::floor(lo / m_spacing - 0.5));
+        count +=
+            std::size_t(std::min(std::floor(hi / m_spacing - 0.5) - std::floor(lo / m_spacing - 0.5), 1e15));
       else
         count += std::size_t(std::upper_bound(offsets.begin(), offsets.end(), hi) -
                              std::upper_bound(offsets.begin(), offsets.end(), lo));
