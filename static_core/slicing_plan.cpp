@@ -246,16 +246,16 @@ void cover_with_planes(SlicingPlan& plan, const Bounds& cover) {
     const auto [lo, hi] = extent_along(cover, n);
     const double first = std::ceil(lo / plan.spacing - 0.5), last = std::floor(hi / plan.spacing - 0.5);
     if (!(std::max(std::abs(first), std::abs(last)) < kExactLattice))
-      throw std::invalid_argument("slicing plan: " + far_lattice(plan, lo, hi));
+      throw InputError("slicing plan", "", far_lattice(plan, lo, hi));
     total += std::max(0.0, last - first + 1.0);
     if (!(total <= double(kMaxPlanesPerFrame))) {
       char text[300];
       std::snprintf(
           text, sizeof text,
-          "slicing plan: planes %.6g apart over an extent of %.6g would be %.3g planes or more (at most "
-          "%zu): a larger --spacing or --spacing-edges",
+          "planes %.6g apart over an extent of %.6g would be %.3g planes or more (at most %zu): a larger "
+          "--spacing or --spacing-edges",
           plan.spacing, hi - lo, total, kMaxPlanesPerFrame);
-      throw std::invalid_argument(text);
+      throw InputError("slicing plan", "", text);
     }
     range.push_back({first, last});
   }

@@ -99,7 +99,9 @@ void planes_for_frame(const SlicingPlan& plan, std::span<const Index> cloth, con
 
 /// Replaces plan.planes by the lattice planes of every orientation that meet `cover`: offsets
 /// (k + 1/2) * plan.spacing, k integer, within the box's extent along the orientation, ordered by
-/// orientation, then offset. Precondition: plan.spacing > 0 and finite, cover not empty. O(planes).
+/// orientation, then offset. Precondition: plan.spacing > 0 and finite, cover not empty (else
+/// std::invalid_argument). Throws InputError before allocating when they would be more than
+/// kMaxPlanesPerFrame or too far out to tell apart. O(planes).
 void cover_with_planes(SlicingPlan& plan, const Bounds& cover);
 
 /// The box of the vertices the triangles use (isolated vertices do not stretch a plan).

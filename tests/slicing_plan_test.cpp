@@ -12,6 +12,7 @@
 
 #include "oracles/test_meshes.hpp"
 #include "sim_io/cloth_generators.hpp"
+#include "static_core/input_error.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/visibility.hpp"
 
@@ -142,7 +143,7 @@ TEST(SlicingPlan, CoverWithPlanesRejectsWhatCannotBeALattice) {
   EXPECT_EQ(plan.planes.front().offset, 0.125);
   EXPECT_EQ(plan.planes.back().offset, 0.875);
   plan.spacing = 1e-12;
-  EXPECT_THROW(cover_with_planes(plan, box), std::invalid_argument);  // absurdly many planes
+  EXPECT_THROW(cover_with_planes(plan, box), InputError);  // absurdly many planes, refused before allocating
 }
 
 TEST(SlicingPlan, AnIsolatedVertexDoesNotStretchAPlan) {
