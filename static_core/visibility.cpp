@@ -96,6 +96,7 @@ void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result
   auto run = [&](std::size_t p) {
     process_plane(topology, connectivity, frame, frame_plan.planes[p], plan.storage, faces[p], marks,
                   workspaces.local(), planes[p]);
+    if (params.progress) params.progress->slices.fetch_add(1, std::memory_order_relaxed);
     if (params.poll) params.poll();
   };
   if (params.parallel)
