@@ -45,6 +45,7 @@ struct KineticVisibility::Impl {
 
   template <class F>
   void for_each_plane(F&& f) {
+    if (params.progress) params.progress->planes.store(slices.size(), std::memory_order_relaxed);
     const auto polled = [&](std::size_t p) {
       f(p);
       if (params.progress) params.progress->slices.fetch_add(1, std::memory_order_relaxed);

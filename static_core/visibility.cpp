@@ -89,6 +89,7 @@ struct StaticVisibility::Impl {
 void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result) {
   planes_for_frame(plan, cloth, frame, frame_plan.planes);
   const std::size_t n = frame_plan.planes.size();
+  if (params.progress) params.progress->planes.store(n, std::memory_order_relaxed);
   if (planes.size() < n) planes.resize(n);
   candidate_faces_per_plane(topology, frame, frame_plan, faces);
   mark_frame(topology, connectivity, frame, marks);

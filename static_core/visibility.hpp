@@ -23,14 +23,16 @@
 
 namespace pleat {
 
-/// How far the frame being computed is, for progress reports within long frames: slices done (each plane's
-/// 2D cones), then receiving vertices whose 3D cones are assembled (counted in steps of 64). The engines add
-/// to the counters with relaxed atomics (a few per thousand vertices); the caller resets them between frames
-/// and may read them from any thread.
+/// How far the frame being computed is, for progress reports within long frames: its planes (each frame has
+/// its own: planes_for_frame), slices done (each plane's 2D cones), then receiving vertices whose 3D cones
+/// are assembled (counted in steps of 64). The engines set and add to the counters with relaxed atomics (a
+/// few per thousand vertices); the caller resets them between frames and may read them from any thread.
 struct FrameProgress {
+  std::atomic<std::size_t> planes{0};
   std::atomic<std::size_t> slices{0};
   std::atomic<std::size_t> vertices{0};
   void reset() {
+    planes.store(0, std::memory_order_relaxed);
     slices.store(0, std::memory_order_relaxed);
     vertices.store(0, std::memory_order_relaxed);
   }
