@@ -102,7 +102,10 @@ SlicingPlan PlanOptions::make(const MeshSequence& sequence, Naming naming) const
       try {
         plan = adaptive ? make_adaptive_plan(topology, frame, {count, max_missing})
                         : make_diffuse_plan(topology, frame, diffuse, counted ? &cover : nullptr);
-      } catch (const std::invalid_argument& e) {  // a plan this cloth cannot have (too many planes)
+      } catch (const std::invalid_argument& e) {  // a plan this cloth cannot have: named with the input
+        throw InputError(sequence.name(), "", e.what());
+      } catch (const InputError& e) {
+        if (e.file() != "slicing plan") throw;
         throw InputError(sequence.name(), "", e.what());
       }
       plan.storage = paper ? ConeStorage::NearerEndpoint : cone_storage_from_name(storage);
