@@ -118,18 +118,19 @@ ChunkJob plan_chunks(const SharedSequence& input, std::size_t first, std::size_t
   for (std::size_t c = 0; c < count; ++c)
     for (std::size_t f = bounds[c]; f < bounds[c + 1]; ++f) chunk_cost[c] += cost[f - first];
 
-  Fingerprint job_key;
-  job_key.add_value(options_key).add_value(input.welding_fingerprint()).add_value(first).add_value(last);
-  job_key.add(bounds.data(), bounds.size() * sizeof(std::size_t));
+  // A chunk's bytes depend on its own frames, the options and the welding, not on the rest of the job (the
+  // kinetic engine starts each chunk with a static build, which gives the static engine's bytes).
+  Fingerprint common;
+  common.add_value(options_key).add_value(input.welding_fingerprint());
   for (std::size_t c = 0; c < count; ++c) {
     Fingerprint key;
-    key.add_value(job_key.value()).add_value(bounds[c]).add_value(bounds[c + 1]);
+    key.add_value(common.value()).add_value(bounds[c]).add_value(bounds[c + 1]);
     for (std::size_t f = bounds[c]; f < bounds[c + 1]; ++f) key.add_value(input.frame_fingerprints[f]);
     job.chunk_keys.push_back(key.value());
   }
   std::vector<bool> todo(count, true);
   if (!checkpoint_dir.empty()) {
-    job.checkpoint.emplace(checkpoint_dir, job_key.value());
+    job.checkpoint.emplace(checkpoint_dir);
     std::string kept(count, '\0');  // rank 0 scans the directory and tells the others
     std::exception_ptr error;
     if (World::root()) try {

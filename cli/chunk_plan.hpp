@@ -9,12 +9,12 @@
 // cost of a frame is its number of slice vertices (SliceVertexCounter), which the static core's time is
 // proportional to (README: 2.3-4.1 us per slice vertex on every sequence measured).
 //
-// The keys of the checkpoint (cli/checkpoint.hpp). Job key: the command's output-determining options, the
-// slicing plan's bytes (made from the first requested frame, so a change there shows), the welded topology
-// and vertex map, the frame count and range, and the chunk bounds (which follow from the frames' measured
-// costs). Chunk key: the job key and the 64-bit fingerprints of the chunk's own frames (taken during the
-// shared loading pass, no extra read). So a changed frame invalidates its chunk (and, through the plan or
-// the bounds, more when it changes those).
+// The keys of the checkpoint (cli/checkpoint.hpp), per chunk: the command's output-determining options (the
+// slicing plan's bytes among them), the welded topology and vertex map, the frame count, the chunk's range
+// and the 64-bit fingerprints of its own frames (taken during the shared loading pass, no extra read). Not
+// the job's range or its other chunks: a chunk's bytes do not depend on them, so tasks of other --frames
+// sharing the directory use each other's chunks where their bounds meet. A changed frame invalidates its
+// chunk (and, through the plan or the bounds, more when it changes those).
 #pragma once
 
 #include <cstddef>

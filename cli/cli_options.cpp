@@ -51,43 +51,11 @@ void parse_frame_range(const std::string& text, std::size_t count, std::size_t& 
     throw std::invalid_argument(option + ": '" + text + "' selects no frame of " + std::to_string(count));
 }
 
-void create_parent_directory(const std::filesystem::path& output) {
-  if (output == kStandardOutput) return;
-  const std::filesystem::path target = resolve_output_target(output);
-  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
-}
-
-void check_outputs(const std::vector<OutputFile>& files,
-                   const std::vector<std::pair<std::string, std::string>>& directories) {
-  namespace fs = std::filesystem;
-  std::vector<std::pair<fs::path, std::string>> seen;  // resolved target, option
-  for (const OutputFile& file : files) {
-    if (file.path.empty()) continue;
-    if (file.path == kStandardOutput) {
-      if (!file.stdout_allowed)
-        throw std::invalid_argument(file.option + " -: this output cannot be streamed to standard output");
-      report_to_stderr();
-    }
-    const fs::path target = resolve_output_target(file.path);
-    const fs::path key = target == kStandardOutput ? target : fs::weakly_canonical(fs::absolute(target));
-    for (const auto& [other, option] : seen) {
-      if (other != key) continue;
-      if (key == kStandardOutput)
-        throw std::invalid_argument(option + " and " + file.option +
-                                    " both stream to standard output (-); give one of them a file");
-      throw std::invalid_argument(option + " and " + file.option + " name the same file (" + file.path +
-                                  "); give each output its own");
-    }
-    seen.emplace_back(key, file.option);
-  }
-  for (const auto& [option, path] : directories) {
-    if (path.empty()) continue;
-    if (path == kStandardOutput) throw std::invalid_argument(option + " -: this output is a directory");
-    std::error_code ec;
-    const fs::file_status status = fs::status(path, ec);
-    if (fs::exists(status) && !fs::is_directory(status))
-      throw OutputRefused(path, "not a directory; " + option + " writes files into a directory");
-  }
+std::vector<InputFile> InputOptions::files() const {
+  std::vector<InputFile> files;
+  for (const std::filesystem::path& file : files_read_for(input)) files.push_back({"INPUT", file.string()});
+  if (!cache.empty()) files.push_back({"--cache", cache});
+  return files;
 }
 
 void InputOptions::add_to(CLI::App& command) {
@@ -154,6 +122,20 @@ Scene SceneOptions::make(const MeshSequence& cloth) const {
   std::vector<GroundPlane> grounds;
   if (!ground.empty()) grounds.push_back(parse_ground_plane(ground));
   return Scene(cloth, specs, grounds, contact_tolerance);
+}
+
+std::vector<InputFile> SceneOptions::files() const {
+  std::vector<InputFile> files;
+  for (const std::string& text : occluders) {
+    try {
+      const OccluderSpec spec = parse_occluder_spec(text);
+      for (const std::filesystem::path& file : files_read_for(spec.path))
+        files.push_back({"--occluder", file.string()});
+      if (!spec.cache.empty()) files.push_back({"--occluder", spec.cache});
+    } catch (const std::exception&) {
+    }
+  }
+  return files;
 }
 
 std::string SceneOptions::describe() const {
@@ -225,6 +207,11 @@ void PlanOptions::add_to(CLI::App& command) {
   for (CLI::Option* o : placement) pinned->excludes(o);
   command.add_option("--save-plan", save_plan,
                      "also write the slicing plan to FILE (JSON: orientations, spacing or planes, storage)");
+}
+
+std::vector<InputFile> PlanOptions::files() const {
+  if (plan_file.empty()) return {};
+  return {{"--plan", plan_file}};
 }
 
 SlicingPlan PlanOptions::make(const MeshSequence& sequence) const {

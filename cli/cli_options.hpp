@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "cli/output_paths.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/scene.hpp"
 #include "sim_io/sequence_plan.hpp"
@@ -33,6 +34,8 @@ struct InputOptions {
   std::string cache;
   /// Adds the required positional INPUT and --cache.
   void add_to(CLI::App& command);
+  /// The files they read (files_read_for), for check_outputs.
+  std::vector<InputFile> files() const;
 };
 
 /// `compute()`, an engine's frame f of `in`, with a frame the engine refuses (an InputError: too wide, too
@@ -61,25 +64,6 @@ struct ChunkOptions {
   void add_to(CLI::App& command);
 };
 
-/// Creates the directory an output file goes into (that of the file its symbolic links lead to), if missing;
-/// nothing for "-" (standard output).
-void create_parent_directory(const std::filesystem::path& output);
-
-/// One output file of a subcommand: the option naming it, its path (empty: not asked for), and whether "-"
-/// (standard output) may stand for it.
-struct OutputFile {
-  std::string option;
-  std::string path;
-  bool stdout_allowed = true;
-};
-
-/// Refuses, before any work, with a usage error (exit status 2): an output file whose path is not a regular
-/// file after following links (sim_io/atomic_file.hpp's resolve_output_target), "-" where it is not allowed
-/// or for two outputs, one file named by two outputs, and an output directory that exists and is not a
-/// directory. When an output is "-", moves the lines saying what was written to stderr (report_to_stderr()).
-void check_outputs(const std::vector<OutputFile>& files,
-                   const std::vector<std::pair<std::string, std::string>>& directories = {});
-
 /// The scene the cloth was simulated in (sim_io/scene.hpp): --occluder PATH[,cache=CACHE] (repeatable) and
 /// --ground AXIS=VALUE. The same on every subcommand that computes cones.
 struct SceneOptions {
@@ -91,6 +75,8 @@ struct SceneOptions {
   Scene make(const MeshSequence& cloth) const;
   /// What the options say, for the checkpoint's job key: "" with no occluder.
   std::string describe() const;
+  /// The files the occluders are read from, for check_outputs (a malformed spec: none; make() says why).
+  std::vector<InputFile> files() const;
 };
 
 /// The plan options (sim_io/sequence_plan.hpp) as command-line options, and --save-plan FILE.
@@ -100,6 +86,10 @@ struct PlanOptions : pleat::PlanOptions {
   void add_to(CLI::App& command);
   /// The plan for `sequence`; writes --save-plan.
   SlicingPlan make(const MeshSequence& sequence) const;
+  /// --plan, as an input, for check_outputs.
+  std::vector<InputFile> files() const;
+  /// --save-plan, as an output, for check_outputs.
+  OutputFile output() const { return {"--save-plan", save_plan}; }
 };
 
 }  // namespace pleat::cli

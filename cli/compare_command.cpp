@@ -28,6 +28,7 @@
 #include "cli/commands.hpp"
 #include "cli/global_options.hpp"
 #include "cli/input_warnings.hpp"
+#include "cli/job_error.hpp"
 #include "shading/embree_scene.hpp"
 #include "shading/lights.hpp"
 #include "shading/path_trace.hpp"
@@ -137,14 +138,26 @@ Comparison compare_luminance(const ShadedFrame& shaded, const PathTracedFrame& h
   return c;
 }
 
-void run_compare(const CompareOptions& options) {
-  check_outputs({{"-o", options.output}});
+// The lighting, after the outputs are checked (before any work: not an input, a file pleat may replace).
+Lighting lighting_of(const CompareOptions& options) {
   Lighting lighting;
   if (!options.lights_file.empty()) lighting = load_lighting(options.lights_file);
   for (const std::string& spec : options.light_specs) add_light_spec(lighting, spec);
+  std::vector<InputFile> inputs = options.in.files();
+  for (const auto& more : {options.scene.files(), options.plan.files()})
+    inputs.insert(inputs.end(), more.begin(), more.end());
+  if (!options.lights_file.empty()) inputs.push_back({"--lights", options.lights_file});
+  for (const EnvironmentLight& light : lighting.environments)
+    inputs.push_back({"--light env:", light.file.string()});
+  check_outputs({{"-o", options.output}, options.plan.output()}, {}, inputs);
   if (lighting.empty()) throw std::invalid_argument("give at least one --light (or --lights FILE)");
   if (options.output != kStandardOutput && std::filesystem::path(options.output).extension() != ".png")
     throw std::invalid_argument("-o: the comparison is a .png image, got '" + options.output + "'");
+  return lighting;
+}
+
+void run_compare(const CompareOptions& options) {
+  const Lighting lighting = lighting_of(options);
 
   const MeshSequence sequence = load_sequence(options.in.input, options.in.cache);
   const MeshTopology& topology = sequence.topology();
@@ -288,7 +301,7 @@ void register_compare_command(CLI::App& app) {
       "  pleat compare curtain.obj --cache curtain.pc2 --frame 20 --light sky:0.2 --light "
       "point:0.3,-0.8,1.2,I=3 "
       "--paths 4096 -o lamp.png");
-  cmd->callback([options] { run_compare(*options); });
+  cmd->callback([options] { on_rank_zero_alone([&] { run_compare(*options); }); });
 }
 
 }  // namespace pleat::cli

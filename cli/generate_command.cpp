@@ -12,6 +12,7 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/global_options.hpp"
+#include "cli/job_error.hpp"
 #include "cli/progress.hpp"
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/cloth_generators.hpp"
@@ -114,7 +115,7 @@ void register_generate_command(CLI::App& app) {
       "Example:\n"
       "  pleat generate curtain -o curtain.obj --resolution 55 --frames 60\n"
       "  pleat info curtain.obj --cache curtain.pc2 --check-intersections");
-  cmd->callback([options] { run_generate(*options); });
+  cmd->callback([options] { on_rank_zero_alone([&] { run_generate(*options); }); });
 }
 
 }  // namespace pleat::cli

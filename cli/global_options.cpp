@@ -3,7 +3,6 @@
 #include <tbb/global_control.h>
 
 #include <iostream>
-#include <optional>
 #include <stdexcept>
 
 #include "static_core/input_error.hpp"
@@ -14,7 +13,9 @@ namespace {
 
 GlobalOptions g_options;
 bool g_report_to_stderr = false;
-std::optional<tbb::global_control> g_threads;  // --threads, for the rest of the process
+// --threads, for the rest of the process: never destroyed, as destroying it wakes TBB's workers, which
+// throws from a destructor at exit when no thread can be created (a memory limit) and aborts the process.
+tbb::global_control* g_threads = nullptr;
 
 constexpr const char* kGroup = "Global options (before or after the subcommand)";
 
@@ -42,16 +43,21 @@ const GlobalOptions& global_options() { return g_options; }
 
 const std::string& help_footer() {
   static const std::string footer =
-      "Exit status: 0 success; 1 runtime failure (I/O, internal error); 2 usage error or bad input (an "
-      "unknown\n"
-      "option or bad value, an input pleat cannot read, an output path it refuses). Stopped by SIGINT, "
-      "SIGTERM\n"
-      "or SIGHUP: 130, 143 or 129, the temporary files of unfinished outputs removed.\n"
-      "Outputs: each is written to a hidden temporary file beside it (.NAME.tmp.*) and renamed into place "
-      "when\n"
-      "complete, so a failed or stopped run leaves the previous file, or none. A symbolic link is written\n"
-      "through (it stays a link); a directory, FIFO or device is refused before any work. `-o -` streams to\n"
-      "standard output (not atomically; the lines saying what was written then go to stderr).";
+      "Exit status: 0 success; 1 runtime failure (I/O, out of memory, internal error); 2 usage error or bad\n"
+      "input (an unknown option or bad value, an input pleat cannot read, an output path it refuses: one "
+      "that\n"
+      "is an input, through links too). Stopped by a signal (SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGXCPU, "
+      "...):\n"
+      "128 + the signal, the temporary files of unfinished outputs removed.\n"
+      "Outputs: each is written to a hidden temporary file beside it (.NAME.tmp.HOST.PID.N) and all are "
+      "renamed\n"
+      "into place together when complete, so a failed or stopped run leaves the previous files, or none; a "
+      "later\n"
+      "run removes what a killed one left. A symbolic link is written through (it stays a link); a "
+      "directory,\n"
+      "FIFO or device is refused before any work. `-o -` streams to standard output (not atomically; the "
+      "lines\n"
+      "saying what was written then go to stderr).";
   return footer;
 }
 
@@ -65,8 +71,9 @@ void add_global_options(CLI::App& app, const std::string& version) {
   // The main app's parse-complete callback runs after every option is parsed and checked, before the
   // subcommand's callback (which does the work).
   app.parse_complete_callback([] {
-    if (g_options.threads > 0)
-      g_threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(g_options.threads));
+    if (g_options.threads > 0 && !g_threads)
+      g_threads = new tbb::global_control(tbb::global_control::max_allowed_parallelism,
+                                          std::size_t(g_options.threads));
   });
 }
 

@@ -12,6 +12,7 @@
 
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/job_error.hpp"
 #include "cli/progress.hpp"
 #include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_report.hpp"
@@ -177,7 +178,7 @@ void register_info_command(CLI::App& app) {
       "  pleat info cloth.obj --cache cloth.pc2 --check-intersections\n"
       "  pleat info 'frames/cloth_%04d.obj' --json\n"
       "  pleat info cloth.glb");
-  cmd->callback([options] { run_info(*options); });
+  cmd->callback([options] { on_rank_zero_alone([&] { run_info(*options); }); });
 }
 
 }  // namespace pleat::cli

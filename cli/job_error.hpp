@@ -5,6 +5,7 @@
 #pragma once
 
 #include <exception>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -25,6 +26,12 @@ class JobError : public std::runtime_error {
 /// of the lowest failing rank (ranks hold contiguous frame ranges in order, so that is the error of the
 /// lowest frame, the one a single process meets first). With one rank, rethrows `error` as it is.
 void agree(std::exception_ptr error);
+
+/// Runs `step` on rank 0 alone, for a subcommand that does not split its work (info, generate, compare, view)
+/// launched by `mpirun -np N`: the other ranks wait without spinning (they look for rank 0's word every 20
+/// ms) and every rank ends with rank 0's exit status; rank 0's error is reported once (JobError). With one
+/// rank, runs `step`.
+void on_rank_zero_alone(const std::function<void()>& step);
 
 /// Runs `step` on every rank and agree()s on what it threw: for steps every rank takes together.
 template <class Step>

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "cli/commands.hpp"
 #include "cli/global_options.hpp"
 #include "cli/job_error.hpp"
+#include "cli/memory_limit.hpp"
 #include "cli/termination.hpp"
 #include "cli/world.hpp"
 #include "support/nearest_name.hpp"
@@ -122,6 +124,8 @@ int main(int argc, char** argv) {
     return parse_failure(app, e);
   } catch (const pleat::cli::JobError& e) {
     return fail(e.what(), e.code(), true);
+  } catch (const std::bad_alloc&) {
+    return fail(pleat::cli::out_of_memory_message(), pleat::cli::kFailure, false);
   } catch (const std::exception& e) {
     return fail(e.what(), pleat::cli::exit_status_of(e), false);
   }

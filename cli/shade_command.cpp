@@ -18,6 +18,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <new>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -30,6 +31,7 @@
 #include "cli/global_options.hpp"
 #include "cli/input_warnings.hpp"
 #include "cli/job_error.hpp"
+#include "cli/memory_limit.hpp"
 #include "cli/run_chunks.hpp"
 #include "cli/shared_load.hpp"
 #include "cli/world.hpp"
@@ -124,8 +126,14 @@ std::vector<Lighting> gather_lightings(const ShadeOptions& options) {
   return setups;
 }
 
-/// Refuses, before any work, outputs that cannot be written (check_outputs): one glb per setup with
-/// --relight.
+/// Where --render writes setup `s`'s images: DIR, or DIR/<setup> with --relight.
+std::filesystem::path render_directory(const ShadeOptions& options, const Lighting& setup, bool relight) {
+  return relight ? std::filesystem::path(options.render_dir) / setup.name
+                 : std::filesystem::path(options.render_dir);
+}
+
+/// Refuses, before any work, outputs that cannot be written or that are inputs (check_outputs): one glb per
+/// setup with --relight.
 void check_shade_outputs(const ShadeOptions& options, const std::vector<Lighting>& setups, bool relight) {
   std::vector<OutputFile> files;
   if (options.output == kStandardOutput)
@@ -133,7 +141,25 @@ void check_shade_outputs(const ShadeOptions& options, const std::vector<Lighting
   else
     for (const Lighting& setup : setups)
       files.push_back({"-o", relight ? setup_output(options.output, setup.name).string() : options.output});
-  check_outputs(files, {{"--render", options.render_dir}, {"--checkpoint", options.chunking.checkpoint}});
+  files.push_back(options.plan.output());
+  std::vector<InputFile> inputs = options.in.files();
+  for (const auto& more : {options.scene.files(), options.plan.files()})
+    inputs.insert(inputs.end(), more.begin(), more.end());
+  for (const auto& [option, path] : {std::pair{"--cones", &options.cones},
+                                     {"--lights", &options.lights_file},
+                                     {"--relight", &options.relight_file}})
+    if (!path->empty()) inputs.push_back({option, *path});
+  for (const Lighting& setup : setups)
+    for (const EnvironmentLight& light : setup.environments)
+      inputs.push_back({"--light env:", light.file.string()});
+  std::vector<OutputDirectory> directories = {
+      {"--checkpoint", options.chunking.checkpoint, {"chunk_*.pleatchunk"}}};
+  if (!options.render_dir.empty())
+    for (const Lighting& setup : setups)
+      directories.push_back({"--render",
+                             render_directory(options, setup, relight).string(),
+                             {"frame_*.png", "turntable_*.png"}});
+  check_outputs(files, directories, inputs);
 }
 
 /// The exact float bounds of every selected frame, for the glb's header: one pass over the frames, each rank
@@ -170,11 +196,8 @@ struct RenderTargets {
 RenderTargets render_targets(const ShadeOptions& options, const std::vector<Lighting>& setups, bool relight,
                              const MeshSequence& sequence, const glm::dvec3& up) {
   RenderTargets targets;
-  for (const Lighting& setup : setups) {
-    targets.directories.push_back(relight ? std::filesystem::path(options.render_dir) / setup.name
-                                          : std::filesystem::path(options.render_dir));
-    std::filesystem::create_directories(targets.directories.back());
-  }
+  for (const Lighting& setup : setups)
+    targets.directories.push_back(render_directory(options, setup, relight));
   if (!options.camera.empty()) {
     targets.camera = parse_camera(options.camera);
   } else {
@@ -200,7 +223,55 @@ struct ShadeJob {
   ToneMapParams tone;
   const RenderTargets* render = nullptr;  ///< null: no images
   const UpChoice& up;                     ///< the input's up (choose_up)
+  FrameWork* work = nullptr;              ///< progress within long frames
 };
+
+/// Frame `f`'s images under one setup (its sRGB colours; `sides`: A, for --render-mode sky-visibility), as
+/// PNG files in memory: (name, bytes). They travel with the frame to rank 0, which stages them (StagedFiles).
+std::vector<std::pair<std::string, std::string>> images_of(const ShadeJob& job, const SceneRenderer& renderer,
+                                                           std::int64_t number,
+                                                           const std::vector<glm::vec3>& front,
+                                                           const std::vector<glm::vec3>& back,
+                                                           const std::array<SideVisibility, 2>& sides) {
+  const ShadeOptions& options = job.options;
+  const Camera& camera = job.render->camera;
+  char name[64];
+  std::snprintf(name, sizeof name, "frame_%04lld.png", static_cast<long long>(number));
+  if (options.render_mode == "sky-visibility") {  // A itself, with a legend
+    const auto [sky_front, sky_back] = sky_colours(sides);
+    return {{name, encode_png(with_legend(
+                       renderer.render(sky_front, sky_back, camera, options.width, options.height), 0.0, 1.0,
+                       "SKY VISIBILITY A: 0 CLOSED IN, 1 OPEN SKY"))}};
+  }
+  if (options.turntable > 0 && job.count == 1) {
+    std::vector<std::pair<std::string, std::string>> turns;
+    const std::vector<Image> images =
+        renderer.turntable_images(front, back, camera, options.turntable, options.width, options.height);
+    for (std::size_t i = 0; i < images.size(); ++i) {
+      std::snprintf(name, sizeof name, "turntable_%03zu.png", i);
+      turns.emplace_back(name, encode_png(images[i]));
+    }
+    return turns;
+  }
+  return {{name, encode_png(renderer.render(front, back, camera, options.width, options.height))}};
+}
+
+/// Frame `f`'s cones from the engine, with progress in job.work and an out-of-memory error that says what
+/// the frame needs.
+const FrameVisibility& computed_cones(const ShadeJob& job, StaticVisibility& engine, const Frame& world_frame,
+                                      std::size_t f) {
+  job.work->counters.reset();
+  job.work->frame.store(std::int64_t(f));
+  try {
+    const FrameVisibility& visibility = compute_frame(
+        [&]() -> const FrameVisibility& { return engine.compute(world_frame); }, job.options.in, f);
+    job.work->frame.store(-1);
+    return visibility;
+  } catch (const std::bad_alloc&) {
+    job.work->frame.store(-1);
+    throw out_of_memory_in_frame(job.world.topology(), world_frame, job.plan, f, run_threads());
+  }
+}
 
 /// One chunk: the cones of each frame, then every setup's shading (and images, the scene drawn as
 /// SceneRenderer draws it unless --hide-occluders); the colours and the visibility attributes go to rank 0
@@ -209,23 +280,20 @@ void shade_chunk(const ShadeJob& job, std::size_t chunk_first, std::size_t chunk
                  const EmitFrame& emit) {
   const ShadeOptions& options = job.options;
   std::optional<StaticVisibility> engine;  // reused across the chunk's frames
-  if (!job.cache) engine.emplace(job.world.topology(), job.plan);
+  if (!job.cache)
+    engine.emplace(job.world.topology(), job.plan, VisibilityParams{true, {}, &job.work->counters});
   FrameVisibility from_cache;
   std::array<SideVisibility, 2> sides;
   const bool occluded = job.world.num_occluders() > 0;
   std::optional<SceneRenderer> renderer;
   if (job.render) renderer.emplace(job.world.topology(), job.up.up, !options.hide_occluders);
-  const bool sky_mode = options.render_mode == "sky-visibility";
   for (std::size_t f = chunk_first; f < chunk_last; ++f) {
     const Frame frame = job.sequence.frame(f);
     const Frame in_scene = occluded ? job.world.with_occluders(f, frame) : Frame{};
     const Frame& world_frame = occluded ? in_scene : frame;
     const auto t0 = std::chrono::steady_clock::now();
     if (job.cache) job.cache->read_frame(job.cached[f - job.first], frame, from_cache);
-    const FrameVisibility& visibility =
-        job.cache ? from_cache
-                  : compute_frame([&]() -> const FrameVisibility& { return engine->compute(world_frame); },
-                                  options.in, f);
+    const FrameVisibility& visibility = job.cache ? from_cache : computed_cones(job, *engine, world_frame, f);
     const auto t1 = std::chrono::steady_clock::now();
     for (Side side : kBothSides) side_visibility(visibility, side, sides[int(side)]);
     // Source frame numbers, not positions in the range: the same frames are rendered however the shot is
@@ -248,30 +316,21 @@ void shade_chunk(const ShadeJob& job, std::size_t chunk_first, std::size_t chunk
       const std::vector<glm::vec3> front = to_srgb(shaded.front(), job.tone);
       const std::vector<glm::vec3> back = to_srgb(shaded.back(), job.tone);
       bytes.put(seconds).put_array(front).put_array(back);
-      if (!render_this) continue;
-      const std::filesystem::path& directory = job.render->directories[s];
-      char name[64];
-      std::snprintf(name, sizeof name, "frame_%04lld.png", static_cast<long long>(number));
-      if (sky_mode) {  // A itself, with a legend
-        const auto [sky_front, sky_back] = sky_colours(sides);
-        write_png(directory / name, with_legend(renderer->render(sky_front, sky_back, job.render->camera,
-                                                                 options.width, options.height),
-                                                0.0, 1.0, "SKY VISIBILITY A: 0 CLOSED IN, 1 OPEN SKY"));
-      } else if (options.turntable > 0 && job.count == 1)
-        renderer->turntable(directory, "turntable", front, back, job.render->camera, options.turntable,
-                            options.width, options.height);
-      else
-        write_png(directory / name,
-                  renderer->render(front, back, job.render->camera, options.width, options.height));
+      const auto images = render_this ? images_of(job, *renderer, number, front, back, sides)
+                                      : std::vector<std::pair<std::string, std::string>>{};
+      bytes.put<std::uint64_t>(images.size());
+      for (const auto& [name, png] : images) bytes.put_string(name).put_string(png);
     }
     emit(f, bytes.take());
   }
 }
 
-/// Rank 0: frame f's bytes from shade_chunk into every setup's glb; adds up the cone and shading times and
-/// the vertices sunk deeper than the contact tolerance.
+/// Rank 0: frame f's bytes from shade_chunk into every setup's glb and its images into the setup's staged
+/// render directory (`renders`, empty without --render); adds up the cone and shading times and the vertices
+/// sunk deeper than the contact tolerance.
 void consume_shaded(std::size_t f, std::string_view payload,
-                    std::vector<std::unique_ptr<ShadedGlbWriter>>& writers, double& cone_seconds,
+                    std::vector<std::unique_ptr<ShadedGlbWriter>>& writers,
+                    std::vector<std::unique_ptr<StagedFiles>>& renders, double& cone_seconds,
                     double& shade_seconds, ContactWarning& contact) {
   ByteReader bytes(payload);
   cone_seconds += bytes.get<double>();
@@ -284,11 +343,16 @@ void consume_shaded(std::size_t f, std::string_view payload,
     side.sky_visibility = bytes.get_array<float>();
     side.bent_cone = bytes.get_array<glm::vec4>();
   }
-  for (auto& writer : writers) {
+  for (std::size_t s = 0; s < writers.size(); ++s) {
     shade_seconds += bytes.get<double>();
     const auto front = bytes.get_array<glm::vec3>();
     const auto back = bytes.get_array<glm::vec3>();
-    writer->add_frame(positions, front, back, sides[0], sides[1]);
+    writers[s]->add_frame(positions, front, back, sides[0], sides[1]);
+    const auto images = bytes.get<std::uint64_t>();
+    for (std::uint64_t i = 0; i < images; ++i) {
+      const std::string name(bytes.get_string());
+      renders.at(s)->add(name, bytes.get_string());
+    }
   }
 }
 
@@ -316,6 +380,55 @@ std::string shade_summary(const ShadeJob& job, const ChunkJob& chunks,
     for (std::string line; std::getline(lights, line);) out << "  " << line << '\n';
   }
   return out.str();
+}
+
+/// What decides the outputs' bytes: the checkpoint's job key (with --render, a chunk holds its images).
+std::uint64_t shade_key(const ShadeOptions& options, const SlicingPlan& plan,
+                        const std::vector<Lighting>& setups, const RenderTargets* render) {
+  Fingerprint key;
+  key.add("shade, contact counted")
+      .add_value(plan_fingerprint(plan))
+      .add(options.cones)
+      .add(options.scene.describe());
+  if (!options.cones.empty()) {  // a rewritten cone cache: its size and time of last write change
+    key.add_value(std::uint64_t(std::filesystem::file_size(options.cones)));
+    key.add_value(std::filesystem::last_write_time(options.cones).time_since_epoch().count());
+  }
+  for (const Lighting& setup : setups) key.add(setup.name).add(setup.describe());
+  key.add_value(options.albedo).add_value(options.exposure).add_value(options.no_interreflection);
+  if (render)
+    key.add("render")
+        .add_value(render->camera.eye)
+        .add_value(render->camera.target)
+        .add_value(render->camera.up)
+        .add_value(render->camera.fov_y_degrees)
+        .add_value(options.width)
+        .add_value(options.height)
+        .add_value(options.render_every)
+        .add_value(options.turntable)
+        .add_value(options.hide_occluders)
+        .add(options.render_mode)
+        .add(options.up);
+  return key.value();
+}
+
+/// Before any work, under a known memory limit: refuses a first frame that cannot fit (memory_limit.hpp).
+void check_memory(const ShadeOptions& options, const Scene& world, const MeshSequence& sequence,
+                  const SlicingPlan& plan, std::size_t first) {
+  const Frame frame = sequence.frame(first);
+  const Frame sliced = world.num_occluders() ? world.with_occluders(first, frame) : frame;
+  compute_frame([&] { check_memory_before_start(world.topology(), sliced, plan, first, run_threads()); },
+                options.in, first);
+}
+
+/// Every glb written out and closed (a full disk fails here, replacing nothing), then the glbs and the staged
+/// images put in place together.
+void commit_together(std::vector<std::unique_ptr<ShadedGlbWriter>>& writers,
+                     std::vector<std::unique_ptr<StagedFiles>>& renders) {
+  for (auto& writer : writers) writer->close();
+  const CommitWindow window;
+  for (auto& writer : writers) writer->commit();
+  for (auto& staged : renders) staged->commit();
 }
 
 void run_shade(const ShadeOptions& options) {
@@ -353,24 +466,17 @@ void run_shade(const ShadeOptions& options) {
       for (std::size_t i : frame_ids) cached.push_back(cache->index_of_frame(i));
     } else if (World::root()) {
       plan = options.plan.make(sequence);
+      check_memory(options, *world_holder, sequence, plan, first);
     }
     if (World::root()) warn_about_cloth(sequence, first);
   });
   if (!cache) broadcast_plan(plan);
-
-  Fingerprint options_key;  // what decides the outputs' bytes (the checkpoint's job key)
-  options_key.add("shade, contact counted")
-      .add_value(plan_fingerprint(plan))
-      .add(options.cones)
-      .add(options.scene.describe());
-  if (cache) {  // a rewritten cone cache: its size and time of last write change
-    options_key.add_value(std::uint64_t(std::filesystem::file_size(options.cones)));
-    options_key.add_value(std::filesystem::last_write_time(options.cones).time_since_epoch().count());
-  }
-  for (const Lighting& setup : setups) options_key.add(setup.name).add(setup.describe());
-  options_key.add_value(options.albedo).add_value(options.exposure).add_value(options.no_interreflection);
-  const ChunkJob chunks = plan_chunks(input, first, last, options.chunking.chunks, cache ? nullptr : &plan,
-                                      options.chunking.checkpoint, options_key.value());
+  std::optional<RenderTargets> render;
+  if (!options.render_dir.empty())
+    together([&] { render.emplace(render_targets(options, setups, relight, sequence, up.up)); });
+  const ChunkJob chunks =
+      plan_chunks(input, first, last, options.chunking.chunks, cache ? nullptr : &plan,
+                  options.chunking.checkpoint, shade_key(options, plan, setups, render ? &*render : nullptr));
   const std::vector<PositionBounds> frame_bounds = selected_frame_bounds(sequence, first, last);
 
   // Outputs: one glb per setup (streamed frame by frame, on rank 0), and optionally images (written by the
@@ -389,9 +495,12 @@ void run_shade(const ShadeOptions& options) {
           /*with_visibility=*/true, frame_bounds,
           options.glb_layout == "input" ? GlbLayout::Input : GlbLayout::Sides, up.turn));
   });
-  std::optional<RenderTargets> render;
-  if (!options.render_dir.empty())
-    together([&] { render.emplace(render_targets(options, setups, relight, sequence, up.up)); });
+  std::vector<std::unique_ptr<StagedFiles>> renders;  // staged until every output is complete
+  together([&] {
+    if (World::root() && render)
+      for (const std::filesystem::path& directory : render->directories)
+        renders.push_back(std::make_unique<StagedFiles>(directory));
+  });
 
   ShadeParams shade;
   shade.albedo = options.albedo;
@@ -399,20 +508,23 @@ void run_shade(const ShadeOptions& options) {
   shade.interreflection = !options.no_interreflection;
   ToneMapParams tone;
   tone.exposure = options.exposure;
+  FrameWork work;
+  work.vertices = topology.num_vertices;
   const ShadeJob job{options, sequence, *world_holder, setups, plan, cache ? &*cache : nullptr,
                      cached,  first,    last - first,  shade,  tone, render ? &*render : nullptr,
-                     up};
+                     up,      &work};
   double cone_seconds = 0.0, shade_seconds = 0.0;
   ContactWarning contact;
   run_chunks(
       chunks, "shade",
       [&](std::size_t a, std::size_t b, const EmitFrame& emit) { shade_chunk(job, a, b, emit); },
       [&](std::size_t f, std::string_view payload) {
-        consume_shaded(f, payload, writers, cone_seconds, shade_seconds, contact);
-      });
+        consume_shaded(f, payload, writers, renders, cone_seconds, shade_seconds, contact);
+      },
+      &work);
   if (!World::root()) return;
   contact.warn(job.world.topology().contact_tolerance, std::cerr);
-  for (auto& writer : writers) writer->finish();
+  commit_together(writers, renders);
   report() << shade_summary(job, chunks, outputs, cone_seconds, shade_seconds);
 }
 

@@ -4,9 +4,8 @@
 // DIR gets index.html and viewer.js (cli/viewer/, compiled in), three.js r111 with its GLTFLoader and
 // OrbitControls copied from Debian's libjs-three (PLEAT_THREE_JS_DIR), and scene.js holding the glb in
 // base64, so the page works from file:// (browsers refuse to fetch local files from a page) with no network.
-// Every file is written to a temporary directory next to DIR first and moved in when all are complete.
-#include <unistd.h>
-
+// Every file is staged in DIR first (sim_io/atomic_file.hpp's StagedFiles) and moved in when all are
+// complete.
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -19,6 +18,8 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/global_options.hpp"
+#include "cli/job_error.hpp"
+#include "sim_io/atomic_file.hpp"
 #include "static_core/input_error.hpp"
 #include "support/byte_order.hpp"
 
@@ -90,15 +91,13 @@ std::string base64(const std::string& data) {
   return out;
 }
 
-void write(const fs::path& path, const std::string& content) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(content.data(), std::streamsize(content.size()));
-  out.close();
-  if (!out) throw std::runtime_error(path.string() + ": cannot write");
-}
-
 void run_view(const ViewOptions& options) {
-  check_outputs({}, {{"-o", options.output}});
+  check_outputs(
+      {},
+      {{"-o",
+        options.output,
+        {"index.html", "viewer.js", "scene.js", "three.min.js", "GLTFLoader.js", "OrbitControls.js"}}},
+      {{"INPUT", options.input}});
   const std::string glb = read_bytes(options.input);
   check_glb(options.input, glb);
   const fs::path three = PLEAT_THREE_JS_DIR;
@@ -111,27 +110,18 @@ void run_view(const ViewOptions& options) {
       throw std::runtime_error("three.js not found: " + (three / from).string() +
                                " is missing (Debian package libjs-three; scripts/setup.sh installs it)");
 
-  // Everything into a temporary sibling of DIR, then moved in.
+  // Every file staged in DIR (a listed temporary: a signal removes it), then all moved in together.
   const fs::path dir = fs::absolute(options.output);
-  const fs::path staging =
-      dir.parent_path() / ("." + dir.filename().string() + ".tmp." + std::to_string(::getpid()));
-  fs::create_directories(staging);
-  struct Cleanup {
-    fs::path path;
-    ~Cleanup() {
-      std::error_code ignored;
-      fs::remove_all(path, ignored);
-    }
-  } cleanup{staging};
-  write(staging / "index.html", kViewerHtml);
-  write(staging / "viewer.js", kViewerJs);
-  for (const auto& [from, to] : library) fs::copy_file(three / from, staging / to);
-  write(staging / "scene.js", "// " + fs::path(options.input).filename().string() +
-                                  ", written by pleat view\nwindow.PLEAT_GLB = \"" + base64(glb) + "\";\n");
-  fs::create_directories(dir);
-  for (const char* name :
-       {"three.min.js", "GLTFLoader.js", "OrbitControls.js", "scene.js", "viewer.js", "index.html"})
-    fs::rename(staging / name, dir / name);
+  StagedFiles page(dir);
+  page.add("index.html", kViewerHtml);
+  page.add("viewer.js", kViewerJs);
+  for (const auto& [from, to] : library) page.add(to, read_bytes(three / from));
+  page.add("scene.js", "// " + fs::path(options.input).filename().string() +
+                           ", written by pleat view\nwindow.PLEAT_GLB = \"" + base64(glb) + "\";\n");
+  {
+    const CommitWindow window;
+    page.commit();
+  }
   report() << "wrote " << (dir / "index.html").string()
            << ": open it in a browser (file:// works), or serve it: python3 -m http.server -d "
            << dir.string() << "\n";
@@ -152,7 +142,7 @@ void register_view_command(CLI::App& app) {
   cmd->footer(
       "Example:\n  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --light sky:1\n"
       "  pleat view curtain.glb -o curtain_view && chromium curtain_view/index.html");
-  cmd->callback([options] { run_view(*options); });
+  cmd->callback([options] { on_rank_zero_alone([&] { run_view(*options); }); });
 }
 
 }  // namespace pleat::cli

@@ -2,6 +2,7 @@
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
@@ -12,6 +13,7 @@
 #include "cli/global_options.hpp"
 #include "cli/input_warnings.hpp"
 #include "cli/job_error.hpp"
+#include "cli/memory_limit.hpp"
 #include "cli/run_chunks.hpp"
 #include "cli/shared_load.hpp"
 #include "cli/world.hpp"
@@ -97,12 +99,27 @@ struct VisibilityOutputs {
                   options.plan.describe(), std::move(frame_ids), encoding);
   }
 
-  /// Writes --stats and --timings, then renames the cone cache and, last, the CSV into place: the CSV exists
-  /// only when every other output was written.
+  /// Writes out and closes every output (--stats and --timings too: a full disk fails here, replacing
+  /// nothing), then renames them all into place together, the CSV last: it exists only when every other
+  /// output was written.
   void commit(const VisibilityOptions& options, const nlohmann::json& stats, nlohmann::json& timings) {
-    if (!options.stats.empty()) write_file_atomically(options.stats, stats.dump(2) + "\n");
+    std::optional<AtomicFile> stats_file, timings_file;
+    if (!options.stats.empty()) {
+      stats_file.emplace(options.stats);
+      stats_file->stream() << stats.dump(2) << "\n";
+      stats_file->close();
+    }
     timings["seconds_total"] = World::seconds();
-    if (!options.timings.empty()) write_file_atomically(options.timings, timings.dump(2) + "\n");
+    if (!options.timings.empty()) {
+      timings_file.emplace(options.timings);
+      timings_file->stream() << timings.dump(2) << "\n";
+      timings_file->close();
+    }
+    if (cones) cones->close();
+    csv->close();
+    const CommitWindow window;
+    if (stats_file) stats_file->commit();
+    if (timings_file) timings_file->commit();
     if (cones) cones->commit();
     csv->commit();
   }
@@ -116,13 +133,48 @@ std::string chunks_line(const ChunkJob& job) {
          (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "") + "\n";
 }
 
-/// Refuses, before any work, outputs that cannot be written (check_outputs).
+/// Refuses, before any work, outputs that cannot be written or that are inputs (check_outputs).
 void check_visibility_outputs(const VisibilityOptions& options) {
+  std::vector<InputFile> inputs = options.in.files();
+  for (const auto& more : {options.scene.files(), options.plan.files()})
+    inputs.insert(inputs.end(), more.begin(), more.end());
   check_outputs({{"-o", options.output},
                  {"--stats", options.stats},
                  {"--timings", options.timings},
-                 {"--cones", options.cones, /*stdout_allowed=*/false}},  // its frame table is written last
-                {{"--checkpoint", options.chunking.checkpoint}});
+                 {"--cones", options.cones, /*stdout_allowed=*/false},  // its frame table is written last
+                 options.plan.output()},
+                {{"--checkpoint", options.chunking.checkpoint, {"chunk_*.pleatchunk"}}}, inputs);
+}
+
+/// Before any work, under a known memory limit: refuses a first frame that cannot fit (memory_limit.hpp).
+void check_memory(const VisibilityOptions& options, const Scene& scene, const MeshSequence& sequence,
+                  const SlicingPlan& plan, std::size_t first) {
+  const Frame frame = sequence.frame(first);
+  const Frame sliced = scene.num_occluders() ? scene.with_occluders(first, frame) : frame;
+  compute_frame(
+      [&] {
+        check_memory_before_start(scene.topology(), sliced, plan, first, options.serial ? 1 : run_threads());
+      },
+      options.in, first);
+}
+
+/// Frame `f` (`frame`, the cloth's positions) in its scene through `engine`: the engine's counters in `work`
+/// (progress within the frame), and running out of memory said with what the frame needs.
+const FrameVisibility& visibility_of(Engine& engine, const Scene& scene, const Frame& frame, std::size_t f,
+                                     const VisibilityOptions& options, FrameWork& work) {
+  const Frame sliced = scene.num_occluders() ? scene.with_occluders(f, frame) : frame;
+  work.counters.reset();
+  work.frame.store(std::int64_t(f));
+  try {
+    const FrameVisibility& vis =
+        compute_frame([&]() -> const FrameVisibility& { return engine.compute(sliced); }, options.in, f);
+    work.frame.store(-1);
+    return vis;
+  } catch (const std::bad_alloc&) {
+    work.frame.store(-1);
+    throw out_of_memory_in_frame(scene.topology(), sliced, engine.plan(), f,
+                                 options.serial ? 1 : run_threads());
+  }
 }
 
 /// What decides the outputs' bytes: the checkpoint's job key.
@@ -186,6 +238,7 @@ void run(const VisibilityOptions& options) {
     if (!World::root()) return;
     plan = options.plan.make(sequence);
     first_planes = look_at_first_frame(sequence, plan, first);
+    check_memory(options, scene, sequence, plan, first);
   });
   broadcast_plan(plan);
   const double planned_at = World::seconds();
@@ -211,21 +264,18 @@ void run(const VisibilityOptions& options) {
     if (World::root()) outputs.open(options, sequence, first, last, encoding);
   });
 
-  VisibilityParams params;
-  params.parallel = !options.serial;
+  FrameWork work;  // progress within long frames
+  work.vertices = topology.num_vertices;
   // One chunk: a fresh engine (the kinetic one starts with a static build), every frame's result as bytes.
   const auto compute = [&](std::size_t chunk_first, std::size_t chunk_last, const EmitFrame& emit) {
-    Engine engine(scene.topology(), plan,
-                  {engine_kind_from_name(options.engine), params.parallel, options.policy});
+    Engine engine(
+        scene.topology(), plan,
+        {engine_kind_from_name(options.engine), !options.serial, options.policy, {}, &work.counters});
     std::vector<double> front(topology.num_vertices), back(topology.num_vertices);
     for (std::size_t f = chunk_first; f < chunk_last; ++f) {
       const Frame frame = sequence.frame(f);  // the cloth's (the cone cache's fingerprint is of it)
       const auto start = std::chrono::steady_clock::now();
-      const FrameVisibility& vis = compute_frame(
-          [&]() -> const FrameVisibility& {
-            return engine.compute(scene.num_occluders() ? scene.with_occluders(f, frame) : frame);
-          },
-          options.in, f);
+      const FrameVisibility& vis = visibility_of(engine, scene, frame, f, options, work);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       for (Index v = 0; v < topology.num_vertices; ++v) {
         front[v] = vis.measure(Side::Front, v).sky_visibility;
@@ -263,7 +313,7 @@ void run(const VisibilityOptions& options) {
     if (with_cones) cones->add_encoded_frame(bytes.get_string());
     write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
-  run_chunks(job, "visibility", compute, consume);
+  run_chunks(job, "visibility", compute, consume, &work);
   if (!World::root()) return;
   timings["rank0_write_seconds"] = write_seconds;
   timings["gathered_bytes"] = gathered_bytes;

@@ -18,7 +18,7 @@ const char* engine_kind_name(EngineKind kind) { return kind == EngineKind::Stati
 Engine::Engine(const MeshTopology& topology, SlicingPlan plan, const EngineParams& params)
     : m_topology(&topology), m_plan(std::move(plan)), m_params(params) {
   if (m_params.kind == EngineKind::Static)
-    m_static.emplace(topology, m_plan, VisibilityParams{params.parallel, params.poll});
+    m_static.emplace(topology, m_plan, VisibilityParams{params.parallel, params.poll, params.progress});
 }
 
 const FrameVisibility& Engine::compute(const Frame& frame) {
@@ -28,6 +28,7 @@ const FrameVisibility& Engine::compute(const Frame& frame) {
     params.parallel = m_params.parallel;
     params.policy = m_params.policy;
     params.poll = m_params.poll;
+    params.progress = m_params.progress;
     m_kinetic.emplace(*m_topology, m_plan, frame, params);
     return m_kinetic->current();
   }

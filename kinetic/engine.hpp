@@ -32,6 +32,7 @@ struct EngineParams {
   /// VisibilityParams::poll, for either engine: an exception it throws leaves compute() and the engine
   /// usable (the kinetic one starts again from the next frame it is given, with the same results).
   std::function<void()> poll = {};
+  FrameProgress* progress = nullptr;  ///< when set, advanced as each frame is computed (visibility.hpp)
 };
 
 class Engine {

@@ -26,7 +26,7 @@ struct KineticVisibility::Impl {
         params(params),
         connectivity(topology),
         cloth(cloth_vertices(topology)),
-        assembler(topology, connectivity, frame_plan, {params.parallel, params.poll}),
+        assembler(topology, connectivity, frame_plan, {params.parallel, params.poll, params.progress}),
         previous(first),
         crossed_stamp(topology.num_vertices, 0) {
     planes_for_frame(plan, cloth, first, frame_plan.planes);
@@ -45,8 +45,10 @@ struct KineticVisibility::Impl {
 
   template <class F>
   void for_each_plane(F&& f) {
+    if (params.progress) params.progress->planes.store(slices.size(), std::memory_order_relaxed);
     const auto polled = [&](std::size_t p) {
       f(p);
+      if (params.progress) params.progress->slices.fetch_add(1, std::memory_order_relaxed);
       if (params.poll) params.poll();
     };
     if (params.parallel)

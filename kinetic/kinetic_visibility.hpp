@@ -92,6 +92,7 @@ struct KineticParams {
   /// As VisibilityParams::poll. An exception it throws abandons the frame and leaves the slices between
   /// two frames: build a new engine (pleat::Engine does) before the next frame.
   std::function<void()> poll = {};
+  FrameProgress* progress = nullptr;  ///< when set, advanced as each frame is computed (visibility.hpp)
 };
 
 /// What the kinetic engine did, per slice and interval (KineticSlice::advance), summed over slices for a

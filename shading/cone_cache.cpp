@@ -11,6 +11,7 @@
 #include "sim_io/atomic_file.hpp"
 #include "static_core/input_error.hpp"
 #include "support/byte_order.hpp"
+#include "support/checksum.hpp"
 #include "support/fingerprint.hpp"
 
 namespace pleat {
@@ -18,7 +19,8 @@ namespace pleat {
 namespace {
 
 constexpr char kMagic[8] = {'P', 'L', 'E', 'A', 'T', 'C', 'N', 'S'};
-constexpr std::uint32_t kExactVersion = 1, kCompactVersion = 2;
+constexpr std::uint32_t kExactVersion = 3, kCompactVersion = 4;        // with checksums
+constexpr std::uint32_t kOldExactVersion = 1, kOldCompactVersion = 2;  // without, still read
 constexpr std::size_t kFixedHeader = 8 + 4 * 6 + 8 + 8;  // magic, six u32, fingerprint, frame rate
 constexpr std::size_t kMeasureDoubles = 5;
 
@@ -98,15 +100,17 @@ struct ConeCacheWriter::Impl {
   ConeEncoding encoding = ConeEncoding::Exact;
   std::size_t frames = 0;
   std::uint64_t table_offset = 0;
+  std::string header;  // the bytes before the table, for the checksum
   std::vector<std::uint64_t> offsets;
+  std::vector<std::uint32_t> checksums;  // of each frame block
   std::uint64_t position = 0;
-  bool committed = false;
+  bool closed = false;
 
   explicit Impl(const std::filesystem::path& path) : file(path) {}
 
   void write(std::string_view bytes) {
     file.stream().write(bytes.data(), std::streamsize(bytes.size()));
-    if (!file.stream()) throw std::runtime_error(file.path().string() + ": cannot write the cone cache");
+    file.check();
     position += bytes.size();
   }
 };
@@ -136,8 +140,9 @@ ConeCacheWriter::ConeCacheWriter(const std::filesystem::path& path, const MeshTo
     bytes::append_f64_le(h, frame_rate > 0.0 ? f / frame_rate : 0.0);
   }
   w.table_offset = h.size();
-  // The table, filled in by commit().
-  for (std::size_t k = 0; k <= frames.size(); ++k) bytes::append_u64_le(h, 0);
+  w.header = h;
+  // The table, filled in by close(): the offsets, the frames' checksums and the header's.
+  h.append(8 * (frames.size() + 1) + 4 * frames.size() + 4, '\0');
   w.write(h);
 }
 
@@ -186,20 +191,30 @@ void ConeCacheWriter::add_encoded_frame(std::string_view block) {
   if (block.size() < least)
     throw std::invalid_argument("ConeCacheWriter: a frame block too short for the mesh");
   w.offsets.push_back(w.position);
+  w.checksums.push_back(checksum(block));
   w.write(block);
 }
 
-void ConeCacheWriter::commit() {
+void ConeCacheWriter::close() {
   Impl& w = *m_impl;
+  if (w.closed) return;
   if (w.offsets.size() != w.frames) throw std::logic_error("ConeCacheWriter: frames missing at commit");
   w.offsets.push_back(w.position);
   std::string table;
   for (std::uint64_t offset : w.offsets) bytes::append_u64_le(table, offset);
+  for (std::uint32_t sum : w.checksums) bytes::append_u32_le(table, sum);
+  bytes::append_u32_le(table, Checksum().add(w.header).add(table).value());
   std::ostream& out = w.file.stream();
   out.seekp(std::streamoff(w.table_offset));
   out.write(table.data(), std::streamsize(table.size()));
-  if (!out) throw std::runtime_error(w.file.path().string() + ": cannot write the cone cache's frame table");
-  w.file.commit();
+  w.file.check();
+  w.file.close();
+  w.closed = true;
+}
+
+void ConeCacheWriter::commit() {
+  close();
+  m_impl->file.commit();
 }
 
 // ---- Reader ----
@@ -208,8 +223,10 @@ struct ConeCacheReader::Impl {
   std::string path;
   std::ifstream in;
   std::uint64_t file_size = 0;
+  bool checksummed = false;  // versions 3 and 4
   ConeCacheHeader header;
   std::vector<std::uint64_t> offsets;
+  std::vector<std::uint32_t> checksums;  // of each frame block
   std::string block;
 
   [[noreturn]] void fail(const std::string& place, const std::string& what) const {
@@ -229,7 +246,80 @@ struct ConeCacheReader::Impl {
   }
   /// Cached frame `index` into `out`; `frame`, when given, must be the positions it was computed for.
   void read_frame(std::size_t index, const Frame* frame, FrameVisibility& out);
+
+  /// The magic, the version and the table's offset; the header's counts into `header`.
+  std::uint64_t read_fixed_header(std::uint32_t& frames, std::uint32_t& input_vertices);
+  /// The plan, the input's vertex map and the frame list (`p`: the bytes from kFixedHeader to the table).
+  void read_lists(const unsigned char* p, std::uint64_t table_offset, std::uint32_t frames,
+                  std::uint32_t input_vertices);
+  /// The frame table at `p` (`frames` + 1 offsets, and with checksums each frame's).
+  void read_table(const unsigned char* p, std::uint64_t table_offset, std::uint32_t frames);
 };
+
+std::uint64_t ConeCacheReader::Impl::read_fixed_header(std::uint32_t& frames, std::uint32_t& input_vertices) {
+  const unsigned char* p = read(0, kFixedHeader, "byte 0");
+  if (std::memcmp(p, kMagic, 8) != 0) fail("byte 0", "not a pleat cone cache (no \"PLEATCNS\" magic)");
+  const std::uint32_t version = bytes::load_u32_le(p + 8);
+  if (version != kExactVersion && version != kCompactVersion && version != kOldExactVersion &&
+      version != kOldCompactVersion)
+    fail("byte 8", "cone cache version " + std::to_string(version) + " (this pleat reads versions 1 to 4)");
+  checksummed = version == kExactVersion || version == kCompactVersion;
+  const std::uint64_t table_offset = bytes::load_u32_le(p + 12);
+  ConeCacheHeader& h = header;
+  h.encoding = version == kCompactVersion || version == kOldCompactVersion ? ConeEncoding::Compact
+                                                                           : ConeEncoding::Exact;
+  h.vertices = bytes::load_u32_le(p + 16);
+  input_vertices = bytes::load_u32_le(p + 20);
+  h.triangles = bytes::load_u32_le(p + 24);
+  frames = bytes::load_u32_le(p + 28);
+  h.fingerprint = bytes::load_u64_le(p + 32);
+  h.frame_rate = bytes::load_f64_le(p + 40);
+  return table_offset;
+}
+
+void ConeCacheReader::Impl::read_lists(const unsigned char* p, std::uint64_t table_offset,
+                                       std::uint32_t frames, std::uint32_t input_vertices) {
+  ConeCacheHeader& h = header;
+  if (!std::isfinite(h.frame_rate) || h.frame_rate < 0.0) fail("byte 40", "invalid frame rate");
+  const std::uint64_t expected_table =
+      kFixedHeader + 4 + 4 * std::uint64_t(input_vertices) + 12 * std::uint64_t(frames);
+  if (table_offset < expected_table) fail("byte 12", "the frame table overlaps the header");
+  const std::string place = "byte " + std::to_string(kFixedHeader);
+  const std::uint32_t plan_bytes = bytes::load_u32_le(p);
+  if (kFixedHeader + 4 + std::uint64_t(plan_bytes) + 4 * std::uint64_t(input_vertices) +
+          12 * std::uint64_t(frames) !=
+      table_offset)
+    fail(place, "the header's sizes do not add up to the frame table's offset");
+  h.plan.assign(reinterpret_cast<const char*>(p + 4), plan_bytes);
+  p += 4 + plan_bytes;
+  h.welded_of_input.resize(input_vertices);
+  for (std::uint32_t i = 0; i < input_vertices; ++i) {
+    h.welded_of_input[i] = bytes::load_u32_le(p + 4 * i);
+    if (h.welded_of_input[i] >= h.vertices)
+      fail(place, "input vertex " + std::to_string(i) + " maps to no vertex");
+  }
+  p += 4 * std::uint64_t(input_vertices);
+  for (std::uint32_t k = 0; k < frames; ++k) {
+    h.frames.push_back(bytes::load_u32_le(p + 12 * k));
+    h.times.push_back(bytes::load_f64_le(p + 12 * k + 4));
+  }
+}
+
+void ConeCacheReader::Impl::read_table(const unsigned char* p, std::uint64_t table_offset,
+                                       std::uint32_t frames) {
+  for (std::uint32_t k = 0; k <= frames; ++k) offsets.push_back(bytes::load_u64_le(p + 8 * k));
+  if (checksummed)
+    for (std::uint32_t k = 0; k < frames; ++k)
+      checksums.push_back(bytes::load_u32_le(p + 8 * (std::uint64_t(frames) + 1) + 4 * k));
+  const std::uint64_t data_start =
+      table_offset + 8 * (std::uint64_t(frames) + 1) + (checksummed ? 4 * std::uint64_t(frames) + 4 : 0);
+  for (std::uint32_t k = 0; k < frames; ++k)
+    if (offsets[k] < data_start || offsets[k + 1] < offsets[k])
+      fail("frame table", "frame " + std::to_string(k) + "'s offsets are out of order");
+  if (offsets.back() != file_size)
+    fail("frame table", "truncated cone cache: the frames end at byte " + std::to_string(offsets.back()) +
+                            ", the file has " + std::to_string(file_size) + " bytes");
+}
 
 ConeCacheReader::ConeCacheReader(const std::filesystem::path& path) : m_impl(std::make_unique<Impl>()) {
   Impl& r = *m_impl;
@@ -239,55 +329,34 @@ ConeCacheReader::ConeCacheReader(const std::filesystem::path& path) : m_impl(std
   std::error_code error;
   r.file_size = std::filesystem::file_size(path, error);
   if (error) r.fail("", "cannot read the cone cache's size");
-
-  const unsigned char* p = r.read(0, kFixedHeader, "byte 0");
-  if (std::memcmp(p, kMagic, 8) != 0) r.fail("byte 0", "not a pleat cone cache (no \"PLEATCNS\" magic)");
-  const std::uint32_t version = bytes::load_u32_le(p + 8);
-  if (version != kExactVersion && version != kCompactVersion)
-    r.fail("byte 8", "cone cache version " + std::to_string(version) + " (this pleat reads versions " +
-                         std::to_string(kExactVersion) + " and " + std::to_string(kCompactVersion) + ")");
-  const std::uint64_t table_offset = bytes::load_u32_le(p + 12);
-  ConeCacheHeader& h = r.header;
-  h.encoding = version == kCompactVersion ? ConeEncoding::Compact : ConeEncoding::Exact;
-  h.vertices = bytes::load_u32_le(p + 16);
-  const std::uint32_t input_vertices = bytes::load_u32_le(p + 20);
-  h.triangles = bytes::load_u32_le(p + 24);
-  const std::uint32_t frames = bytes::load_u32_le(p + 28);
-  h.fingerprint = bytes::load_u64_le(p + 32);
-  h.frame_rate = bytes::load_f64_le(p + 40);
-  if (!std::isfinite(h.frame_rate) || h.frame_rate < 0.0) r.fail("byte 40", "invalid frame rate");
-  const std::uint64_t expected_table =
-      kFixedHeader + 4 + 4 * std::uint64_t(input_vertices) + 12 * std::uint64_t(frames);
-  if (table_offset < expected_table) r.fail("byte 12", "the frame table overlaps the header");
-  const std::string header_place = "byte " + std::to_string(kFixedHeader);
-  p = r.read(kFixedHeader, table_offset - kFixedHeader, header_place);
-  const std::uint32_t plan_bytes = bytes::load_u32_le(p);
-  if (kFixedHeader + 4 + std::uint64_t(plan_bytes) + 4 * std::uint64_t(input_vertices) +
-          12 * std::uint64_t(frames) !=
-      table_offset)
-    r.fail(header_place, "the header's sizes do not add up to the frame table's offset");
-  h.plan.assign(reinterpret_cast<const char*>(p + 4), plan_bytes);
-  p += 4 + plan_bytes;
-  h.welded_of_input.resize(input_vertices);
-  for (std::uint32_t i = 0; i < input_vertices; ++i) {
-    h.welded_of_input[i] = bytes::load_u32_le(p + 4 * i);
-    if (h.welded_of_input[i] >= h.vertices)
-      r.fail(header_place, "input vertex " + std::to_string(i) + " maps to no vertex");
+  std::uint32_t frames = 0, input_vertices = 0;
+  const std::uint64_t table_offset = r.read_fixed_header(frames, input_vertices);
+  if (table_offset < kFixedHeader + 4) r.fail("byte 12", "the frame table overlaps the header");
+  const std::uint64_t table_bytes =
+      8 * (std::uint64_t(frames) + 1) + (r.checksummed ? 4 * std::uint64_t(frames) + 4 : 0);
+  if (r.checksummed) {  // the header and the table, checked before anything in them is believed
+    if (table_offset > r.file_size || table_bytes > r.file_size - table_offset)
+      r.fail("byte 12",
+             "damaged or truncated cone cache: its header puts the frame table past the end of the "
+             "file (" +
+                 std::to_string(r.file_size) + " bytes)");
+    const unsigned char* all = r.read(0, table_offset + table_bytes, "byte 0");
+    const std::uint64_t sum_at = table_offset + table_bytes - 4;
+    if (Checksum().add(all, sum_at).value() != bytes::load_u32_le(all + sum_at))
+      r.fail("bytes 0-" + std::to_string(sum_at),
+             "damaged cone cache: the checksum of its header and frame table does not match (the file was "
+             "changed or corrupted after pleat wrote it); compute it again (pleat visibility --cones)");
+    const std::string verified = std::move(r.block);
+    const auto* p = reinterpret_cast<const unsigned char*>(verified.data());
+    r.read_lists(p + kFixedHeader, table_offset, frames, input_vertices);
+    r.read_table(p + table_offset, table_offset, frames);
+    return;
   }
-  p += 4 * std::uint64_t(input_vertices);
-  for (std::uint32_t k = 0; k < frames; ++k) {
-    h.frames.push_back(bytes::load_u32_le(p + 12 * k));
-    h.times.push_back(bytes::load_f64_le(p + 12 * k + 4));
-  }
-  p = r.read(table_offset, 8 * (std::uint64_t(frames) + 1), "byte " + std::to_string(table_offset));
-  for (std::uint32_t k = 0; k <= frames; ++k) r.offsets.push_back(bytes::load_u64_le(p + 8 * k));
-  const std::uint64_t data_start = table_offset + 8 * (std::uint64_t(frames) + 1);
-  for (std::uint32_t k = 0; k < frames; ++k)
-    if (r.offsets[k] < data_start || r.offsets[k + 1] < r.offsets[k])
-      r.fail("frame table", "frame " + std::to_string(k) + "'s offsets are out of order");
-  if (r.offsets.back() != r.file_size)
-    r.fail("frame table", "truncated cone cache: the frames end at byte " + std::to_string(r.offsets.back()) +
-                              ", the file has " + std::to_string(r.file_size) + " bytes");
+  const unsigned char* p =
+      r.read(kFixedHeader, table_offset - kFixedHeader, "byte " + std::to_string(kFixedHeader));
+  r.read_lists(p, table_offset, frames, input_vertices);
+  r.read_table(r.read(table_offset, table_bytes, "byte " + std::to_string(table_offset)), table_offset,
+               frames);
 }
 
 ConeCacheReader::~ConeCacheReader() = default;
@@ -333,6 +402,10 @@ void ConeCacheReader::Impl::read_frame(std::size_t index, const Frame* frame, Fr
   const std::string place = "frame " + std::to_string(r.header.frames.at(index));
   const std::uint64_t start = r.offsets[index], size = r.offsets[index + 1] - start;
   const unsigned char* p = r.read(start, size, place);
+  if (r.checksummed && Checksum().add(p, size).value() != r.checksums[index])
+    r.fail(place + ", bytes " + std::to_string(start) + "-" + std::to_string(start + size - 1),
+           "damaged cone cache: the frame's checksum does not match (the file was changed or corrupted after "
+           "pleat wrote it); compute it again (pleat visibility --cones)");
   const unsigned char* const end = p + size;
   auto need = [&](std::uint64_t bytes) {
     if (std::uint64_t(end - p) < bytes)

@@ -2,12 +2,13 @@
 // were computed (the paper's point: cones once, any lighting afterwards). `pleat visibility --cones` writes
 // it, `pleat shade --cones` shades from it without computing any visibility.
 //
-// Format, version 1 (exact) or 2 (compact; the only difference: piece directions, below). Little-endian
-// throughout; u32/u64 unsigned integers, f64 IEEE-754 doubles (the engines' numbers exactly, so shading from
-// the cache equals shading from freshly computed cones).
+// Format, version 3 (exact) or 4 (compact; the only difference: piece directions, below); versions 1 and 2,
+// the same without checksums, are still read. Little-endian throughout; u32/u64 unsigned integers, f64
+// IEEE-754 doubles (the engines' numbers exactly, so shading from the cache equals shading from freshly
+// computed cones).
 //   header
 //     char[8]   magic "PLEATCNS"
-//     u32       version (1)
+//     u32       version (3 or 4; 1 or 2: no checksums)
 //     u32       table_offset: byte offset of the frame table (= size of the header)
 //     u32       V: vertices (welded, as the engines index them)
 //     u32       I: vertices of the input, in its order
@@ -20,6 +21,8 @@
 //     per frame: u32 input frame index, f64 time in seconds
 //   frame table (at table_offset)
 //     u64[F+1]  absolute byte offset of each frame block; the last one is the file size
+//     u32[F]    (versions 3, 4) CRC-32 of each frame block (support/checksum.hpp)
+//     u32       (versions 3, 4) CRC-32 of every byte before it: the header and the table
 //   frame block (one per frame, in the table's order; readable without reading the ones before)
 //     u64       positions fingerprint: FNV-1a 64 over the frame's vertex positions (f64 x, y, z LE)
 //     f64[V][3] unit vertex normals
@@ -31,9 +34,9 @@
 //         0..65535), within 5e-5 radians of the engine's direction: 4 bytes instead of 24, which are 86% of a
 //         drape frame's block.
 // Written as frames complete to a temporary file, renamed into place when the last frame is in (atomic: a
-// failed run leaves no cache). Reading checks everything it reads (magic, version, sizes against the file,
-// the table, every count against its block, finite numbers) and throws InputError naming the file and the
-// frame or byte.
+// failed run leaves no cache). Reading checks everything it reads (magic, version, the checksums, sizes
+// against the file, the table, every count against its block, finite numbers) and throws InputError naming
+// the file and the frame or byte; a checksum that does not match names the file as damaged.
 #pragma once
 
 #include <cstdint>
@@ -57,8 +60,8 @@ std::uint64_t positions_fingerprint(const Frame& frame);
 
 /// How a cone cache stores the directions of its cones' pieces (everything else is stored exactly).
 enum class ConeEncoding {
-  Exact,    ///< version 1: the engines' doubles (shading from the cache equals shading from fresh cones)
-  Compact,  ///< version 2: 16-bit octahedral coordinates, within 5e-5 radians (3.5x smaller on the drape)
+  Exact,    ///< version 3 (1): the engines' doubles (shading from the cache equals shading from fresh cones)
+  Compact,  ///< version 4 (2): 16-bit octahedral coordinates, within 5e-5 radians (3.5x smaller on the drape)
 };
 const char* cone_encoding_name(ConeEncoding encoding);  ///< "exact" or "compact"
 
@@ -98,7 +101,10 @@ class ConeCacheWriter {
   /// The next announced frame as encode_cone_frame gave it (in this cache's encoding). Throws
   /// std::invalid_argument when the block is too short for the cache's vertex count.
   void add_encoded_frame(std::string_view block);
-  /// Writes the frame table and renames the file into place. Every frame must have been added.
+  /// Writes the frame table and its checksums and closes the file (AtomicFile::close). Every frame must have
+  /// been added.
+  void close();
+  /// close(), then renames the file into place.
   void commit();
 
   struct Impl;
@@ -110,7 +116,7 @@ class ConeCacheWriter {
 /// A cone cache opened for reading; frames are read on demand.
 class ConeCacheReader {
  public:
-  /// Reads and checks the header and the frame table. Throws InputError.
+  /// Reads and checks the header and the frame table (and their checksum). Throws InputError.
   explicit ConeCacheReader(const std::filesystem::path& path);
   ~ConeCacheReader();
 
@@ -121,8 +127,9 @@ class ConeCacheReader {
   /// The cache's position of input frame `frame`; throws InputError when it is not cached.
   std::size_t index_of_frame(std::size_t frame) const;
   /// Reads cached frame `index` (a position in header().frames) into `out`, replacing its cones, measures and
-  /// normals (stats are left empty). Throws InputError naming the frame and the byte where it is malformed,
-  /// or when `frame` (the input's positions for it) is not the frame the cones were computed for.
+  /// normals (stats are left empty). Throws InputError naming the frame and the byte where it is malformed
+  /// or its checksum does not match, or when `frame` (the input's positions for it) is not the frame the
+  /// cones were computed for.
   void read_frame(std::size_t index, const Frame& frame, FrameVisibility& out);
   /// The same for a reader that has no positions to check the frame against (the Python module's
   /// read_cone_cache, which reads the values only).

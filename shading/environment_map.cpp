@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <glm/geometric.hpp>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -51,6 +54,59 @@ void halve(int& width, int& height, std::vector<glm::vec3>& texels) {
   texels = std::move(out);
 }
 
+// The scanlines of a Radiance .hdr file (`bytes`, whole), walked without decoding: throws InputError naming
+// the byte where the data ends, or where a run goes past its scanline, when the file holds fewer than the
+// header's height x width pixels (stb_image fills what is missing with black). Flat pixels or new-style
+// run-length scanlines, as stb_image reads them (the first scanline decides). O(file size).
+void check_radiance_pixels(const std::string& name, const std::string& bytes) {
+  const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
+  const std::size_t size = bytes.size();
+  std::size_t at = bytes.find("\n\n");  // the header ends with an empty line, then the resolution line
+  const std::size_t line_end = at == std::string::npos ? at : bytes.find('\n', at + 2);
+  if (line_end == std::string::npos)
+    throw InputError(name, "byte " + std::to_string(size), "truncated HDR header");
+  int height = 0, width = 0;
+  char y_sign = 0, x_sign = 0;
+  if (std::sscanf(bytes.c_str() + at + 2, "%cY %d %cX %d", &y_sign, &height, &x_sign, &width) != 4 ||
+      height <= 0 || width <= 0)
+    return;  // another orientation or a malformed line: stb_image says what it makes of it
+  at = line_end + 1;
+  const auto ends = [&](int row, const char* what) {
+    throw InputError(name, "byte " + std::to_string(at),
+                     std::string("truncated or damaged HDR image: ") + what + " in scanline " +
+                         std::to_string(row) + " of " + std::to_string(height) + " (" +
+                         std::to_string(width) + " pixels wide; the file has " + std::to_string(size) +
+                         " bytes)");
+  };
+  const auto run_length = [&] {  // a new-style run-length scanline starts 2, 2, width (big-endian)
+    return at + 4 <= size && p[at] == 2 && p[at + 1] == 2 && ((p[at + 2] << 8) | p[at + 3]) == width;
+  };
+  if (width < 8 || width >= 32768 || !run_length()) {  // flat, as stb_image reads it then
+    const std::uint64_t need = std::uint64_t(width) * std::uint64_t(height) * 4;
+    if (size - at < need) {
+      const std::uint64_t row = (size - at) / (std::uint64_t(width) * 4);
+      at = size;
+      ends(int(row), "the data ends");
+    }
+    return;
+  }
+  for (int row = 0; row < height; ++row) {
+    if (!run_length())
+      ends(row, at + 4 > size ? "the data ends" : "a scanline does not start with its run-length mark");
+    at += 4;  // each of the 4 components in runs and literal stretches
+    for (int component = 0; component < 4; ++component)
+      for (int filled = 0; filled < width;) {
+        if (at >= size) ends(row, "the data ends");
+        const int count = p[at] > 128 ? p[at] - 128 : p[at];
+        const std::size_t takes = p[at] > 128 ? 1 : std::size_t(count);
+        if (count == 0 || filled + count > width) ends(row, "a run goes past the end of its scanline");
+        if (at + 1 + takes > size) ends(row, "the data ends");
+        at += 1 + takes;
+        filled += count;
+      }
+  }
+}
+
 }  // namespace
 
 EnvironmentMap::EnvironmentMap(int width, int height, std::vector<glm::vec3> texels,
@@ -76,6 +132,8 @@ EnvironmentMap EnvironmentMap::load(const std::filesystem::path& path,
   int w = 0, h = 0, channels = 0;
   std::vector<glm::vec3> texels;
   if (stbi_is_hdr(name.c_str())) {
+    std::ifstream in(path, std::ios::binary);
+    check_radiance_pixels(name, std::string(std::istreambuf_iterator<char>(in), {}));
     float* data = stbi_loadf(name.c_str(), &w, &h, &channels, 3);
     if (data == nullptr)
       throw InputError(name, "", std::string("cannot read HDR image: ") + stbi_failure_reason());

@@ -318,10 +318,10 @@ Image render_image(const MeshTopology& topology, const Frame& frame, std::span<c
   return render_image(scene, frame, front_srgb, back_srgb, camera, width, height, params);
 }
 
-void write_png(const std::filesystem::path& path, const Image& image) {
+std::string encode_png(const Image& image) {
   if (image.width < 1 || image.height < 1 ||
       image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3)
-    throw std::invalid_argument("write_png: " + path.string() + ": malformed image");
+    throw std::invalid_argument("encode_png: malformed image");
   std::string bytes;
   auto append = [](void* context, void* data, int size) {
     static_cast<std::string*>(context)->append(static_cast<const char*>(data),
@@ -329,7 +329,19 @@ void write_png(const std::filesystem::path& path, const Image& image) {
   };
   if (stbi_write_png_to_func(append, &bytes, image.width, image.height, 3, image.rgb.data(),
                              image.width * 3) == 0)
-    throw std::runtime_error(path.string() + ": PNG encoding failed");
+    throw std::runtime_error("PNG encoding failed");
+  return bytes;
+}
+
+void write_png(const std::filesystem::path& path, const Image& image) {
+  std::string bytes;
+  try {
+    bytes = encode_png(image);
+  } catch (const std::invalid_argument&) {
+    throw std::invalid_argument("write_png: " + path.string() + ": malformed image");
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path.string() + ": " + e.what());
+  }
   write_file_atomically(path, bytes);
 }
 
@@ -339,12 +351,10 @@ void render_png(const std::filesystem::path& path, const MeshTopology& topology,
   write_png(path, render_image(topology, frame, front_srgb, back_srgb, camera, width, height));
 }
 
-std::vector<std::filesystem::path> render_turntable(const std::filesystem::path& directory,
-                                                    const std::string& stem, const MeshTopology& topology,
-                                                    const Frame& frame,
-                                                    const std::vector<glm::vec3>& front_srgb,
-                                                    const std::vector<glm::vec3>& back_srgb,
-                                                    const Camera& camera, int count, int width, int height) {
+std::vector<Image> turntable_images(const MeshTopology& topology, const Frame& frame,
+                                    const std::vector<glm::vec3>& front_srgb,
+                                    const std::vector<glm::vec3>& back_srgb, const Camera& camera, int count,
+                                    int width, int height) {
   validate_mesh(topology, frame, "render_turntable");
   if (count < 1) throw std::invalid_argument("render_turntable: count must be >= 1");
   validate_colours(topology.num_vertices, front_srgb, back_srgb);
@@ -352,14 +362,27 @@ std::vector<std::filesystem::path> render_turntable(const std::filesystem::path&
   scene_params.mode = EmbreeSceneParams::BuildMode::Rebuild;
   scene_params.robust = false;
   const EmbreeScene scene(topology, frame, scene_params);
+  std::vector<Image> images;
+  for (int i = 0; i < count; ++i)
+    images.push_back(
+        render_image(scene, frame, front_srgb, back_srgb, orbit(camera, 360.0 * i / count), width, height));
+  return images;
+}
+
+std::vector<std::filesystem::path> render_turntable(const std::filesystem::path& directory,
+                                                    const std::string& stem, const MeshTopology& topology,
+                                                    const Frame& frame,
+                                                    const std::vector<glm::vec3>& front_srgb,
+                                                    const std::vector<glm::vec3>& back_srgb,
+                                                    const Camera& camera, int count, int width, int height) {
+  const std::vector<Image> images =
+      turntable_images(topology, frame, front_srgb, back_srgb, camera, count, width, height);
   std::vector<std::filesystem::path> written;
   for (int i = 0; i < count; ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "_%03d.png", i);
-    const std::filesystem::path path = directory / (stem + name);
-    write_png(path, render_image(scene, frame, front_srgb, back_srgb, orbit(camera, 360.0 * i / count), width,
-                                 height));
-    written.push_back(path);
+    written.push_back(directory / (stem + name));
+    write_png(written.back(), images[std::size_t(i)]);
   }
   return written;
 }

@@ -85,6 +85,9 @@ Image render_image(const MeshTopology& topology, const Frame& frame, std::span<c
                    std::span<const glm::vec3> back_srgb, const Camera& camera, int width, int height,
                    const RenderParams& params = {});
 
+/// The PNG file of `image` (stb_image_write), in memory. Throws std::invalid_argument on a malformed image.
+std::string encode_png(const Image& image);
+
 /// Writes a PNG atomically. Throws std::runtime_error naming the path on failure.
 void write_png(const std::filesystem::path& path, const Image& image);
 
@@ -94,7 +97,13 @@ void render_png(const std::filesystem::path& path, const MeshTopology& topology,
                 const Camera& camera, int width, int height);
 
 /// `count` images of one frame, the camera turned about the axis through its target along its up vector
-/// by 360°·i/count; written as DIRECTORY/STEM_000.png, ... Returns the paths written.
+/// by 360°·i/count, in memory.
+std::vector<Image> turntable_images(const MeshTopology& topology, const Frame& frame,
+                                    const std::vector<glm::vec3>& front_srgb,
+                                    const std::vector<glm::vec3>& back_srgb, const Camera& camera, int count,
+                                    int width, int height);
+
+/// turntable_images, written as DIRECTORY/STEM_000.png, ... Returns the paths written.
 std::vector<std::filesystem::path> render_turntable(const std::filesystem::path& directory,
                                                     const std::string& stem, const MeshTopology& topology,
                                                     const Frame& frame,

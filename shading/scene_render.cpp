@@ -76,6 +76,14 @@ Image SceneRenderer::render(std::span<const glm::vec3> front_srgb, std::span<con
                       height);
 }
 
+std::vector<Image> SceneRenderer::turntable_images(std::span<const glm::vec3> front_srgb,
+                                                   std::span<const glm::vec3> back_srgb, const Camera& camera,
+                                                   int count, int width, int height) const {
+  if (!m_scene) throw std::logic_error("SceneRenderer::turntable_images: no frame set");
+  return pleat::turntable_images(m_drawn, m_frame, with_occluders(front_srgb), with_occluders(back_srgb),
+                                 camera, count, width, height);
+}
+
 std::vector<std::filesystem::path> SceneRenderer::turntable(
     const std::filesystem::path& directory, const std::string& stem, std::span<const glm::vec3> front_srgb,
     std::span<const glm::vec3> back_srgb, const Camera& camera, int count, int width, int height) const {

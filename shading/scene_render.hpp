@@ -36,6 +36,10 @@ class SceneRenderer {
   /// The image of the frame set last, the cloth in these sRGB colours (one per cloth vertex and side).
   Image render(std::span<const glm::vec3> front_srgb, std::span<const glm::vec3> back_srgb,
                const Camera& camera, int width, int height) const;
+  /// turntable_images of the frame set last (shading/render.hpp): `count` images turning about up, in memory.
+  std::vector<Image> turntable_images(std::span<const glm::vec3> front_srgb,
+                                      std::span<const glm::vec3> back_srgb, const Camera& camera, int count,
+                                      int width, int height) const;
   /// render_turntable of the frame set last (shading/render.hpp): `count` images turning about up.
   std::vector<std::filesystem::path> turntable(const std::filesystem::path& directory,
                                                const std::string& stem, std::span<const glm::vec3> front_srgb,

@@ -474,16 +474,26 @@ void ShadedGlbWriter::add_frame(const std::vector<glm::vec3>& positions,
       put_floats(out, values);
     }
   }
+  m_file.check();  // a full disk ends the run at this frame
   ++m_next;
 }
 
-void ShadedGlbWriter::finish() {
+void ShadedGlbWriter::close() {
+  if (m_closed) return;
   if (m_next != m_frames.size())
     throw std::logic_error("ShadedGlbWriter::finish: " + std::to_string(m_next) + " of " +
                            std::to_string(m_frames.size()) + " frames added");
   m_file.stream().write(reinterpret_cast<const char*>(m_tail.data()), std::streamsize(m_tail.size()));
+  m_file.close();
+  m_closed = true;
+}
+
+void ShadedGlbWriter::commit() {
+  close();
   m_file.commit();
 }
+
+void ShadedGlbWriter::finish() { commit(); }
 
 void write_shaded_glb(const std::filesystem::path& path, const MeshSequence& sequence,
                       const std::vector<std::size_t>& frames,

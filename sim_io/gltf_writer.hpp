@@ -92,6 +92,11 @@ class ShadedGlbWriter {
   void add_frame(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& front_srgb,
                  const std::vector<glm::vec3>& back_srgb, const SideVisibility& front,
                  const SideVisibility& back);
+  /// Writes the rest of the file and closes it (a failed write throws here, naming the file and why).
+  void close();
+  /// close(), then renames the file into place (with other outputs: inside one CommitWindow).
+  void commit();
+  /// commit().
   void finish();
 
  private:
@@ -103,6 +108,7 @@ class ShadedGlbWriter {
   std::size_t m_next = 0;
   std::size_t m_tail_bytes = 0;  // animation data written by finish()
   std::vector<unsigned char> m_tail;
+  bool m_closed = false;
   AtomicFile m_file;
 };
 

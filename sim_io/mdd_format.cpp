@@ -15,6 +15,18 @@ namespace {
 
 std::string at_byte(std::uint64_t offset) { return "byte " + std::to_string(offset); }
 
+// When the header read little-endian describes the file exactly, the hint that it was written so (MDD is
+// big-endian): appended to what is wrong with it read big-endian.
+std::string little_endian_hint(const unsigned char* header, std::uint64_t size) {
+  const std::int64_t frames = bytes::load_i32_le(header), points = bytes::load_i32_le(header + 4);
+  if (frames <= 0 || points <= 0 || 8 + 4 * std::uint64_t(frames) * (1 + 3 * std::uint64_t(points)) != size)
+    return "";
+  return "; read little-endian, the header says " + std::to_string(frames) + " frames of " +
+         std::to_string(points) +
+         " points, which fits the file exactly: MDD is big-endian, and this file was written little-endian "
+         "(export it again as MDD, or as PC2)";
+}
+
 class MddSource : public FrameSource {
  public:
   MddSource(std::filesystem::path path, MddHeader header, double scene_fps)
@@ -51,24 +63,26 @@ MddHeader read_mdd_header(const std::filesystem::path& path) {
   header.num_frames = bytes::load_i32_be(p);
   header.num_points = bytes::load_i32_be(p + 4);
   if (header.num_frames <= 0)
-    throw InputError(
-        file, at_byte(0),
-        "frameCount is " + std::to_string(header.num_frames) + ", must be positive (is this an MDD file?)");
+    throw InputError(file, at_byte(0),
+                     "frameCount is " + std::to_string(header.num_frames) +
+                         ", must be positive (is this an MDD file?)" + little_endian_hint(p, size));
   if (header.num_points <= 0)
     throw InputError(file, at_byte(4),
-                     "vertCount is " + std::to_string(header.num_points) + ", must be positive");
+                     "vertCount is " + std::to_string(header.num_points) + ", must be positive" +
+                         little_endian_hint(p, size));
   const auto frames = std::uint64_t(header.num_frames);
   const std::uint64_t expected = 8 + 4 * frames + frames * std::uint64_t(header.num_points) * 12;
   if (size < expected)
     throw InputError(file, at_byte(size),
                      "truncated: " + std::to_string(frames) + " frames of " +
                          std::to_string(header.num_points) + " points need " + std::to_string(expected) +
-                         " bytes, the file has " + std::to_string(size));
+                         " bytes, the file has " + std::to_string(size) + little_endian_hint(p, size));
   if (size > expected)
     throw InputError(file, at_byte(expected),
                      std::to_string(size - expected) +
                          " unexpected bytes after the last frame (header says " + std::to_string(frames) +
-                         " frames of " + std::to_string(header.num_points) + " points)");
+                         " frames of " + std::to_string(header.num_points) + " points)" +
+                         little_endian_hint(p, size));
   const std::string time_bytes = read_file_bytes(path, 8, 4 * frames);
   const auto* t = reinterpret_cast<const unsigned char*>(time_bytes.data());
   header.times.resize(frames);

@@ -249,9 +249,33 @@ class ObjParser {
   IndexList m_normal_index{"normal", "normals"};
 };
 
+// Refuses what is not OBJ text: UTF-16 (a byte-order mark, or the NUL bytes of ASCII in UTF-16) or binary
+// data (any NUL byte), naming the byte.
+void refuse_what_is_not_text(const std::string& file, const std::string& text) {
+  const auto byte = [&](std::size_t i) {
+    return i < text.size() ? static_cast<unsigned char>(text[i]) : 256u;
+  };
+  const bool bom16 = (byte(0) == 0xFF && byte(1) == 0xFE) || (byte(0) == 0xFE && byte(1) == 0xFF);
+  const bool le16 = byte(0) != 0 && byte(1) == 0 && byte(2) != 0 && byte(3) == 0;  // ASCII as UTF-16
+  const bool be16 = byte(0) == 0 && byte(1) != 0 && byte(2) == 0 && byte(3) != 0;
+  const std::size_t nul = text.find('\0');
+  if (bom16 || le16 || be16)
+    throw InputError(file, "byte 0",
+                     "a UTF-16 text file, not an OBJ pleat can read: save it as UTF-8 (or ASCII) text");
+  if (nul != std::string::npos) {
+    std::string kind = "a binary file, not OBJ text (byte " + std::to_string(nul) + " is 0x00)";
+    if (text.compare(0, 4, "glTF") == 0) kind = "a binary glTF (.glb), not OBJ text (rename it .glb)";
+    if (text.compare(0, 11, "POINTCACHE2") == 0)
+      kind = "a PC2 point cache, not OBJ text (give it as --cache)";
+    throw InputError(file, "byte " + std::to_string(nul), kind);
+  }
+}
+
 ParsedObj parse_obj(const std::filesystem::path& path) {
   ObjParser parser(path.string());
-  parser.parse(read_whole_file(path));
+  const std::string text = read_whole_file(path);
+  refuse_what_is_not_text(path.string(), text);
+  parser.parse(text);
   return parser.finish();
 }
 

@@ -1,6 +1,7 @@
 #include "sim_io/sequence_plan.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <glm/geometric.hpp>
@@ -8,10 +9,18 @@
 #include <stdexcept>
 
 #include "sim_io/plan_file.hpp"
+#include "static_core/input_error.hpp"
 
 namespace pleat {
 
 namespace {
+
+// The shortest decimal that reads back to `x` ("0.1", "1e-07").
+std::string shortest(double x) {
+  char text[32];
+  const auto [end, error] = std::to_chars(text, text + sizeof text, x);
+  return error == std::errc() ? std::string(text, end) : std::to_string(x);
+}
 
 std::string number(double x) {
   char text[32];
@@ -90,8 +99,15 @@ SlicingPlan PlanOptions::make(const MeshSequence& sequence, Naming naming) const
     } else {
       DiffusePlanParams diffuse{count, spacing.value_or(0.0), planes_per_orientation.value_or(0)};
       if (spacing_edges) diffuse.spacing_in_edges = *spacing_edges;
-      plan = adaptive ? make_adaptive_plan(topology, frame, {count, max_missing})
-                      : make_diffuse_plan(topology, frame, diffuse, counted ? &cover : nullptr);
+      try {
+        plan = adaptive ? make_adaptive_plan(topology, frame, {count, max_missing})
+                        : make_diffuse_plan(topology, frame, diffuse, counted ? &cover : nullptr);
+      } catch (const std::invalid_argument& e) {  // a plan this cloth cannot have: named with the input
+        throw InputError(sequence.name(), "", e.what());
+      } catch (const InputError& e) {
+        if (e.file() != "slicing plan") throw;
+        throw InputError(sequence.name(), "", e.what());
+      }
       plan.storage = paper ? ConeStorage::NearerEndpoint : cone_storage_from_name(storage);
     }
   }
@@ -139,7 +155,7 @@ std::string PlanOptions::describe() const {
     return std::string(text);
   };
   return std::to_string(count) + " orientations, spacing " +
-         (spacing         ? std::to_string(*spacing)
+         (spacing         ? shortest(*spacing)
           : spacing_edges ? edges(*spacing_edges)
           : paper         ? std::string("= the average edge length")
                           : edges(DiffusePlanParams{}.spacing_in_edges)) +

@@ -36,7 +36,8 @@ struct PlanOptions {
   /// for a bad plan file, and std::invalid_argument naming the option (or the plan file) and the input when
   /// the plan's spacing is wider than the cloth: wider than the first frame's extent along every
   /// orientation, so that no plane might cut it and every A would be 0 (with a spacing up to that extent,
-  /// at least one plane cuts the first frame).
+  /// at least one plane cuts the first frame); InputError naming the input for a plan its cloth cannot have
+  /// (planes too many for its extent).
   SlicingPlan make(const MeshSequence& sequence, Naming naming = Naming::Keywords) const;
   /// One line saying what the options ask for (for reports and a checkpoint's job key).
   std::string describe() const;

@@ -67,7 +67,10 @@ void VisibilityCsvWriter::add_frame(std::size_t frame, std::int64_t source_frame
     }
   }
   m_file.stream().write(chunk.data(), std::streamsize(chunk.size()));
+  m_file.check();  // a full disk ends the run here, not after the last frame
 }
+
+void VisibilityCsvWriter::close() { m_file.close(); }
 
 void VisibilityCsvWriter::commit() { m_file.commit(); }
 

@@ -28,10 +28,12 @@ class VisibilityCsvWriter {
   VisibilityCsvWriter(const std::filesystem::path& path, std::vector<Index> welded_of_input,
                       const std::vector<Index>& without_surface = {});
   /// Appends the rows of one frame (its index and its source frame number); front/back hold one value per
-  /// welded vertex.
+  /// welded vertex. Throws std::runtime_error naming the file and the reason when a write failed.
   void add_frame(std::size_t frame, std::int64_t source_frame, const std::vector<double>& front,
                  const std::vector<double>& back);
-  /// Renames the file into place (throws std::runtime_error on I/O failure).
+  /// Writes out and closes the file (AtomicFile::close: throws std::runtime_error on I/O failure).
+  void close();
+  /// close(), then renames the file into place.
   void commit();
 
  private:

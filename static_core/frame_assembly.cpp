@@ -407,6 +407,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
   const bool aim = plan.storage == ConeStorage::AimedOnFan;
   const bool blend = aim || plan.storage == ConeStorage::InterpolatedOnFan;
   auto assemble_vertex = [&](std::size_t v) {
+    if (params.progress && v % 64 == 63) params.progress->vertices.fetch_add(64, std::memory_order_relaxed);
     Workspace& ws = workspaces.local();
     if (fan) {  // the vertex's own fan in each orientation's plane through it (fan_cone.hpp)
       ws.ranges.resize(2 * orientations);

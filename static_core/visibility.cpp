@@ -89,6 +89,7 @@ struct StaticVisibility::Impl {
 void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result) {
   planes_for_frame(plan, cloth, frame, frame_plan.planes);
   const std::size_t n = frame_plan.planes.size();
+  if (params.progress) params.progress->planes.store(n, std::memory_order_relaxed);
   if (planes.size() < n) planes.resize(n);
   candidate_faces_per_plane(topology, frame, frame_plan, faces);
   mark_frame(topology, connectivity, frame, marks);
@@ -96,6 +97,7 @@ void StaticVisibility::Impl::compute(const Frame& frame, FrameVisibility& result
   auto run = [&](std::size_t p) {
     process_plane(topology, connectivity, frame, frame_plan.planes[p], plan.storage, faces[p], marks,
                   workspaces.local(), planes[p]);
+    if (params.progress) params.progress->slices.fetch_add(1, std::memory_order_relaxed);
     if (params.poll) params.poll();
   };
   if (params.parallel)

@@ -1,6 +1,8 @@
 // The cone cache (shading/cone_cache.hpp): frames round-trip exactly, bad caches (truncated, foreign, another
 // version, another mesh, a frame not cached, a corrupt block) fail with one InputError naming the file and
-// the place, and at the command line shading from a cache writes the same glb as shading from fresh cones.
+// the place, a changed byte anywhere is named as damage (the checksums), caches of the versions without
+// checksums are still read, and at the command line shading from a cache writes the same glb as shading from
+// fresh cones.
 #include "shading/cone_cache.hpp"
 
 #include <gtest/gtest.h>
@@ -26,6 +28,25 @@ using test::slurp;
 
 void spit(const std::filesystem::path& p, const std::string& bytes) {
   std::ofstream(p, std::ios::binary) << bytes;
+}
+
+std::uint64_t le_at(const std::string& bytes, std::size_t at, int size) {
+  std::uint64_t value = 0;
+  for (int k = size - 1; k >= 0; --k) value = value << 8 | std::uint8_t(bytes[at + std::size_t(k)]);
+  return value;
+}
+
+/// The same cache as written by a pleat before checksums (version 1, or 2 for compact): the table's checksums
+/// dropped and the frames' offsets moved back over them.
+std::string without_checksums(const std::string& cache) {
+  const std::size_t table = le_at(cache, 12, 4), frames = le_at(cache, 28, 4), removed = 4 * frames + 4;
+  std::string old = cache.substr(0, table);
+  old[8] = char(cache[8] == 3 ? 1 : 2);
+  for (std::size_t k = 0; k <= frames; ++k) {
+    const std::uint64_t offset = le_at(cache, table + 8 * k, 8) - removed;
+    for (int b = 0; b < 8; ++b) old += char((offset >> (8 * b)) & 0xFF);
+  }
+  return old + cache.substr(table + 8 * (frames + 1) + removed);
 }
 
 /// The message of the InputError `f` throws, or "" when it throws none.
@@ -223,9 +244,9 @@ TEST(ConeCache, BadCachesFailWithOneClearError) {
             std::string::npos);
 
   std::string future = good;
-  future[8] = 3;  // version 3
+  future[8] = 5;  // version 5
   spit(dir / "future.cones", future);
-  EXPECT_NE(input_error([&] { ConeCacheReader r(dir / "future.cones"); }).find("version 3"),
+  EXPECT_NE(input_error([&] { ConeCacheReader r(dir / "future.cones"); }).find("version 5"),
             std::string::npos);
 
   ConeCacheReader reader(dir / "good.cones");
@@ -242,15 +263,13 @@ TEST(ConeCache, BadCachesFailWithOneClearError) {
             std::string::npos);
   EXPECT_NE(input_error([&] { reader.index_of_frame(3); }).find("frame 3"), std::string::npos);
 
-  // Inside frame 5's block (the second): a piece count far too large, and a coordinate that is not a number.
-  auto u32_at = [&](std::size_t at) {
-    return std::uint32_t(std::uint8_t(good[at])) | std::uint32_t(std::uint8_t(good[at + 1])) << 8 |
-           std::uint32_t(std::uint8_t(good[at + 2])) << 16 | std::uint32_t(std::uint8_t(good[at + 3])) << 24;
-  };
-  const std::size_t table = u32_at(12);
-  const std::size_t block = u32_at(table + 8);  // offset[1], low half (the file is small)
+  // Inside frame 5's block (the second) of a cache without checksums (whose reading checks every count and
+  // number): a piece count far too large, and a coordinate that is not a number.
+  const std::string old = without_checksums(good);
+  const std::size_t table = le_at(old, 12, 4);
+  const std::size_t block = le_at(old, table + 8, 8);  // offset[1]
   const std::size_t vertices = fx.cloth.topology().num_vertices;
-  std::string corrupt = good;
+  std::string corrupt = old;
   const std::size_t first_count = block + 8 + 24 * vertices + 40 * vertices;
   for (int k = 0; k < 4; ++k) corrupt[first_count + k] = char(0xFF);
   spit(dir / "corrupt.cones", corrupt);
@@ -266,12 +285,68 @@ TEST(ConeCache, BadCachesFailWithOneClearError) {
             }).find("other positions"),
             std::string::npos);
 
-  std::string nan = good;
+  std::string nan = old;
   for (int k = 0; k < 8; ++k) nan[block + 8 + k] = char(0xFF);  // the first normal's x: a NaN
   spit(dir / "nan.cones", nan);
   ConeCacheReader nan_reader(dir / "nan.cones");
   EXPECT_NE(input_error([&] { nan_reader.read_frame(1, fx.positions[1], frame); }).find("not finite"),
             std::string::npos);
+}
+
+TEST(ConeCache, CachesWithoutChecksumsAreStillRead) {
+  test::TempDir dir;
+  const Fixture fx;
+  fx.write(dir / "new.cones");
+  spit(dir / "old.cones", without_checksums(slurp(dir / "new.cones")));
+  ConeCacheReader reader(dir / "old.cones");
+  for (std::size_t k = 0; k < fx.frames.size(); ++k) {
+    FrameVisibility frame;
+    reader.read_frame(k, fx.positions[k], frame);
+    EXPECT_EQ(frame.measures[0].size(), fx.frames[k].measures[0].size());
+    EXPECT_EQ(frame.measures[0][3].sky_visibility, fx.frames[k].measures[0][3].sky_visibility);
+  }
+}
+
+TEST(ConeCache, AChangedByteAnywhereIsNamedAsDamage) {
+  // About 250 bytes spread over the file flipped in turn: opening the cache or reading the frame that holds
+  // it fails with an InputError; past the header (magic, version), the message says the cache is damaged, and
+  // inside a frame it names the frame. The other frames stay readable.
+  test::TempDir dir;
+  const Fixture fx;
+  fx.write(dir / "good.cones");
+  const std::string good = slurp(dir / "good.cones");
+  const std::size_t table = le_at(good, 12, 4);
+  std::vector<std::size_t> starts;
+  for (std::size_t k = 0; k <= fx.frames.size(); ++k) starts.push_back(le_at(good, table + 8 * k, 8));
+  const std::uint32_t numbers[] = {2, 5, 7};
+  std::size_t checked = 0;
+  const std::size_t step = std::max<std::size_t>(37, good.size() / 250) | 1;  // about 250 places, all kinds
+  for (std::size_t at = 12; at < good.size(); at += step) {
+    std::string damaged = good;
+    damaged[at] = char(damaged[at] ^ 0x04);
+    spit(dir / "damaged.cones", damaged);
+    std::string error = input_error([&] {
+      ConeCacheReader reader(dir / "damaged.cones");
+      for (std::size_t k = 0; k < fx.frames.size(); ++k) {
+        FrameVisibility frame;
+        reader.read_frame(k, fx.positions[k], frame);
+      }
+    });
+    ASSERT_NE(error, "") << "byte " << at << " changed and nothing noticed";
+    EXPECT_NE(error.find("damaged cone cache"), std::string::npos) << "byte " << at << ": " << error;
+    if (at >= starts.front()) {
+      const std::size_t k =
+          std::size_t(std::upper_bound(starts.begin(), starts.end(), at) - starts.begin()) - 1;
+      EXPECT_NE(error.find("damaged.cones:frame " + std::to_string(numbers[k])), std::string::npos)
+          << "byte " << at << ": " << error;
+      ConeCacheReader reader(dir / "damaged.cones");  // the others still read
+      FrameVisibility frame;
+      const std::size_t other = (k + 1) % fx.frames.size();
+      EXPECT_EQ(input_error([&] { reader.read_frame(other, fx.positions[other], frame); }), "");
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 200u);
 }
 
 /// The acceptance check at the command line: cones once (`pleat visibility --cones`), then `pleat shade
@@ -340,6 +415,27 @@ TEST(ConeCache, ShadingFromTheCacheEqualsShadingFromFreshCones) {
   EXPECT_EQ(wrong.exit_code, 2) << wrong.output;
   EXPECT_NE(wrong.output.find("other positions"), std::string::npos) << wrong.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "wrong.glb"));
+}
+
+TEST(ConeCache, ShadeRefusesADamagedCacheWithoutWritingAGlb) {
+  test::TempDir dir;
+  const std::string input = (dir / "c.obj").string() + " --cache " + (dir / "c.pc2").string();
+  ASSERT_EQ(test::run_pleat("generate roll -o " + (dir / "c.obj").string() + " --resolution 12 --frames 4")
+                .exit_code,
+            0);
+  const auto v = test::run_pleat("visibility " + input + " -o " + (dir / "a.csv").string() + " --cones " +
+                                 (dir / "c.cones").string());
+  ASSERT_EQ(v.exit_code, 0) << v.output;
+  std::string cones = slurp(dir / "c.cones");
+  cones[cones.size() - 1000] = char(cones[cones.size() - 1000] ^ 1);  // in the last frame's block
+  spit(dir / "c.cones", cones);
+  const auto shaded = test::run_pleat("shade " + input + " -o " + (dir / "s.glb").string() + " --cones " +
+                                      (dir / "c.cones").string());
+  EXPECT_EQ(shaded.exit_code, 2) << shaded.output;
+  EXPECT_NE(shaded.output.find("c.cones:frame 3, bytes "), std::string::npos) << shaded.output;
+  EXPECT_NE(shaded.output.find("damaged cone cache: the frame's checksum does not match"), std::string::npos)
+      << shaded.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "s.glb"));
 }
 
 }  // namespace

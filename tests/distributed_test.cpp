@@ -301,34 +301,6 @@ TEST(Distributed, ARerunWithTheCheckpointComputesOnlyTheMissingChunks) {
   EXPECT_TRUE(slurp(dir / "v.csv") == slurp(single));
 }
 
-TEST(Distributed, ADamagedChunkFailsCleanlyWithoutOutput) {
-  // A chunk whose header, keys and end marker are intact but whose first record claims 2^62 bytes: the rerun
-  // names the file and the place and writes nothing (it neither allocates for the record nor crashes).
-  TempDir dir;
-  const std::string input = make_curtain(dir);
-  const std::string args = "visibility " + input + " -o " + (dir / "v.csv").string() +
-                           " --chunks 2 --checkpoint " + (dir / "ck").string();
-  ASSERT_EQ(test::run_pleat(args).exit_code, 0);
-  std::vector<std::filesystem::path> chunks;
-  for (const auto& e : std::filesystem::directory_iterator(dir / "ck")) chunks.push_back(e.path());
-  ASSERT_EQ(chunks.size(), 2u);
-  std::sort(chunks.begin(), chunks.end());
-  {
-    std::fstream chunk(chunks[0], std::ios::binary | std::ios::in | std::ios::out);
-    chunk.seekp(8 + 4 * 8 + 8);  // the header, then the first record's frame number: its byte count
-    const std::uint64_t huge = std::uint64_t(1) << 62;
-    chunk.write(reinterpret_cast<const char*>(&huge), sizeof huge);
-  }
-  std::filesystem::remove(dir / "v.csv");
-  const auto rerun = test::run_pleat(args);
-  EXPECT_NE(rerun.exit_code, 0);
-  EXPECT_NE(rerun.output.find(chunks[0].filename().string() +
-                              ": checkpoint chunk unreadable: frame 0, byte 40: a record of"),
-            std::string::npos)
-      << rerun.output;
-  EXPECT_FALSE(std::filesystem::exists(dir / "v.csv"));
-}
-
 TEST(Distributed, AChangedInputOrPlanInvalidatesTheCheckpoint) {
   PLEAT_NEEDS_MPI();
   TempDir dir;
@@ -340,7 +312,6 @@ TEST(Distributed, AChangedInputOrPlanInvalidatesTheCheckpoint) {
   const auto replanned = mpirun(2, args + " --orientations 6");
   ASSERT_EQ(replanned.exit_code, 0) << replanned.output;
   EXPECT_EQ(replanned.output.find("kept from the checkpoint"), std::string::npos) << replanned.output;
-  EXPECT_NE(replanned.output.find("another input, plan or command removed"), std::string::npos);
   // One frame of the cache changed (last byte of the last frame): its chunk alone is computed again.
   {
     std::fstream pc2(dir / "c.pc2", std::ios::in | std::ios::out | std::ios::binary);
@@ -355,6 +326,38 @@ TEST(Distributed, AChangedInputOrPlanInvalidatesTheCheckpoint) {
   ASSERT_EQ(changed.exit_code, 0) << changed.output;
   EXPECT_NE(changed.output.find("3 chunks over 2 ranks, 2 kept from the checkpoint"), std::string::npos)
       << changed.output;
+}
+
+// How often `text` holds `part`.
+std::size_t occurrences(const std::string& text, const std::string& part) {
+  std::size_t count = 0;
+  for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++count;
+  return count;
+}
+
+TEST(Distributed, CommandsThatDoNotSplitTheirWorkRunOnOneRank) {
+  // info, generate, compare and view under `mpirun -np N`: rank 0 does the work once, the others wait and end
+  // with its exit status; bad input is reported once.
+  PLEAT_NEEDS_MPI();
+  TempDir dir;
+  const std::string input = make_curtain(dir);
+  const auto info = mpirun(3, "info " + input);
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_EQ(occurrences(info.output, "\nvertices "), 1u) << info.output;
+  const auto generated =
+      mpirun(2, "generate flag -o " + (dir / "f.obj").string() + " --resolution 6 --frames 3");
+  ASSERT_EQ(generated.exit_code, 0) << generated.output;
+  EXPECT_EQ(occurrences(generated.output, "wrote "), 2u) << generated.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "f.pc2"));
+  const auto compared =
+      mpirun(2, "compare " + input + " --light sky:1 --paths 16 --width 48 --height 36 -o " +
+                    (dir / "cmp.png").string());
+  ASSERT_EQ(compared.exit_code, 0) << compared.output;
+  EXPECT_EQ(occurrences(compared.output, "wrote " + (dir / "cmp.png").string()), 1u) << compared.output;
+  EXPECT_EQ(names_in(dir.path()), (std::vector<std::string>{"c.obj", "c.pc2", "cmp.png", "f.obj", "f.pc2"}));
+  const auto missing = mpirun(3, "info " + (dir / "missing.obj").string());
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_EQ(occurrences(missing.output, "missing.obj: no such file"), 1u) << missing.output;
 }
 
 TEST(Distributed, WithoutMpiALaunchByMpirunIsRefusedOnceWithoutOutput) {

@@ -1,13 +1,19 @@
-// Outputs replace only what is theirs (issue 38): written through symbolic links; a FIFO, device or directory
-// refused before any work (exit status 2); `-o -` on standard output; `generate` keeps a cache it was not
-// named. (Stopped runs: termination_test.cpp.)
+// Outputs replace only what is theirs: written through symbolic links; a FIFO, device or directory refused
+// before any work (exit status 2); `-o -` on standard output; `generate` keeps a cache it was not named; a
+// render is all or nothing (its images appear with the glb, or none does). (Stopped runs:
+// termination_test.cpp; outputs that are inputs: input_protection_test.cpp.)
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "test_support.hpp"
@@ -164,6 +170,96 @@ TEST(OutputSafety, GenerateKeepsACacheItWasNotNamedUnlessForced) {
   ASSERT_EQ(test::run_pleat("generate flag -o " + obj + " --resolution 6 --frames 2").exit_code, 0);
   EXPECT_NE(slurp(dir / "x.obj"), "old");
   EXPECT_TRUE(fs::exists(dir / "x.pc2"));
+}
+
+// Every file under `dir` (recursively, hidden ones included) and its bytes.
+std::map<std::string, std::string> contents(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    files[fs::relative(entry.path(), dir).string()] = entry.is_regular_file() ? slurp(entry.path()) : "<dir>";
+  return files;
+}
+
+// A shade job long enough to stop in the middle, rendering small images: the arguments, with `light`.
+std::vector<std::string> render_job(const fs::path& dir, const std::string& light) {
+  return {"shade",    (dir / "c.obj").string(),
+          "--cache",  (dir / "c.pc2").string(),
+          "-o",       (dir / "out.glb").string(),
+          "--render", (dir / "renders").string(),
+          "--width",  "64",
+          "--height", "48",
+          "--light",  light};
+}
+
+class RenderCommit : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto made =
+        test::run_pleat("generate curtain -o " + (dir / "c.obj").string() + " --resolution 40 --frames 60");
+    ASSERT_EQ(made.exit_code, 0) << made.output;
+    // The first render, whose files a failed second one must leave as they are.
+    const pid_t first = test::start_pleat(render_job(dir.path(), "sky:0.3"), dir / "errors.txt");
+    int status = 0;
+    ASSERT_EQ(::waitpid(first, &status, 0), first);
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << slurp(dir / "errors.txt");
+    before = contents(dir / "renders");
+    glb = slurp(dir / "out.glb");
+    ASSERT_EQ(before.size(), 60u);
+  }
+  void expect_unchanged() {
+    EXPECT_TRUE(contents(dir / "renders") == before) << "the render directory changed";
+    EXPECT_TRUE(slurp(dir / "out.glb") == glb) << "out.glb changed";
+    for (const std::string& name : names_in(dir.path()))
+      EXPECT_EQ(name.find(".tmp."), std::string::npos) << name;
+  }
+  test::TempDir dir;
+  std::map<std::string, std::string> before;
+  std::string glb;
+};
+
+TEST_F(RenderCommit, AStoppedRenderLeavesTheOldImagesAndGlb) {
+  const pid_t pid = test::start_pleat(render_job(dir.path(), "sky:1.5"), dir / "errors.txt");
+  // Until images are staged (a hidden directory in the render directory with files in it).
+  bool staged = false;
+  for (int i = 0; i < 12000 && !staged; ++i) {
+    for (const auto& entry : fs::directory_iterator(dir / "renders"))
+      if (entry.is_directory() && entry.path().filename().string().rfind(".pleat-staged.tmp.", 0) == 0)
+        staged = !fs::is_empty(entry.path());
+    if (!staged) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(staged) << slurp(dir / "errors.txt");
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 143);
+  expect_unchanged();
+}
+
+TEST_F(RenderCommit, AFullDiskWhileWritingTheGlbLeavesTheOldImages) {
+  // A file size limit the small images fit under and the glb does not: the glb fails ("file too large"), and
+  // no image appears.
+  const rlimit limit{1 << 20, 1 << 20};
+  const pid_t pid = test::start_pleat(render_job(dir.path(), "sky:1.5"), dir / "errors.txt",
+                                      {.limits = {{RLIMIT_FSIZE, limit}}});
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  EXPECT_NE(slurp(dir / "errors.txt").find("out.glb: cannot write: file too large"), std::string::npos)
+      << slurp(dir / "errors.txt");
+  expect_unchanged();
+}
+
+TEST_F(RenderCommit, ACompleteRenderReplacesTheImagesWithTheGlb) {
+  const pid_t pid = test::start_pleat(render_job(dir.path(), "sky:1.5"), dir / "errors.txt");
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << slurp(dir / "errors.txt");
+  const auto after = contents(dir / "renders");
+  ASSERT_EQ(after.size(), before.size());
+  for (const auto& [name, bytes] : after) EXPECT_NE(bytes, before.at(name)) << name;
+  EXPECT_NE(slurp(dir / "out.glb"), glb);
 }
 
 }  // namespace
