@@ -30,7 +30,8 @@ class ByteWriter {
   ByteWriter& put_array(const std::vector<T>& values) {
     static_assert(std::is_trivially_copyable_v<T>);
     put<std::uint64_t>(values.size());
-    if (!values.empty()) m_bytes.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    if (!values.empty())
+      m_bytes.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
     return *this;
   }
   /// The length (64 bits), then the bytes.
@@ -62,7 +63,9 @@ class ByteReader {
     const auto n = get<std::uint64_t>();
     if (n > (m_bytes.size() - m_at) / sizeof(T)) throw std::runtime_error("byte string truncated");
     std::vector<T> values(n);
-    if (n != 0) std::memcpy(values.data(), m_bytes.data() + m_at, n * sizeof(T));  // an empty vector's data() may be null
+    if (n != 0)
+      std::memcpy(values.data(), m_bytes.data() + m_at,
+                  n * sizeof(T));  // an empty vector's data() may be null
     m_at += n * sizeof(T);
     return values;
   }
