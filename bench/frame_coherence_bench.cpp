@@ -344,7 +344,7 @@ int run(int argc, char** argv) {
   write_markdown(options.out / "frame_coherence.md", options, source, all, total, memory_reset, r.failures);
   {
     std::ofstream headline(options.out / "frame_coherence_headline.md");
-    headline << headline_tables(options, source, all);
+    headline << headline_tables(options, all);
   }
   std::printf("frame_coherence: wrote %s and %s (%zu measurements, %.0f s)\n", csv_path.c_str(),
               (options.out / "frame_coherence.md").c_str(), all.size(), total);

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -250,8 +251,7 @@ std::string alternated_cell(const Measurement& m) {
   return format("%.2f (%.2f–%.2f)", median(m.alternated_ratios), *lo, *hi);
 }
 
-std::string headline_tables(const Options& options, const SourceState& source,
-                            const std::vector<Measurement>& all) {
+std::string headline_tables(const Options& options, const std::vector<Measurement>& all) {
   std::ostringstream out;
   const bool two = std::find(options.threads.begin(), options.threads.end(), 2) != options.threads.end();
   out << "**Against ray casting at matched error** (u = 1; Embree configured as measured fastest, fixed "
@@ -337,8 +337,11 @@ std::string headline_tables(const Options& options, const SourceState& source,
     }
     out << '\n';
   }
-  out << "\nAll figures from one run of `bash bench/run_frame_coherence.sh` on commit " << source.commit
-      << (source.dirty.empty() ? "" : " (plus uncommitted changes)") << ", " << machine()
+  // The headline goes into docs/benchmarks.md, which names runs by date; the commit is in frame_coherence.md.
+  char today[16] = "";
+  const std::time_t now = std::time(nullptr);
+  std::strftime(today, sizeof today, "%Y-%m-%d", std::gmtime(&now));
+  out << "\nAll figures from one run of `bash bench/run_frame_coherence.sh` on " << today << ", " << machine()
       << ". Error = mean and 95th percentile of |A − A_ref| over vertices, both sides and the timed frames, "
          "against Embree with "
       << options.reference_rays
@@ -391,7 +394,7 @@ void write_markdown(const fs::path& path, const Options& options, const SourceSt
          "**K\\*** = the ray count whose error equals the static engine's, log-log interpolated between the "
          "bracketing ray counts of the ladder (time and flicker at K\\* likewise); `< 8` / `> 1024`: off the "
          "ladder, the ratio then a bound.\n\n";
-  out << "## Headline\n\n" << headline_tables(options, source, all) << "\n";
+  out << "## Headline\n\n" << headline_tables(options, all) << "\n";
   if (!options.plans.empty()) out << "## Plans: error against cost\n\n" << plan_tables(all);
 
   out << "## The peer's configuration\n\nPer sequence and size, the configurations tried (one thread, "

@@ -32,8 +32,7 @@ void write_csv_rows(std::ostream& out, const Measurement& m);
 
 /// The headline of docs/benchmarks.md: the cone engines against Embree at matched error, and cost per element
 /// with kinetic ÷ static per temporal resolution.
-std::string headline_tables(const Options& options, const SourceState& source,
-                            const std::vector<Measurement>& all);
+std::string headline_tables(const Options& options, const std::vector<Measurement>& all);
 
 void write_markdown(const std::filesystem::path& path, const Options& options, const SourceState& source,
                     const std::vector<Measurement>& all, double total_seconds, bool memory_reset,
