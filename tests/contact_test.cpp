@@ -47,21 +47,9 @@ MeshSequence occluder_of(Surface surface) {
     topology = {4, {{0, 1, 2}, {0, 2, 3}}};
     positions = {{-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, {-10, 10, 0}};
   } else if (surface == Surface::Box) {  // [-1, 2]^2 x [-1, 0], outward winding
-    topology = {8,
-                {{0, 2, 1},
-                 {0, 3, 2},
-                 {4, 5, 6},
-                 {4, 6, 7},
-                 {0, 1, 5},
-                 {0, 5, 4},
-                 {1, 2, 6},
-                 {1, 6, 5},
-                 {2, 3, 7},
-                 {2, 7, 6},
-                 {3, 0, 4},
-                 {3, 4, 7}}};
-    positions = {{-1, -1, -1}, {2, -1, -1}, {2, 2, -1}, {-1, 2, -1},
-                 {-1, -1, 0},  {2, -1, 0},  {2, 2, 0},  {-1, 2, 0}};
+    test::TestMesh box = test::closed_box({-1, -1, -1}, {2, 2, 0});
+    topology = box.topology;
+    positions = box.frame.positions;
   } else {  // a sphere of radius 2 whose top vertex is at (0.5, 0.5, 0)
     test::TestMesh sphere = test::icosphere(4);
     glm::dvec3 top(0.0, 0.0, -1e300);
@@ -310,28 +298,8 @@ void write_sheet_and_box(const test::TempDir& dir, double top) {
   test::TestMesh mesh = test::flat_sheet(11, 11, 0.1);
   for (glm::dvec3& p : mesh.frame.positions) p = {p.x, 0.0, -p.y};  // in y = 0, front up (+y)
   write_obj(dir / "sheet.obj", mesh.topology, mesh.frame.positions);
-  MeshTopology box{8,
-                   {{0, 1, 2},
-                    {0, 2, 3},
-                    {4, 6, 5},
-                    {4, 7, 6},
-                    {0, 4, 5},
-                    {0, 5, 1},
-                    {1, 5, 6},
-                    {1, 6, 2},
-                    {2, 6, 7},
-                    {2, 7, 3},
-                    {3, 7, 4},
-                    {3, 4, 0}}};
-  write_obj(dir / "box.obj", box,
-            {{-1, -1, -2},
-             {2, -1, -2},
-             {2, -1, 2},
-             {-1, -1, 2},
-             {-1, top, -2},
-             {2, top, -2},
-             {2, top, 2},
-             {-1, top, 2}});
+  const test::TestMesh box = test::closed_box({-1, -1, -2}, {2, top, 2});
+  write_obj(dir / "box.obj", box.topology, box.frame.positions);
 }
 
 /// The CSV's (front, back) per row.

@@ -149,28 +149,8 @@ TEST(Occluders, ConesAgreeWithRayCastingOfTheSameScene) {
   const Bounds& box = cloth.bounds();
   // A block under part of the roll, as an OBJ (static: one frame).
   const glm::dvec3 lo = box.lo - glm::dvec3(0.2), hi = glm::dvec3(box.hi.x, box.lo.y, box.hi.z);
-  MeshTopology block{8,
-                     {{0, 2, 1},
-                      {0, 3, 2},
-                      {4, 5, 6},
-                      {4, 6, 7},
-                      {0, 1, 5},
-                      {0, 5, 4},
-                      {1, 2, 6},
-                      {1, 6, 5},
-                      {2, 3, 7},
-                      {2, 7, 6},
-                      {3, 0, 4},
-                      {3, 4, 7}}};
-  write_obj(dir / "block.obj", block,
-            {{lo.x, lo.y, lo.z},
-             {hi.x, lo.y, lo.z},
-             {hi.x, hi.y, lo.z},
-             {lo.x, hi.y, lo.z},
-             {lo.x, lo.y, hi.z},
-             {hi.x, lo.y, hi.z},
-             {hi.x, hi.y, hi.z},
-             {lo.x, hi.y, hi.z}});
+  const test::TestMesh block = test::closed_box(lo, hi);
+  write_obj(dir / "block.obj", block.topology, block.frame.positions);
   const std::string ground = "y=" + std::to_string(box.lo.y - 0.05);
   const Scene scene(cloth, {parse_occluder_spec((dir / "block.obj").string())}, {parse_ground_plane(ground)});
   const Frame frame = scene.frame(2);

@@ -78,6 +78,26 @@ TestMesh v_fold(double alpha, int nx, int n_arm, double length, double arm) {
   return m;
 }
 
+TestMesh closed_box(const glm::dvec3& lo, const glm::dvec3& hi) {
+  TestMesh m;
+  m.topology = {8,
+                {{0, 2, 1},
+                 {0, 3, 2},
+                 {4, 5, 6},
+                 {4, 6, 7},
+                 {0, 1, 5},
+                 {0, 5, 4},
+                 {1, 2, 6},
+                 {1, 6, 5},
+                 {2, 3, 7},
+                 {2, 7, 6},
+                 {3, 0, 4},
+                 {3, 4, 7}}};
+  m.frame.positions = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z}, {lo.x, hi.y, lo.z},
+                       {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z}, {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z}};
+  return m;
+}
+
 void rigid_transform(TestMesh& mesh, const glm::dvec3& axis, double angle, const glm::dvec3& translation) {
   const glm::dmat4 r = glm::rotate(glm::dmat4(1.0), angle, glm::normalize(axis));
   for (auto& p : mesh.frame.positions) p = glm::dvec3(r * glm::dvec4(p, 1.0)) + translation;

@@ -131,16 +131,20 @@ def insert_into_material(material):
     return changed
 
 
-class PLEAT_OT_insert(bpy.types.Operator):
-    """Multiply the baked sky visibility's occlusion into the Base Color of the object's materials (node
-    group "pleat sky visibility"), keeping everything else of them"""
-    bl_idname = "pleat.insert_node_group"
-    bl_label = "Insert into materials"
+class _OnActiveMesh:
+    """What both operators share: they act on the active object, a mesh, and can be undone."""
     bl_options = {"REGISTER", "UNDO"}
 
     @classmethod
     def poll(cls, context):
         return context.active_object is not None and context.active_object.type == "MESH"
+
+
+class PLEAT_OT_insert(_OnActiveMesh, bpy.types.Operator):
+    """Multiply the baked sky visibility's occlusion into the Base Color of the object's materials (node
+    group "pleat sky visibility"), keeping everything else of them"""
+    bl_idname = "pleat.insert_node_group"
+    bl_label = "Insert into materials"
 
     def execute(self, context):
         obj = context.active_object
@@ -156,15 +160,10 @@ class PLEAT_OT_insert(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class PLEAT_OT_material(bpy.types.Operator):
+class PLEAT_OT_material(_OnActiveMesh, bpy.types.Operator):
     """Add the material template that shows the baked sky visibility (front or back by the side seen)"""
     bl_idname = "pleat.add_material"
     bl_label = "Add sky visibility material"
-    bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context):
-        return context.active_object is not None and context.active_object.type == "MESH"
 
     def execute(self, context):
         obj = context.active_object
