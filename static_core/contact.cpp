@@ -102,8 +102,8 @@ void place(Solid& solid, const Frame& frame) {
     }
   }
   if (!moved) return;
+  // The tree's search structure for distances is built by its first distance query (CGAL's default).
   solid.tree.rebuild(faces(solid.mesh).first, faces(solid.mesh).second, solid.mesh);
-  solid.tree.accelerate_distance_queries();
   solid.box = {};
   for (const Index v : solid.vertex) solid.box.add(frame.positions[v]);
   solid.placed = true;
@@ -152,9 +152,9 @@ void ContactCheck::check(const Frame& frame, VisibilityStats& stats) {
       const glm::dvec3& p = frame.positions[v];
       if (!within(solid.box, p, std::max(tolerance, m.depth[v]))) continue;  // cannot be deeper
       const Point3 q(p.x, p.y, p.z);
+      if (side(q) != CGAL::ON_BOUNDED_SIDE) continue;  // a ray's crossings: far cheaper than the distance
       const double d2 = solid.tree.squared_distance(q);
-      if (d2 > tolerance * tolerance && side(q) == CGAL::ON_BOUNDED_SIDE)
-        m.depth[v] = std::max(m.depth[v], std::sqrt(d2));
+      if (d2 > tolerance * tolerance) m.depth[v] = std::max(m.depth[v], std::sqrt(d2));
     }
   }
   for (Index v = 0; v < receivers; ++v) {

@@ -168,12 +168,25 @@ Wedge back_half_plane(const std::array<glm::dvec2, 2>& segment, const glm::dvec2
 
 }  // namespace
 
-Viewpoint contact_viewpoint(const OccluderChains& chains, const glm::dvec2& p, double tolerance) {
+void hulls_outside(const OccluderChains& chains, const glm::dvec2& p, std::vector<char>& outside) {
+  outside.resize(chains.chains.size());
+  for (std::size_t c = 0; c < chains.chains.size(); ++c) {
+    const OccluderChains::Chain& chain = chains.chains[c];
+    const std::span<const glm::dvec2> hull = hull_of(chains, chain);
+    outside[c] = hull.size() >= 3   ? off_box(chain, p) || strictly_outside(hull, p)
+                 : hull.size() == 2 ? orient(hull[0], hull[1], p) != CGAL::COLLINEAR
+                                    : false;
+  }
+}
+
+Viewpoint contact_viewpoint(const OccluderChains& chains, const glm::dvec2& p, std::span<const char> outside,
+                            double tolerance) {
   // Inside the solids: the parity over the closed chains that may hold p (a loop inside another, a cavity,
   // cancels it), or on one of them.
   bool inside = false;
-  for (const OccluderChains::Chain& chain : chains.chains) {
-    if (!chain.closed || off_box(chain, p) || strictly_outside(hull_of(chains, chain), p)) continue;
+  for (std::size_t c = 0; c < chains.chains.size(); ++c) {
+    const OccluderChains::Chain& chain = chains.chains[c];
+    if (!chain.closed || off_box(chain, p) || outside[c]) continue;
     const Inside where = inside_loop(
         {chains.segments.data() + chain.segments_begin, chains.segments.data() + chain.segments_end}, p);
     if (where == Inside::On) {
@@ -288,19 +301,15 @@ void gather_occluder_chains(const Slice& occluders, ShadowScratch& s, OccluderCh
   }
 }
 
-void blocked_by_chain(const OccluderChains& chains, std::size_t c, const Viewpoint& from, ShadowScratch& s,
-                      std::vector<Wedge>& out) {
+void blocked_by_chain(const OccluderChains& chains, std::size_t c, const Viewpoint& from, bool outside_hull,
+                      ShadowScratch& s, std::vector<Wedge>& out) {
   const OccluderChains::Chain& chain = chains.chains[c];
   const std::span<const glm::dvec2> hull = hull_of(chains, chain);
   const glm::dvec2& p = from.point;
   // On an open chain the viewpoint lies on it, on its front: its segment blocks what lies behind it,
   // whichever side of the chain's line rounding put the point.
-  const bool on_open = from.chain == static_cast<std::int32_t>(c) && from.open;
-  const bool outside = on_open            ? false
-                       : hull.size() >= 3 ? off_box(chain, p) || strictly_outside(hull, p)
-                       : hull.size() == 2 ? orient(hull[0], hull[1], p) != CGAL::COLLINEAR
-                                          : false;
-  if (outside) {
+  const bool own = from.chain == static_cast<std::int32_t>(c), on_open = own && from.open;
+  if (outside_hull && !on_open) {
     // The walks start where a circle's tangents would touch (a circle of the hull's mean radius about its
     // centre), the exact walks go on from there.
     std::uint32_t from_r = 0, from_l = 0;
@@ -333,7 +342,7 @@ void blocked_by_chain(const OccluderChains& chains, std::size_t c, const Viewpoi
   s.blocked.clear();
   if (on_open) s.blocked.push_back(back_half_plane(chains.segments[from.segment], p));
   for (std::uint32_t i = chain.segments_begin; i < chain.segments_end; ++i) {
-    if (through_viewpoint(chains, c, i, from)) continue;
+    if (own && through_viewpoint(chains, c, i, from)) continue;
     const auto& [a, b] = chains.segments[i];
     switch (orient(p, a, b)) {
       case CGAL::LEFT_TURN:
@@ -361,12 +370,16 @@ void cast_occluder_shadows(const Slice& slice, const OccluderChains& chains, std
       s.side_cone[side].assign(cone.begin(), cone.end());
     }
     const bool wanted = (needed.empty() || needed[x]) && !(s.side_cone[0].empty() && s.side_cone[1].empty());
-    const Viewpoint from =
-        wanted ? contact_viewpoint(chains, slice.vertices[x].point, contact_tolerance) : Viewpoint{};
+    Viewpoint from;
+    if (wanted) {
+      hulls_outside(chains, slice.vertices[x].point, s.outside_hull);
+      from = contact_viewpoint(chains, slice.vertices[x].point, s.outside_hull, contact_tolerance);
+      if (from.chain >= 0) hulls_outside(chains, from.point, s.outside_hull);  // seen from a chain's point
+    }
     for (std::size_t c = 0; wanted && c < chains.chains.size(); ++c) {
       if (s.side_cone[0].empty() && s.side_cone[1].empty()) break;
       s.united.clear();
-      blocked_by_chain(chains, c, from, s, s.united);  // once for both sides
+      blocked_by_chain(chains, c, from, s.outside_hull[c] != 0, s, s.united);  // once for both sides
       if (s.united.empty()) continue;
       s.visible.clear();  // built when a side needs it: the gaps between the blocked wedges
       bool gaps_built = false;

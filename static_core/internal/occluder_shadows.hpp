@@ -63,7 +63,8 @@ struct ShadowScratch {
   WedgeScratch wedges;
   std::vector<Wedge> wedges_out;
   std::vector<std::array<std::uint32_t, 2>>
-      tangents;  // per chain: the last tangents found (start of the walk)
+      tangents;                    // per chain: the last tangents found (start of the walk)
+  std::vector<char> outside_hull;  // per chain: hulls_outside of the viewpoint
   std::vector<std::uint32_t> offsets_out;
 };
 
@@ -81,15 +82,23 @@ struct Viewpoint {
   bool open = false;          ///< the chain is open
 };
 
+/// Per chain, whether p lies strictly outside its convex hull (off its box or beyond an edge; a hull of two
+/// points: off its line; of one: never), into `outside` (resized to the chains). Exact. O(hull vertices of
+/// the chains whose box holds p).
+void hulls_outside(const OccluderChains& chains, const glm::dvec2& p, std::vector<char>& outside);
+
 /// The viewpoint of a cloth point p: the nearest point of the closed chains' segments when p lies inside or
 /// on a closed chain (the parity of their crossings, exact); else the nearest point of an open chain's
 /// segment when p lies on it or behind it (on its back, right side) no farther than `tolerance` > 0 in the
-/// plane; else p. O(segments of the chains whose box holds p), O(chains) when none does.
-Viewpoint contact_viewpoint(const OccluderChains& chains, const glm::dvec2& p, double tolerance);
+/// plane; else p. `outside`: hulls_outside of p. O(segments of the closed chains whose hull holds p and of
+/// the open chains within `tolerance` of their box), O(chains) when none does.
+Viewpoint contact_viewpoint(const OccluderChains& chains, const glm::dvec2& p, std::span<const char> outside,
+                            double tolerance);
 
 /// What chain `c` blocks seen from `from`: united wedges (is_united), appended to `out`. Segments through
-/// the viewpoint block nothing.
-void blocked_by_chain(const OccluderChains& chains, std::size_t c, const Viewpoint& from,
+/// the viewpoint block nothing. `outside_hull`: whether from.point lies strictly outside the chain's hull
+/// (hulls_outside of from.point).
+void blocked_by_chain(const OccluderChains& chains, std::size_t c, const Viewpoint& from, bool outside_hull,
                       ShadowScratch& scratch, std::vector<Wedge>& out);
 
 /// Takes from the cone of every needed slice vertex of `slice` (empty `needed`: every one) on both sides what
