@@ -82,6 +82,7 @@ class DescriptorBuffer : public std::streambuf {
     return traits_type::not_eof(c);
   }
   std::streamsize xsputn(const char* s, std::streamsize n) override {
+    if (n <= 0) return 0;  // nothing to copy (s may then be null: an empty vector's data())
     if (n <= epptr() - pptr()) {
       std::memcpy(pptr(), s, std::size_t(n));
       pbump(int(n));
