@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include "static_core/cone_assembly.hpp"
+#include "static_core/cone_rules.hpp"
 
 namespace pleat {
 namespace {
@@ -264,5 +265,33 @@ void NearestCircleAssembler::assemble(std::span<const PlanarCone> cones, const g
   }
   result.pieces.resize(out);
 }
+
+namespace {
+
+/// The nearest-circle rule's reconstructor: the assembler and its measures.
+class NearestCircleReconstructor final : public ConeReconstructor {
+ public:
+  void assemble(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
+                std::span<const glm::dvec3> half_spaces, VisibilityCone& result,
+                ConeMeasures* measures) override {
+    m_assembler.assemble(cones, side_normal, half_spaces, result);
+    if (measures)
+      *measures =
+          measures_of_pieces(result, m_assembler.irradiance(), m_assembler.solid_angle(), side_normal);
+  }
+
+ private:
+  NearestCircleAssembler m_assembler;
+};
+
+}  // namespace
+
+namespace rules {
+extern const ConeReconstructionRule kNearestCircle{
+    "nearest-circle",
+    "every direction takes the visibility of the nearest point of the nearest slicing circle: exact "
+    "polygons, no grouping rules",
+    [] { return std::unique_ptr<ConeReconstructor>(std::make_unique<NearestCircleReconstructor>()); }};
+}  // namespace rules
 
 }  // namespace pleat
