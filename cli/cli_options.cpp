@@ -153,14 +153,6 @@ std::string SceneOptions::describe() const {
 
 namespace {
 
-/// A table's names (static_core/cone_rules.hpp), for CLI11's IsMember.
-template <class Rule>
-std::vector<std::string> rule_names(std::span<const Rule* const> table) {
-  std::vector<std::string> names;
-  for (const Rule* rule : table) names.emplace_back(rule->name);
-  return names;
-}
-
 /// "a (what a does), b (what b does) or c (...)".
 template <class Rule>
 std::string rules_help(std::span<const Rule* const> table) {
@@ -214,16 +206,15 @@ void PlanOptions::add_to(CLI::App& command) {
                       "with --adaptive: stop when at most this fraction of vertices lacks a cone")
           ->check(CLI::Range(0.0, 1.0)));
   placement.push_back(command
-                          .add_option("--cone-storage", storage,
-                                      "how 2D cones reach mesh vertices: " + rules_help(cone_storage_rules()))
-                          ->check(CLI::IsMember(rule_names(cone_storage_rules())))
-                          ->capture_default_str());
+                          .add_option_function<std::string>(
+                              "--cone-storage", checked(storage),
+                              "how 2D cones reach mesh vertices: " + rules_help(cone_storage_rules()))
+                          ->default_str(storage));
   placement.push_back(command
-                          .add_option("--cone-reconstruction", reconstruction,
-                                      "how a vertex's 2D cones become its 3D cone: " +
-                                          rules_help(cone_reconstruction_rules()))
-                          ->check(CLI::IsMember(rule_names(cone_reconstruction_rules())))
-                          ->capture_default_str());
+                          .add_option_function<std::string>("--cone-reconstruction", checked(reconstruction),
+                                                            "how a vertex's 2D cones become its 3D cone: " +
+                                                                rules_help(cone_reconstruction_rules()))
+                          ->default_str(reconstruction));
   placement.push_back(command.add_flag(
       "--paper", paper,
       "the paper's method: its 6 axis-aligned orientations and nearer-endpoint storage (overrides "
