@@ -82,7 +82,8 @@ SlicingPlan plan_from_bytes(std::string_view bytes) {
   SlicingPlan plan;
   plan.storage = ConeStorage(reader.get<std::uint64_t>());
   plan.reconstruction = ConeReconstruction(reader.get<std::uint64_t>());
-  cone_storage_rule(plan.storage), cone_reconstruction_rule(plan.reconstruction);  // rows that exist
+  static_cast<void>(cone_storage_rule(plan.storage));  // ids of rows that exist, or std::invalid_argument
+  static_cast<void>(cone_reconstruction_rule(plan.reconstruction));
   plan.spacing = reader.get<double>();
   plan.orientations = reader.get_array<glm::dvec3>();
   plan.planes = reader.get_array<SlicingPlane>();
