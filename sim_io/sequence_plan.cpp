@@ -152,7 +152,8 @@ void PlanOptions::check_spacing_cuts(const SlicingPlan& plan, const MeshTopology
 std::string PlanOptions::describe() const {
   if (!plan_file.empty()) return "plan " + plan_file;
   const int count = paper ? 6 : orientations;
-  std::string stored = std::string(", ") + (paper ? "nearer-endpoint" : storage) + " storage";
+  std::string stored =
+      std::string(", ") + (paper ? cone_storage_name(ConeStorage::NearerEndpoint) : storage) + " storage";
   if (reconstruction != PlanOptions{}.reconstruction) stored += ", " + reconstruction + " reconstruction";
   if (adaptive)
     return std::to_string(count) + " orientations, adaptive (max missing " + std::to_string(max_missing) +
