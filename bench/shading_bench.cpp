@@ -110,7 +110,7 @@ std::vector<std::pair<std::string, Lighting>> light_setups() {
   EnvironmentLight light;
   light.map = synthetic_environment();
   light.file = "synthetic";
-  env.environments.push_back(std::move(light));
+  env.lights.push_back(std::move(light));
   out.emplace_back("env", std::move(env));
   return out;
 }

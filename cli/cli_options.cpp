@@ -4,8 +4,10 @@
 #include <stdexcept>
 
 #include "cli/global_options.hpp"
+#include "shading/lights.hpp"
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/plan_file.hpp"
+#include "static_core/cone_rules.hpp"
 
 namespace pleat::cli {
 
@@ -89,15 +91,12 @@ void add_light_option(CLI::App& command, std::vector<std::string>& specs, const 
   command
       .add_option(
           "--light", specs,
-          "a light (repeatable): sky:L | cloudy:L,up=X,Y,Z | dir:DX,DY,DZ,E=e (D: direction of travel) | "
-          "point:X,Y,Z,I=i | area:X,Y,Z;X,Y,Z;X,Y,Z[;...],L=l[,sided=1] (planar convex) | "
-          "env:FILE.hdr|.png[,scale=s,up=X,Y,Z,rotate=DEG,maxres=W]; any but env take rgb=R,G,B. " +
-              default_text)
+          "a light (repeatable): " + light_spec_syntax() + "; any but env take rgb=R,G,B. " + default_text)
       ->allow_extra_args(
           false);  // one spec per --light: `--light sky:1 cloth.obj` keeps cloth.obj positional
 }
 
-void SceneOptions::add_to(CLI::App& command) {
+void SceneOptions::add_to(CLI::App& command, std::function<void()> check) {
   command
       .add_option(
           "--occluder", occluders,
@@ -109,11 +108,17 @@ void SceneOptions::add_to(CLI::App& command) {
       "--ground", ground,
       "an infinite ground plane AXIS=VALUE, e.g. y=0 (the bundled data is Y-up) or z=0 (Blender): a floor, "
       "solid below the plane (-AXIS=VALUE: solid above it); cloth below a floor counts as resting on it");
-  command.add_option("--contact-tolerance", contact_tolerance,
-                     "how far behind an open occluder's surface (a plane mesh) cloth still counts as resting "
-                     "on it, in scene units; cloth inside a closed occluder or below --ground always does, "
-                     "and vertices deeper than this are reported (default: 1/2 of the cloth's mean edge "
-                     "length in the first frame)");
+  command.add_option_function<double>(
+      "--contact-tolerance",
+      [this, check](double value) {
+        contact_tolerance = value;
+        if (check) check();
+      },
+      "how far behind an open occluder's surface (a plane mesh) cloth still counts as resting on it, in "
+      "scene "
+      "units; cloth inside a closed occluder or below --ground always does, and vertices deeper than this "
+      "are "
+      "reported (default: 1/2 of the cloth's mean edge length in the first frame)");
 }
 
 Scene SceneOptions::make(const MeshSequence& cloth) const {
@@ -145,6 +150,22 @@ std::string SceneOptions::describe() const {
   if (contact_tolerance) text += "; contact " + std::to_string(*contact_tolerance);
   return text;
 }
+
+namespace {
+
+/// "a (what a does), b (what b does) or c (...)".
+template <class Rule>
+std::string rules_help(std::span<const Rule* const> table) {
+  std::string text;
+  for (std::size_t i = 0; i < table.size(); ++i)
+    text += (i == 0                  ? ""
+             : i + 1 == table.size() ? " or "
+                                     : ", ") +
+            std::string(table[i]->name) + " (" + std::string(table[i]->summary) + ")";
+  return text;
+}
+
+}  // namespace
 
 void PlanOptions::add_to(CLI::App& command) {
   std::vector<CLI::Option*> placement;  // what --plan replaces
@@ -184,18 +205,16 @@ void PlanOptions::add_to(CLI::App& command) {
           .add_option("--max-missing", max_missing,
                       "with --adaptive: stop when at most this fraction of vertices lacks a cone")
           ->check(CLI::Range(0.0, 1.0)));
-  placement.push_back(
-      command
-          .add_option(
-              "--cone-storage", storage,
-              "how 2D cones reach mesh vertices: aimed-on-fan (per orientation, the cuts of a vertex's own "
-              "edges nearest below and above it, their horizon points blended at its height and aimed at "
-              "from "
-              "the vertex), interpolated-on-fan (the same cuts, their wedge angles blended), nearest-on-fan "
-              "(the nearest cut of its own edges per orientation) or nearer-endpoint (the paper's: every "
-              "plane's cut on edges the vertex is nearer to)")
-          ->check(CLI::IsMember({"aimed-on-fan", "interpolated-on-fan", "nearest-on-fan", "nearer-endpoint"}))
-          ->capture_default_str());
+  placement.push_back(command
+                          .add_option_function<std::string>(
+                              "--cone-storage", checked(storage),
+                              "how 2D cones reach mesh vertices: " + rules_help(cone_storage_rules()))
+                          ->default_str(storage));
+  placement.push_back(command
+                          .add_option_function<std::string>("--cone-reconstruction", checked(reconstruction),
+                                                            "how a vertex's 2D cones become its 3D cone: " +
+                                                                rules_help(cone_reconstruction_rules()))
+                          ->default_str(reconstruction));
   placement.push_back(command.add_flag(
       "--paper", paper,
       "the paper's method: its 6 axis-aligned orientations and nearer-endpoint storage (overrides "
@@ -205,8 +224,9 @@ void PlanOptions::add_to(CLI::App& command) {
       "cut with the plan in FILE (written by --save-plan) instead of making one: the same planes for every "
       "farm task, machine and edit of the cache");
   for (CLI::Option* o : placement) pinned->excludes(o);
-  command.add_option("--save-plan", save_plan,
-                     "also write the slicing plan to FILE (JSON: orientations, spacing or planes, storage)");
+  command.add_option(
+      "--save-plan", save_plan,
+      "also write the slicing plan to FILE (JSON: orientations, spacing or planes, the rules)");
 }
 
 std::vector<InputFile> PlanOptions::files() const {

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -70,7 +71,8 @@ struct SceneOptions {
   std::vector<std::string> occluders;
   std::string ground;
   std::optional<double> contact_tolerance;  ///< --contact-tolerance (default: Scene's)
-  void add_to(CLI::App& command);
+  /// Declares the options; `check`, when given, runs as --contact-tolerance is parsed.
+  void add_to(CLI::App& command, std::function<void()> check = {});
   /// Reads the occluders (InputError naming the file on bad input).
   Scene make(const MeshSequence& cloth) const;
   /// What the options say, for the checkpoint's job key: "" with no occluder.

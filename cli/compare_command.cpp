@@ -147,8 +147,7 @@ Lighting lighting_of(const CompareOptions& options) {
   for (const auto& more : {options.scene.files(), options.plan.files()})
     inputs.insert(inputs.end(), more.begin(), more.end());
   if (!options.lights_file.empty()) inputs.push_back({"--lights", options.lights_file});
-  for (const EnvironmentLight& light : lighting.environments)
-    inputs.push_back({"--light env:", light.file.string()});
+  for (const auto& [option, file] : lighting.files()) inputs.push_back({option, file.string()});
   check_outputs({{"-o", options.output}, options.plan.output()}, {}, inputs);
   if (lighting.empty()) throw std::invalid_argument("give at least one --light (or --lights FILE)");
   if (options.output != kStandardOutput && std::filesystem::path(options.output).extension() != ".png")

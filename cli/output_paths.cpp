@@ -3,13 +3,11 @@
 #include <fnmatch.h>
 #include <sys/stat.h>
 
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "cli/global_options.hpp"
 #include "sim_io/atomic_file.hpp"
-#include "sim_io/obj_sequence.hpp"
+#include "sim_io/input_formats.hpp"
 
 namespace pleat::cli {
 
@@ -43,38 +41,6 @@ FileIdentity identify(const fs::path& path) {
 bool same_file(const FileIdentity& a, const FileIdentity& b) {
   if (a.exists && b.exists) return a.device == b.device && a.inode == b.inode;
   return !a.exists && !b.exists && a.path == b.path;
-}
-
-// "%20" and the like of a URI.
-std::string percent_decoded(const std::string& uri) {
-  std::string text;
-  for (std::size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
-        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
-      text += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
-      i += 2;
-    } else {
-      text += uri[i];
-    }
-  }
-  return text;
-}
-
-// The external files (buffers, images) a .gltf names, beside it.
-void add_gltf_references(const fs::path& gltf, std::vector<fs::path>& files) {
-  std::ifstream in(gltf);
-  const nlohmann::json document = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-  if (!document.is_object()) return;
-  for (const char* kind : {"buffers", "images"}) {
-    const auto list = document.find(kind);
-    if (list == document.end() || !list->is_array()) continue;
-    for (const nlohmann::json& item : *list) {
-      if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
-      const std::string uri = item["uri"].get<std::string>();
-      if (uri.rfind("data:", 0) == 0 || uri.find("://") != std::string::npos) continue;
-      files.push_back(gltf.parent_path() / percent_decoded(uri));
-    }
-  }
 }
 
 // Refuses `output` (option `option`) when it is one of `inputs`.
@@ -120,21 +86,7 @@ void create_parent_directory(const fs::path& output) {
   if (target.has_parent_path()) fs::create_directories(target.parent_path());
 }
 
-std::vector<fs::path> files_read_for(const fs::path& path) {
-  std::vector<fs::path> files;
-  try {
-    std::error_code ec;
-    if (is_frame_pattern(path.string()))
-      files = expand_frame_pattern(path.string());
-    else if (fs::is_directory(path, ec))
-      files = list_obj_directory(path);
-  } catch (const std::exception&) {
-    files.clear();
-  }
-  if (files.empty()) files.push_back(path);
-  if (path.extension() == ".gltf") add_gltf_references(path, files);
-  return files;
-}
+std::vector<fs::path> files_read_for(const fs::path& path) { return files_read_by(path); }
 
 void check_outputs(const std::vector<OutputFile>& files, const std::vector<OutputDirectory>& directories,
                    const std::vector<InputFile>& inputs) {

@@ -30,6 +30,7 @@
 #include "cli/contact_warning.hpp"
 #include "cli/global_options.hpp"
 #include "cli/input_warnings.hpp"
+#include "cli/job.hpp"
 #include "cli/job_error.hpp"
 #include "cli/memory_limit.hpp"
 #include "cli/run_chunks.hpp"
@@ -45,6 +46,7 @@
 #include "sim_io/gltf_writer.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/up_axis.hpp"
+#include "static_core/plan_codec.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
 #include "support/byte_stream.hpp"
@@ -55,7 +57,7 @@ namespace pleat::cli {
 namespace {
 
 struct ShadeOptions {
-  InputOptions in;
+  JobOptions job;  // the input, frames, scene, plan and chunking
   std::string output;
   std::string glb_layout = "sides";
   std::vector<std::string> light_specs;
@@ -65,7 +67,6 @@ struct ShadeOptions {
   double albedo = 0.6;
   double exposure = 1.0;
   bool no_interreflection = false;
-  std::string frames;  // "A:B"
   std::string render_dir;
   int width = 800;
   int height = 600;
@@ -75,9 +76,6 @@ struct ShadeOptions {
   int render_every = 1;
   int turntable = 0;
   bool hide_occluders = false;
-  PlanOptions plan;
-  SceneOptions scene;
-  ChunkOptions chunking;
 };
 
 /// OUT.glb -> OUT_NAME.glb
@@ -141,19 +139,18 @@ void check_shade_outputs(const ShadeOptions& options, const std::vector<Lighting
   else
     for (const Lighting& setup : setups)
       files.push_back({"-o", relight ? setup_output(options.output, setup.name).string() : options.output});
-  files.push_back(options.plan.output());
-  std::vector<InputFile> inputs = options.in.files();
-  for (const auto& more : {options.scene.files(), options.plan.files()})
+  files.push_back(options.job.plan.output());
+  std::vector<InputFile> inputs = options.job.in.files();
+  for (const auto& more : {options.job.scene.files(), options.job.plan.files()})
     inputs.insert(inputs.end(), more.begin(), more.end());
   for (const auto& [option, path] : {std::pair{"--cones", &options.cones},
                                      {"--lights", &options.lights_file},
                                      {"--relight", &options.relight_file}})
     if (!path->empty()) inputs.push_back({option, *path});
   for (const Lighting& setup : setups)
-    for (const EnvironmentLight& light : setup.environments)
-      inputs.push_back({"--light env:", light.file.string()});
+    for (const auto& [option, file] : setup.files()) inputs.push_back({option, file.string()});
   std::vector<OutputDirectory> directories = {
-      {"--checkpoint", options.chunking.checkpoint, {"chunk_*.pleatchunk"}}};
+      {"--checkpoint", options.job.chunking.checkpoint, {"chunk_*.pleatchunk"}}};
   if (!options.render_dir.empty())
     for (const Lighting& setup : setups)
       directories.push_back({"--render",
@@ -264,7 +261,7 @@ const FrameVisibility& computed_cones(const ShadeJob& job, StaticVisibility& eng
   job.work->frame.store(std::int64_t(f));
   try {
     const FrameVisibility& visibility = compute_frame(
-        [&]() -> const FrameVisibility& { return engine.compute(world_frame); }, job.options.in, f);
+        [&]() -> const FrameVisibility& { return engine.compute(world_frame); }, job.options.job.in, f);
     job.work->frame.store(-1);
     return visibility;
   } catch (const std::bad_alloc&) {
@@ -389,7 +386,7 @@ std::uint64_t shade_key(const ShadeOptions& options, const SlicingPlan& plan,
   key.add("shade, contact counted")
       .add_value(plan_fingerprint(plan))
       .add(options.cones)
-      .add(options.scene.describe());
+      .add(options.job.scene.describe());
   if (!options.cones.empty()) {  // a rewritten cone cache: its size and time of last write change
     key.add_value(std::uint64_t(std::filesystem::file_size(options.cones)));
     key.add_value(std::filesystem::last_write_time(options.cones).time_since_epoch().count());
@@ -412,15 +409,6 @@ std::uint64_t shade_key(const ShadeOptions& options, const SlicingPlan& plan,
   return key.value();
 }
 
-/// Before any work, under a known memory limit: refuses a first frame that cannot fit (memory_limit.hpp).
-void check_memory(const ShadeOptions& options, const Scene& world, const MeshSequence& sequence,
-                  const SlicingPlan& plan, std::size_t first) {
-  const Frame frame = sequence.frame(first);
-  const Frame sliced = world.num_occluders() ? world.with_occluders(first, frame) : frame;
-  compute_frame([&] { check_memory_before_start(world.topology(), sliced, plan, first, run_threads()); },
-                options.in, first);
-}
-
 /// Every glb written out and closed (a full disk fails here, replacing nothing), then the glbs and the staged
 /// images put in place together.
 void commit_together(std::vector<std::unique_ptr<ShadedGlbWriter>>& writers,
@@ -431,76 +419,85 @@ void commit_together(std::vector<std::unique_ptr<ShadedGlbWriter>>& writers,
   for (auto& staged : renders) staged->commit();
 }
 
+/// What `pleat shade` prepares besides the job (JobSteps::before_plan, collective): the input's up, the cone
+/// cache when the cones are read, and where and from where --render draws.
+struct ShadePreparation {
+  UpChoice up;
+  std::optional<ConeCacheReader> cache;
+  std::vector<std::size_t> cached;  ///< per selected frame: its frame in the cache
+  std::optional<RenderTargets> render;
+
+  /// Returns whether cones are computed (no cone cache).
+  bool prepare(const ShadeOptions& options, const std::vector<Lighting>& setups, const MeshSequence& sequence,
+               std::size_t first, std::size_t last) {
+    // The input's up: the camera's, and the turn that stands the glb up in glTF's Y-up space.
+    together([&] { up = choose_up(options.up, options.job.scene.ground, sequence); });
+    if (!up.warning.empty() && World::root()) std::cerr << "pleat: warning: " << up.warning << '\n';
+    // The cones from a cone cache (checked against the mesh and every selected frame before anything is
+    // written; each rank opens it and reads its own frames), or computed with the job's plan.
+    together([&] {
+      if (options.cones.empty()) return;
+      cache.emplace(options.cones);
+      cache->check_mesh(sequence.topology(), sequence.welded_of_input());
+      for (std::size_t i = first; i < last; ++i) cached.push_back(cache->index_of_frame(i));
+    });
+    if (!options.render_dir.empty())
+      together([&] {
+        render.emplace(render_targets(options, setups, !options.relight_file.empty(), sequence, up.up));
+      });
+    return !cache;
+  }
+};
+
+/// Rank 0's outputs: one glb per setup (streamed frame by frame) and the staged images of each.
+struct ShadeOutputs {
+  std::vector<std::filesystem::path> paths;
+  std::vector<std::unique_ptr<ShadedGlbWriter>> writers;
+  std::vector<std::unique_ptr<StagedFiles>> renders;  // staged until every output is complete
+
+  /// Collective: the frames' bounds measured by every rank, the writers opened on rank 0.
+  void open(const ShadeOptions& options, const std::vector<Lighting>& setups, const PreparedJob& job,
+            const ShadePreparation& prepared) {
+    const MeshSequence& sequence = job.sequence();
+    const std::vector<PositionBounds> frame_bounds = selected_frame_bounds(sequence, job.first, job.last);
+    std::vector<std::size_t> frame_ids;
+    for (std::size_t i = job.first; i < job.last; ++i) frame_ids.push_back(i);
+    const std::filesystem::path output(options.output);
+    const bool relight = !options.relight_file.empty();
+    const double fps = sequence.frame_rate() > 0.0 ? sequence.frame_rate() : kDefaultSceneFps;
+    for (const Lighting& setup : setups) paths.push_back(relight ? setup_output(output, setup.name) : output);
+    together([&] {
+      if (!World::root()) return;
+      create_parent_directory(output);
+      for (const auto& path : paths)
+        writers.push_back(std::make_unique<ShadedGlbWriter>(
+            path, sequence, frame_ids, fps,
+            /*with_visibility=*/true, frame_bounds,
+            options.glb_layout == "input" ? GlbLayout::Input : GlbLayout::Sides, prepared.up.turn));
+    });
+    together([&] {
+      if (World::root() && prepared.render)
+        for (const std::filesystem::path& directory : prepared.render->directories)
+          renders.push_back(std::make_unique<StagedFiles>(directory));
+    });
+  }
+};
+
 void run_shade(const ShadeOptions& options) {
   std::vector<Lighting> setups;
   together([&] { setups = gather_lightings(options); });
-  const bool relight = !options.relight_file.empty();
-  together([&] {
-    if (World::root()) check_shade_outputs(options, setups, relight);
-  });
-  const SharedSequence input = load_shared(options.in.input, options.in.cache);
-  const MeshSequence& sequence = input.sequence;
-  const MeshTopology& topology = sequence.topology();
-  std::size_t first = 0, last = 0;
-  together([&] { parse_frame_range(options.frames, sequence.num_frames(), first, last); });
-  // The cloth in its scene: the engine slices the occluders with it (every rank reads them).
-  std::optional<Scene> world_holder;
-  together([&] { world_holder.emplace(options.scene.make(sequence)); });
-  std::vector<std::size_t> frame_ids;
-  for (std::size_t i = first; i < last; ++i) frame_ids.push_back(i);
-  // The input's up: the camera's, and the turn that stands the glb up in glTF's Y-up space.
-  UpChoice up;
-  together([&] { up = choose_up(options.up, options.scene.ground, sequence); });
-  if (!up.warning.empty() && World::root()) std::cerr << "pleat: warning: " << up.warning << '\n';
-
-  // The cones: from a cone cache (checked against the mesh and every selected frame before anything is
-  // written; each rank opens it and reads its own frames), or computed per frame with a plan made by rank 0
-  // for the whole sequence (cli_options.hpp: never from the selected frames).
-  std::optional<ConeCacheReader> cache;
-  std::vector<std::size_t> cached;
-  SlicingPlan plan;
-  together([&] {
-    if (!options.cones.empty()) {
-      cache.emplace(options.cones);
-      cache->check_mesh(topology, sequence.welded_of_input());
-      for (std::size_t i : frame_ids) cached.push_back(cache->index_of_frame(i));
-    } else if (World::root()) {
-      plan = options.plan.make(sequence);
-      check_memory(options, *world_holder, sequence, plan, first);
-    }
-    if (World::root()) warn_about_cloth(sequence, first);
-  });
-  if (!cache) broadcast_plan(plan);
-  std::optional<RenderTargets> render;
-  if (!options.render_dir.empty())
-    together([&] { render.emplace(render_targets(options, setups, relight, sequence, up.up)); });
-  const ChunkJob chunks =
-      plan_chunks(input, first, last, options.chunking.chunks, cache ? nullptr : &plan,
-                  options.chunking.checkpoint, shade_key(options, plan, setups, render ? &*render : nullptr));
-  const std::vector<PositionBounds> frame_bounds = selected_frame_bounds(sequence, first, last);
-
-  // Outputs: one glb per setup (streamed frame by frame, on rank 0), and optionally images (written by the
-  // rank that shades the frame).
-  const std::filesystem::path output(options.output);
-  std::vector<std::filesystem::path> outputs;
-  std::vector<std::unique_ptr<ShadedGlbWriter>> writers;
-  const double fps = sequence.frame_rate() > 0.0 ? sequence.frame_rate() : kDefaultSceneFps;
-  for (const Lighting& setup : setups) outputs.push_back(relight ? setup_output(output, setup.name) : output);
-  together([&] {
-    if (!World::root()) return;
-    create_parent_directory(output);
-    for (const auto& path : outputs)
-      writers.push_back(std::make_unique<ShadedGlbWriter>(
-          path, sequence, frame_ids, fps,
-          /*with_visibility=*/true, frame_bounds,
-          options.glb_layout == "input" ? GlbLayout::Input : GlbLayout::Sides, up.turn));
-  });
-  std::vector<std::unique_ptr<StagedFiles>> renders;  // staged until every output is complete
-  together([&] {
-    if (World::root() && render)
-      for (const std::filesystem::path& directory : render->directories)
-        renders.push_back(std::make_unique<StagedFiles>(directory));
-  });
+  ShadePreparation prepared;
+  JobSteps steps;
+  steps.check_outputs = [&] { check_shade_outputs(options, setups, !options.relight_file.empty()); };
+  steps.before_plan = [&](const MeshSequence& sequence, std::size_t first, std::size_t last) {
+    return prepared.prepare(options, setups, sequence, first, last);
+  };
+  steps.key = [&](const SlicingPlan& plan) {
+    return shade_key(options, plan, setups, prepared.render ? &*prepared.render : nullptr);
+  };
+  const std::unique_ptr<PreparedJob> job = prepare(options.job, steps);
+  ShadeOutputs outputs;
+  outputs.open(options, setups, *job, prepared);
 
   ShadeParams shade;
   shade.albedo = options.albedo;
@@ -509,23 +506,34 @@ void run_shade(const ShadeOptions& options) {
   ToneMapParams tone;
   tone.exposure = options.exposure;
   FrameWork work;
-  work.vertices = topology.num_vertices;
-  const ShadeJob job{options, sequence, *world_holder, setups, plan, cache ? &*cache : nullptr,
-                     cached,  first,    last - first,  shade,  tone, render ? &*render : nullptr,
-                     up,      &work};
+  work.vertices = job->sequence().topology().num_vertices;
+  const ShadeJob shading{options,
+                         job->sequence(),
+                         *job->scene,
+                         setups,
+                         job->plan,
+                         prepared.cache ? &*prepared.cache : nullptr,
+                         prepared.cached,
+                         job->first,
+                         job->last - job->first,
+                         shade,
+                         tone,
+                         prepared.render ? &*prepared.render : nullptr,
+                         prepared.up,
+                         &work};
   double cone_seconds = 0.0, shade_seconds = 0.0;
   ContactWarning contact;
-  run_chunks(
-      chunks, "shade",
-      [&](std::size_t a, std::size_t b, const EmitFrame& emit) { shade_chunk(job, a, b, emit); },
+  run_frames(
+      *job, "shade",
+      [&](std::size_t a, std::size_t b, const EmitFrame& emit) { shade_chunk(shading, a, b, emit); },
       [&](std::size_t f, std::string_view payload) {
-        consume_shaded(f, payload, writers, renders, cone_seconds, shade_seconds, contact);
+        consume_shaded(f, payload, outputs.writers, outputs.renders, cone_seconds, shade_seconds, contact);
       },
       &work);
   if (!World::root()) return;
-  contact.warn(job.world.topology().contact_tolerance, std::cerr);
-  commit_together(writers, renders);
-  report() << shade_summary(job, chunks, outputs, cone_seconds, shade_seconds);
+  contact.warn(shading.world.topology().contact_tolerance, std::cerr);
+  commit_together(outputs.writers, outputs.renders);
+  report() << shade_summary(shading, job->chunks, outputs.paths, cone_seconds, shade_seconds);
 }
 
 }  // namespace
@@ -536,7 +544,7 @@ void register_shade_command(CLI::App& app) {
       "shade",
       "Shade an animated cloth from its visibility cones (both sides, Stewart-Langer inter-reflection) under "
       "any lights, and write an animated .glb with sRGB vertex colours (and PNG renders).");
-  options->in.add_to(*cmd);
+  options->job.add_to(*cmd, /*engine_options=*/false);
   cmd->add_option("-o,--output", options->output,
                   "output .glb (with --relight: OUT_<setup>.glb per setup); - for standard output")
       ->required();
@@ -567,7 +575,6 @@ void register_shade_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--no-interreflection", options->no_interreflection, "direct light only: B = rho E / pi");
-  add_frames_option(*cmd, options->frames);
   cmd->add_option("--render", options->render_dir,
                   "also write PNG images of the shaded frames into DIR (with --relight: DIR/<setup>/), as "
                   "frame_NNNN.png, NNNN the source frame number (PC2 scene frame, OBJ-sequence file number)");
@@ -600,9 +607,7 @@ void register_shade_command(CLI::App& app) {
   cmd->add_option("--turntable", options->turntable,
                   "with a single frame: N images turning about the up axis")
       ->check(CLI::NonNegativeNumber);
-  options->plan.add_to(*cmd);
-  options->scene.add_to(*cmd);
-  options->chunking.add_to(*cmd);
+  options->job.chunking.add_to(*cmd);
   cmd->footer(
       "Examples:\n"
       "  pleat shade curtain.obj --cache curtain.pc2 -o curtain.glb --light cloudy:1,up=0,1,0 --render "

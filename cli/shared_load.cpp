@@ -10,7 +10,7 @@
 #include "cli/job_error.hpp"
 #include "cli/world.hpp"
 #include "sim_io/load_sequence.hpp"
-#include "support/byte_stream.hpp"
+#include "static_core/plan_codec.hpp"
 #include "support/fingerprint.hpp"
 
 namespace pleat::cli {
@@ -107,32 +107,9 @@ void all_reduce_bounds(std::vector<float>& lo, std::vector<float>& hi) {
 void broadcast_plan(SlicingPlan& plan) {
   if (!World::distributed()) return;
   std::string bytes;
-  if (World::root())
-    bytes = ByteWriter()
-                .put<std::uint64_t>(std::uint64_t(plan.storage))
-                .put<std::uint64_t>(std::uint64_t(plan.reconstruction))
-                .put(plan.spacing)
-                .put_array(plan.orientations)
-                .put_array(plan.planes)
-                .take();
+  if (World::root()) bytes = plan_to_bytes(plan);
   World::broadcast(bytes, 0);
-  ByteReader reader(bytes);
-  plan.storage = ConeStorage(reader.get<std::uint64_t>());
-  plan.reconstruction = ConeReconstruction(reader.get<std::uint64_t>());
-  plan.spacing = reader.get<double>();
-  plan.orientations = reader.get_array<glm::dvec3>();
-  plan.planes = reader.get_array<SlicingPlane>();
-}
-
-std::uint64_t plan_fingerprint(const SlicingPlan& plan) {
-  Fingerprint f;
-  f.add_value(int(plan.storage)).add_value(plan.spacing);
-  // (Added only when not the default, so that the checkpoints of grouped plans stay valid.)
-  if (plan.reconstruction != ConeReconstruction::Grouped) f.add_value(int(plan.reconstruction));
-  f.add(plan.orientations.data(), plan.orientations.size() * sizeof(glm::dvec3));
-  for (const SlicingPlane& p : plan.planes)
-    f.add_value(p.normal).add_value(p.offset).add_value(p.u).add_value(p.w).add_value(p.orientation);
-  return f.value();
+  plan = plan_from_bytes(bytes);
 }
 
 }  // namespace pleat::cli

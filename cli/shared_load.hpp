@@ -38,7 +38,7 @@ void all_reduce_bounds(double* lo, double* hi);
 void all_reduce_bounds(std::vector<float>& lo, std::vector<float>& hi);
 
 /// The plan made by rank 0, sent to every rank (all ranks then slice with the same bits).
+/// Its bytes are plan_to_bytes' (static_core/plan_codec.hpp, where its fingerprint is too).
 void broadcast_plan(SlicingPlan& plan);
-std::uint64_t plan_fingerprint(const SlicingPlan& plan);
 
 }  // namespace pleat::cli

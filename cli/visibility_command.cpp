@@ -12,6 +12,7 @@
 #include "cli/contact_warning.hpp"
 #include "cli/global_options.hpp"
 #include "cli/input_warnings.hpp"
+#include "cli/job.hpp"
 #include "cli/job_error.hpp"
 #include "cli/memory_limit.hpp"
 #include "cli/run_chunks.hpp"
@@ -24,6 +25,7 @@
 #include "sim_io/mesh_report.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/visibility_csv.hpp"
+#include "static_core/plan_codec.hpp"
 #include "static_core/visibility.hpp"
 #include "support/byte_stream.hpp"
 #include "support/fingerprint.hpp"
@@ -32,19 +34,12 @@ namespace pleat::cli {
 namespace {
 
 struct VisibilityOptions {
-  InputOptions in;
+  JobOptions job;  // the input, frames, scene, plan, engine and chunking
   std::string output;
-  std::string engine = "kinetic";
   std::string cones;  // optional cone cache (.cones)
   std::string cones_encoding = "exact";
-  std::string frames;
   std::string stats;
   std::string timings;
-  ChunkOptions chunking;
-  PlanOptions plan;
-  SceneOptions scene;
-  bool serial = false;
-  kinetic::KineticPolicy policy;
 };
 
 // What --stats records per frame is what the frame and the plan determine, so that it is the same byte for
@@ -96,7 +91,7 @@ struct VisibilityOutputs {
     std::vector<std::uint32_t> frame_ids;
     for (std::size_t f = first; f < last; ++f) frame_ids.push_back(std::uint32_t(f));
     cones.emplace(options.cones, sequence.topology(), sequence.welded_of_input(), sequence.frame_rate(),
-                  options.plan.describe(), std::move(frame_ids), encoding);
+                  options.job.plan.describe(), std::move(frame_ids), encoding);
   }
 
   /// Writes out and closes every output (--stats and --timings too: a full disk fails here, replacing
@@ -125,37 +120,18 @@ struct VisibilityOutputs {
   }
 };
 
-/// "  N chunks over R ranks, K kept from the checkpoint\n" when the job was split, else "".
-std::string chunks_line(const ChunkJob& job) {
-  if (job.bounds.size() <= 2 && !World::distributed()) return "";
-  return "  " + std::to_string(job.bounds.size() - 1) + " chunks over " + std::to_string(World::size()) +
-         " ranks" +
-         (job.kept_chunks ? ", " + std::to_string(job.kept_chunks) + " kept from the checkpoint" : "") + "\n";
-}
-
 /// Refuses, before any work, outputs that cannot be written or that are inputs (check_outputs).
 void check_visibility_outputs(const VisibilityOptions& options) {
-  std::vector<InputFile> inputs = options.in.files();
-  for (const auto& more : {options.scene.files(), options.plan.files()})
+  const JobOptions& job = options.job;
+  std::vector<InputFile> inputs = job.in.files();
+  for (const auto& more : {job.scene.files(), job.plan.files()})
     inputs.insert(inputs.end(), more.begin(), more.end());
   check_outputs({{"-o", options.output},
                  {"--stats", options.stats},
                  {"--timings", options.timings},
                  {"--cones", options.cones, /*stdout_allowed=*/false},  // its frame table is written last
-                 options.plan.output()},
-                {{"--checkpoint", options.chunking.checkpoint, {"chunk_*.pleatchunk"}}}, inputs);
-}
-
-/// Before any work, under a known memory limit: refuses a first frame that cannot fit (memory_limit.hpp).
-void check_memory(const VisibilityOptions& options, const Scene& scene, const MeshSequence& sequence,
-                  const SlicingPlan& plan, std::size_t first) {
-  const Frame frame = sequence.frame(first);
-  const Frame sliced = scene.num_occluders() ? scene.with_occluders(first, frame) : frame;
-  compute_frame(
-      [&] {
-        check_memory_before_start(scene.topology(), sliced, plan, first, options.serial ? 1 : run_threads());
-      },
-      options.in, first);
+                 job.plan.output()},
+                {{"--checkpoint", job.chunking.checkpoint, {"chunk_*.pleatchunk"}}}, inputs);
 }
 
 /// Frame `f` (`frame`, the cloth's positions) in its scene through `engine`: the engine's counters in `work`
@@ -167,13 +143,12 @@ const FrameVisibility& visibility_of(Engine& engine, const Scene& scene, const F
   work.frame.store(std::int64_t(f));
   try {
     const FrameVisibility& vis =
-        compute_frame([&]() -> const FrameVisibility& { return engine.compute(sliced); }, options.in, f);
+        compute_frame([&]() -> const FrameVisibility& { return engine.compute(sliced); }, options.job.in, f);
     work.frame.store(-1);
     return vis;
   } catch (const std::bad_alloc&) {
     work.frame.store(-1);
-    throw out_of_memory_in_frame(scene.topology(), sliced, engine.plan(), f,
-                                 options.serial ? 1 : run_threads());
+    throw out_of_memory_in_frame(scene.topology(), sliced, engine.plan(), f, options.job.threads());
   }
 }
 
@@ -181,9 +156,9 @@ const FrameVisibility& visibility_of(Engine& engine, const Scene& scene, const F
 std::uint64_t job_key(const VisibilityOptions& options, const SlicingPlan& plan, ConeEncoding encoding) {
   Fingerprint key;
   key.add("visibility")
-      .add(options.scene.describe())
-      .add(options.engine)
-      .add(options.plan.describe())
+      .add(options.job.scene.describe())
+      .add(options.job.engine)
+      .add(options.job.plan.describe())
       .add_value(plan_fingerprint(plan))
       .add(options.cones.empty() ? "no cones" : cone_encoding_name(encoding));  // a chunk holds its cones
   return key.value();
@@ -204,132 +179,140 @@ nlohmann::json timing_json(std::size_t f, double seconds, const nlohmann::json* 
   return timing;
 }
 
-/// Rank 0's look at the first requested frame: warnings about the cloth (warn_about_cloth; later frames are
-/// not checked, `pleat info` checks them all), and the number of planes that cut it (reported).
-std::size_t look_at_first_frame(const MeshSequence& sequence, const SlicingPlan& plan, std::size_t first) {
-  warn_about_cloth(sequence, first);
+/// The number of planes that cut frame `first` (reported).
+std::size_t planes_in_frame(const MeshSequence& sequence, const SlicingPlan& plan, std::size_t first) {
   std::vector<SlicingPlane> planes;
   planes_for_frame(plan, cloth_vertices(sequence.topology()), sequence.frame(first), planes);
   return planes.size();
 }
 
-void run(const VisibilityOptions& options) {
-  together([&] {
-    if (World::root()) check_visibility_outputs(options);
-  });
-  const bool with_cones = !options.cones.empty();
-  const ConeEncoding encoding =
-      options.cones_encoding == "compact" ? ConeEncoding::Compact : ConeEncoding::Exact;
-  const SharedSequence input = load_shared(options.in.input, options.in.cache);
-  const double loaded_at = World::seconds();  // this rank's start-up, for --timings
-  const MeshSequence& sequence = input.sequence;
-  std::size_t first = 0, last = 0;
-  together([&] { parse_frame_range(options.frames, sequence.num_frames(), first, last); });
-  const MeshTopology& topology = sequence.topology();
-  // The cloth in its scene: the engines slice the occluders with it (every rank reads them).
-  std::optional<Scene> scene_holder;
-  together([&] { scene_holder.emplace(options.scene.make(sequence)); });
-  const Scene& scene = *scene_holder;
-  // The plan is made for the whole sequence (never from the requested frames), on rank 0, and sent to the
-  // others.
-  SlicingPlan plan;
-  std::size_t first_planes = 0;  // the planes of the first requested frame (reported; rank 0's)
-  together([&] {
-    if (!World::root()) return;
-    plan = options.plan.make(sequence);
-    first_planes = look_at_first_frame(sequence, plan, first);
-    check_memory(options, scene, sequence, plan, first);
-  });
-  broadcast_plan(plan);
-  const double planned_at = World::seconds();
+/// One run of `pleat visibility` over a prepared job: compute() on every rank, consume() and finish() on rank
+/// 0 (the outputs, streamed in frame order and renamed into place at the end).
+class VisibilityRun {
+ public:
+  VisibilityRun(const VisibilityOptions& options, const PreparedJob& job, ConeEncoding encoding,
+                std::size_t first_planes)
+      : m_options(options), m_job(job), m_encoding(encoding), m_first_planes(first_planes) {
+    const MeshTopology& topology = job.sequence().topology();
+    m_stats = {{"input", options.job.in.input},       {"engine", options.job.engine},
+               {"plan", options.job.plan.describe()}, {"planes", first_planes},
+               {"vertices", topology.num_vertices},   {"faces", topology.triangles.size()},
+               {"frames", nlohmann::json::array()}};
+    m_timings = {{"ranks", World::size()},
+                 {"chunks", job.chunks.bounds.size() - 1},
+                 {"chunks_from_checkpoint", job.chunks.kept_chunks},
+                 {"frames", nlohmann::json::array()}};
+    m_startup = {
+        {"loaded_at", job.loaded_at}, {"planned_at", job.planned_at}, {"chunked_at", job.chunked_at}};
+    m_work.vertices = topology.num_vertices;
+    together([&] {
+      if (World::root()) m_outputs.open(options, job.sequence(), job.first, job.last, encoding);
+    });
+  }
 
-  const ChunkJob job = plan_chunks(input, first, last, options.chunking.chunks, &plan,
-                                   options.chunking.checkpoint, job_key(options, plan, encoding));
-  const nlohmann::json startup = {
-      {"loaded_at", loaded_at}, {"planned_at", planned_at}, {"chunked_at", World::seconds()}};
+  const FrameWork& work() const { return m_work; }
 
-  // Outputs, on rank 0 only: streamed in frame order, renamed into place at the end.
-  VisibilityOutputs outputs;
-  std::optional<VisibilityCsvWriter>& csv = outputs.csv;
-  std::optional<ConeCacheWriter>& cones = outputs.cones;
-  nlohmann::json stats = {{"input", options.in.input},         {"engine", options.engine},
-                          {"plan", options.plan.describe()},   {"planes", first_planes},
-                          {"vertices", topology.num_vertices}, {"faces", topology.triangles.size()},
-                          {"frames", nlohmann::json::array()}};
-  nlohmann::json timings = {{"ranks", World::size()},
-                            {"chunks", job.bounds.size() - 1},
-                            {"chunks_from_checkpoint", job.kept_chunks},
-                            {"frames", nlohmann::json::array()}};
-  together([&] {
-    if (World::root()) outputs.open(options, sequence, first, last, encoding);
-  });
-
-  FrameWork work;  // progress within long frames
-  work.vertices = topology.num_vertices;
-  // One chunk: a fresh engine (the kinetic one starts with a static build), every frame's result as bytes.
-  const auto compute = [&](std::size_t chunk_first, std::size_t chunk_last, const EmitFrame& emit) {
-    Engine engine(
-        scene.topology(), plan,
-        {engine_kind_from_name(options.engine), !options.serial, options.policy, {}, &work.counters});
-    std::vector<double> front(topology.num_vertices), back(topology.num_vertices);
+  /// One chunk: a fresh engine (the kinetic one starts with a static build), every frame's result as bytes.
+  void compute(std::size_t chunk_first, std::size_t chunk_last, const EmitFrame& emit) {
+    const MeshSequence& sequence = m_job.sequence();
+    const Scene& scene = *m_job.scene;
+    const Index n = sequence.topology().num_vertices;
+    Engine engine(scene.topology(), m_job.plan,
+                  {engine_kind_from_name(m_options.job.engine),
+                   !m_options.job.serial,
+                   m_options.job.policy,
+                   {},
+                   &m_work.counters});
+    std::vector<double> front(n), back(n);
     for (std::size_t f = chunk_first; f < chunk_last; ++f) {
       const Frame frame = sequence.frame(f);  // the cloth's (the cone cache's fingerprint is of it)
       const auto start = std::chrono::steady_clock::now();
-      const FrameVisibility& vis = visibility_of(engine, scene, frame, f, options, work);
+      const FrameVisibility& vis = visibility_of(engine, scene, frame, f, m_options, m_work);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      for (Index v = 0; v < topology.num_vertices; ++v) {
+      for (Index v = 0; v < n; ++v) {
         front[v] = vis.measure(Side::Front, v).sky_visibility;
         back[v] = vis.measure(Side::Back, v).sky_visibility;
       }
-      const nlohmann::json timing = f == chunk_first ? timing_json(f, seconds, &startup, nullptr)
+      const nlohmann::json timing = f == chunk_first ? timing_json(f, seconds, &m_startup, nullptr)
                                                      : timing_json(f, seconds, nullptr, &engine);
       ByteWriter bytes;
       bytes.put_array(front).put_array(back);
       bytes.put<std::uint64_t>(vis.stats.crossing_slices);
       bytes.put_string(stats_json(f, vis.stats, sequence).dump()).put_string(timing.dump());
       // The frame's block of the cone cache, written by rank 0 in frame order like the CSV.
-      if (with_cones) bytes.put_string(encode_cone_frame(frame, vis, encoding));
+      if (!m_options.cones.empty()) bytes.put_string(encode_cone_frame(frame, vis, m_encoding));
       emit(f, bytes.take());
     }
-  };
-  std::size_t crossing_frames = 0;
-  ContactWarning contact;
-  double write_seconds = 0.0;  // rank 0's time to write the gathered frames (a serial part of the job)
-  std::size_t gathered_bytes = 0;
-  const auto consume = [&](std::size_t f, std::string_view payload) {
+  }
+
+  /// Rank 0: frame f's bytes into the outputs.
+  void consume(std::size_t f, std::string_view payload) {
     const auto start = std::chrono::steady_clock::now();
-    gathered_bytes += payload.size();
+    m_gathered_bytes += payload.size();
     ByteReader bytes(payload);
     const auto front = bytes.get_array<double>();
     const auto back = bytes.get_array<double>();
-    crossing_frames += bytes.get<std::uint64_t>() > 0;
-    csv->add_frame(f, sequence.source_frame(f), front, back);
+    m_crossing_frames += bytes.get<std::uint64_t>() > 0;
+    m_outputs.csv->add_frame(f, m_job.sequence().source_frame(f), front, back);
     const nlohmann::json& frame_stats =
-        stats["frames"].emplace_back(nlohmann::json::parse(bytes.get_string()));
-    contact.add(f, frame_stats["penetrating_vertices"], frame_stats["deepest_penetration"],
-                frame_stats["deepest_vertex"]);
-    timings["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
-    timings["frames"].back()["payload_bytes"] = payload.size();
-    if (with_cones) cones->add_encoded_frame(bytes.get_string());
-    write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
-  run_chunks(job, "visibility", compute, consume, &work);
-  if (!World::root()) return;
-  timings["rank0_write_seconds"] = write_seconds;
-  timings["gathered_bytes"] = gathered_bytes;
+        m_stats["frames"].emplace_back(nlohmann::json::parse(bytes.get_string()));
+    m_contact.add(f, frame_stats["penetrating_vertices"], frame_stats["deepest_penetration"],
+                  frame_stats["deepest_vertex"]);
+    m_timings["frames"].push_back(nlohmann::json::parse(bytes.get_string()));
+    m_timings["frames"].back()["payload_bytes"] = payload.size();
+    if (m_outputs.cones) m_outputs.cones->add_encoded_frame(bytes.get_string());
+    m_write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
 
-  outputs.commit(options, stats, timings);
-  report() << "wrote " << options.output << ": " << (last - first) << " frames x "
-           << sequence.num_input_vertices() << " vertices (" << first_planes
-           << (plan.spacing > 0 ? " planes in the first frame: " : " planes: ") << options.plan.describe()
-           << ")\n"
-           << chunks_line(job);
-  if (cones) report() << "wrote " << options.cones << ": the 3D cones of every frame\n";
-  contact.warn(scene.topology().contact_tolerance, std::cerr);
-  if (crossing_frames > 0)
-    std::cerr << "pleat: warning: chains cross in " << crossing_frames
-              << " frames (the cloth self-intersects there); crossing points were inserted and counted in "
-                 "--stats\n";
+  /// Rank 0: the outputs committed, the report and the warnings.
+  void finish() {
+    m_timings["rank0_write_seconds"] = m_write_seconds;
+    m_timings["gathered_bytes"] = m_gathered_bytes;
+    m_outputs.commit(m_options, m_stats, m_timings);
+    report() << "wrote " << m_options.output << ": " << (m_job.last - m_job.first) << " frames x "
+             << m_job.sequence().num_input_vertices() << " vertices (" << m_first_planes
+             << (m_job.plan.spacing > 0 ? " planes in the first frame: " : " planes: ")
+             << m_options.job.plan.describe() << ")\n"
+             << chunks_line(m_job.chunks);
+    if (m_outputs.cones) report() << "wrote " << m_options.cones << ": the 3D cones of every frame\n";
+    m_contact.warn(m_job.scene->topology().contact_tolerance, std::cerr);
+    if (m_crossing_frames > 0)
+      std::cerr << "pleat: warning: chains cross in " << m_crossing_frames
+                << " frames (the cloth self-intersects there); crossing points were inserted and counted in "
+                   "--stats\n";
+  }
+
+ private:
+  const VisibilityOptions& m_options;
+  const PreparedJob& m_job;
+  ConeEncoding m_encoding;
+  std::size_t m_first_planes;
+  VisibilityOutputs m_outputs;
+  nlohmann::json m_stats, m_timings, m_startup;
+  FrameWork m_work;  // progress within long frames
+  std::size_t m_crossing_frames = 0;
+  ContactWarning m_contact;
+  double m_write_seconds = 0.0;  // rank 0's time to write the gathered frames (a serial part of the job)
+  std::size_t m_gathered_bytes = 0;
+};
+
+void run(const VisibilityOptions& options) {
+  const ConeEncoding encoding =
+      options.cones_encoding == "compact" ? ConeEncoding::Compact : ConeEncoding::Exact;
+  std::size_t first_planes = 0;  // the planes of the first requested frame (reported; rank 0's)
+  JobSteps steps;
+  steps.check_outputs = [&] { check_visibility_outputs(options); };
+  steps.on_plan = [&](const MeshSequence& sequence, const SlicingPlan& plan, std::size_t first) {
+    first_planes = planes_in_frame(sequence, plan, first);
+  };
+  steps.key = [&](const SlicingPlan& plan) { return job_key(options, plan, encoding); };
+  const std::unique_ptr<PreparedJob> job = prepare(options.job, steps);
+  VisibilityRun run(options, *job, encoding, first_planes);
+  run_frames(
+      *job, "visibility",
+      [&](std::size_t a, std::size_t b, const EmitFrame& emit) { run.compute(a, b, emit); },
+      [&](std::size_t f, std::string_view payload) { run.consume(f, payload); }, &run.work());
+  if (World::root()) run.finish();
 }
 
 }  // namespace
@@ -338,15 +321,10 @@ void register_visibility_command(CLI::App& app) {
   auto options = std::make_shared<VisibilityOptions>();
   CLI::App* cmd =
       app.add_subcommand("visibility", "per-vertex sky visibility A (front, back) of every frame, as CSV");
-  options->in.add_to(*cmd);
+  options->job.add_to(*cmd, /*engine_options=*/true);
   cmd->add_option("-o,--output", options->output,
                   "the visibility CSV (frame,vertex,front,back,source_frame); - for standard output")
       ->required();
-  cmd->add_option("--engine", options->engine,
-                  "kinetic (default: slices kept alive and repaired between frames) or static (full "
-                  "recompute per frame); both give the same output")
-      ->check(CLI::IsMember({"static", "kinetic"}));
-  add_frames_option(*cmd, options->frames);
   cmd->add_option(
       "--stats", options->stats,
       "also write per-frame statistics as JSON (what the frame and plan determine: slices, regions, "
@@ -354,7 +332,7 @@ void register_visibility_command(CLI::App& app) {
   cmd->add_option("--timings", options->timings,
                   "also write how the run went as JSON: seconds per frame, the rank that computed it, the "
                   "kinetic engine's counters");
-  options->chunking.add_to(*cmd);
+  options->job.chunking.add_to(*cmd);
   cmd->add_option("--cones", options->cones,
                   "also write every frame's 3D cones to a cone cache (.cones), for `pleat shade --cones`");
   cmd->add_option(
@@ -364,15 +342,6 @@ void register_visibility_command(CLI::App& app) {
          "1/3.5 of the size)")
       ->check(CLI::IsMember({"exact", "compact"}))
       ->capture_default_str();
-  cmd->add_option(
-         "--max-edit-fraction", options->policy.max_edit_fraction,
-         "kinetic: rebuild a slice when the slice vertices removed, inserted and put back in a frame exceed "
-         "this fraction of it (+2)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  cmd->add_flag("--serial", options->serial, "one thread (default: TBB over slices)");
-  options->plan.add_to(*cmd);
-  options->scene.add_to(*cmd);
   cmd->footer(
       "Example:\n  pleat visibility data/drape/drape.obj --cache data/drape/drape.pc2 -o drape.csv --stats "
       "stats.json");

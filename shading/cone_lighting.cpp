@@ -12,12 +12,6 @@ namespace pleat {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
-double total_projection(const SphericalPolygonList& list, const glm::dvec3& axis) {
-  double sum = 0.0;
-  for (std::size_t k = 0; k < list.size; ++k) sum += projected_solid_angle(list[k], axis);
-  return sum;
-}
-
 /// An orthonormal pair (e1, e2) orthogonal to unit l.
 void plane_frame(const glm::dvec3& l, glm::dvec3& e1, glm::dvec3& e2) {
   const glm::dvec3 helper = std::abs(l.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
@@ -78,15 +72,17 @@ bool lies_in_hemisphere(const SphericalPolygon& piece, const glm::dvec3& axis, c
   return !ambiguous && (winding == 0 || winding == 1);
 }
 
-/// A piece in the hemisphere of axis holds the whole open hemisphere of -up (or of up) only if axis = -up
-/// (axis = up): below this margin of axis.up from -1 (1) the cloudy sky's shortcuts are not taken.
-constexpr double kOppositeMargin = 1e-9;
-
 }  // namespace
 
+double total_projection(const SphericalPolygonList& list, const glm::dvec3& axis) {
+  double sum = 0.0;
+  for (std::size_t k = 0; k < list.size; ++k) sum += projected_solid_angle(list[k], axis);
+  return sum;
+}
+
 ConeLighting::ConeLighting(const Lighting& lighting) : m_lighting(&lighting) {
-  m_needs_pieces = !(lighting.cloudy_skies.empty() && lighting.directional.empty() &&
-                     lighting.points.empty() && lighting.areas.empty() && lighting.environments.empty());
+  m_needs_pieces = false;
+  lighting.for_each([&](const auto& light) { m_needs_pieces = m_needs_pieces || light.kNeedsPieces; });
 }
 
 bool ConeLighting::prepare(const VisibilityCone& cone, const glm::dvec3& axis, bool copy) {
@@ -144,53 +140,12 @@ ConeIrradiance ConeLighting::evaluate(const VisibilityCone& cone, const glm::dve
     for (std::size_t k = 0; k < m_pieces.size(); ++k) m_projected += piece_projection(k);
   }
   out.sky_visibility = m_projected / kPi;
-  const Lighting& lighting = *m_lighting;
-  for (const auto& l : lighting.skies) out.irradiance += uniform_sky(l);
-  if (!pieces_needed || m_pieces.empty()) return out;
-  for (const auto& l : lighting.cloudy_skies) out.irradiance += hemisphere_sky(l);
-  for (const auto& l : lighting.directional) out.irradiance += directional(l);
-  for (const auto& l : lighting.points) out.irradiance += point(l, position);
-  for (const auto& l : lighting.areas) out.irradiance += area(l, position);
-  for (const auto& l : lighting.environments) out.irradiance += environment(l);
+  // Kind by kind (Lighting::for_each); a kind that reads the pieces adds nothing without them.
+  const bool pieces = pieces_needed && !m_pieces.empty();
+  m_lighting->for_each([&](const auto& light) {
+    if (pieces || !light.kNeedsPieces) out.irradiance += light.cone_irradiance(*this, position);
+  });
   return out;
-}
-
-glm::dvec3 ConeLighting::uniform_sky(const UniformSkyLight& light) const {
-  return m_projected * light.radiance;
-}
-
-glm::dvec3 ConeLighting::hemisphere_sky(const HemisphereSkyLight& light) {
-  const double facing = glm::dot(m_axis, light.up);
-  const bool may_take_above = facing > -1.0 + kOppositeMargin;
-  const bool may_take_below = facing < 1.0 - kOppositeMargin;
-  double sum = 0.0;
-  bool whole_cone = true;  // every piece entirely above the up horizon
-  m_work_a.clear();
-  for (std::size_t k = 0; k < m_pieces.size(); ++k) {
-    const SphericalPolygon& piece = *m_pieces[k];
-    bool above = true, below = true;
-    for (const glm::dvec3& v : piece) {
-      const double d = glm::dot(light.up, v);
-      above = above && d >= 0.0;
-      below = below && d <= 0.0;
-    }
-    if (above && may_take_above) continue;  // added below, all at once when possible
-    whole_cone = false;
-    if (below && may_take_below) continue;
-    m_clipper.clip(piece, light.up, m_work_a);
-  }
-  if (whole_cone && m_all_in_place) {
-    sum = m_projected;  // the cone's own Lambert integral (measures or the pieces' sum)
-  } else {
-    for (std::size_t k = 0; k < m_pieces.size(); ++k) {
-      const SphericalPolygon& piece = *m_pieces[k];
-      bool above = true;
-      for (const glm::dvec3& v : piece) above = above && glm::dot(light.up, v) >= 0.0;
-      if (above && may_take_above) sum += piece_projection(k);
-    }
-    sum += total_projection(m_work_a, m_axis);
-  }
-  return sum * light.radiance;
 }
 
 bool ConeLighting::sees(const glm::dvec3& l) const {
@@ -200,62 +155,6 @@ bool ConeLighting::sees(const glm::dvec3& l) const {
   for (const SphericalPolygon* piece : m_pieces)
     if (contains_given_antipode_outside(*piece, l, e1, e2)) return true;
   return false;
-}
-
-glm::dvec3 ConeLighting::directional(const DirectionalLight& light) const {
-  const glm::dvec3 l = -light.direction;
-  const double cosine = glm::dot(m_axis, l);
-  if (!(cosine > 0.0) || !sees(l)) return glm::dvec3(0.0);
-  return cosine * light.irradiance;
-}
-
-glm::dvec3 ConeLighting::point(const PointLight& light, const glm::dvec3& position) const {
-  const glm::dvec3 d = light.position - position;
-  const double d2 = glm::dot(d, d);
-  if (!(d2 > 0.0)) return glm::dvec3(0.0);
-  const glm::dvec3 l = d / std::sqrt(d2);
-  const double cosine = glm::dot(m_axis, l);
-  if (!(cosine > 0.0) || !sees(l)) return glm::dvec3(0.0);
-  return (cosine / d2) * light.intensity;
-}
-
-glm::dvec3 ConeLighting::area(const AreaLight& light, const glm::dvec3& position) {
-  const std::size_t count = light.polygon.size();
-  if (count < 3 || m_pieces.empty()) return glm::dvec3(0.0);
-  const double facing = glm::dot(position - light.polygon[0], light.normal);
-  if (facing == 0.0 || (!light.two_sided && facing < 0.0)) return glm::dvec3(0.0);
-  // The light as seen from x, counter-clockwise about its interior (seen from outside the unit sphere):
-  // the vertex order is right-handed about the light's normal, which appears clockwise from its front.
-  m_light.clear();
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::size_t j = facing > 0.0 ? count - 1 - i : i;
-    const glm::dvec3 d = light.polygon[j] - position;
-    m_light.push_back(d / glm::length(d));
-  }
-  // Clip every piece by the half-spaces of the light's edges in turn.
-  const SphericalPolygonList* source = nullptr;  // null: the pieces themselves
-  for (std::size_t i = 0; i < count; ++i) {
-    const glm::dvec3 g = glm::cross(m_light[i], m_light[(i + 1) % count]);
-    const double len = glm::length(g);
-    if (!(len > 0.0)) continue;  // a vanishing edge (the light is a point from here)
-    SphericalPolygonList& target = source == &m_work_a ? m_work_b : m_work_a;
-    target.clear();
-    if (source == nullptr) {
-      for (const SphericalPolygon* piece : m_pieces) m_clipper.clip(*piece, g / len, target);
-    } else {
-      for (std::size_t k = 0; k < source->size; ++k) m_clipper.clip((*source)[k], g / len, target);
-    }
-    source = &target;
-    if (target.size == 0) return glm::dvec3(0.0);
-  }
-  if (source == nullptr) return glm::dvec3(0.0);  // every edge vanished: no solid angle
-  return total_projection(*source, m_axis) * light.radiance;
-}
-
-glm::dvec3 ConeLighting::environment(const EnvironmentLight& light) const {
-  glm::dvec3 sum(0.0);
-  for (const SphericalPolygon* piece : m_pieces) sum += light.map.integrate_cosine(*piece, m_axis);
-  return light.scale * glm::max(sum, glm::dvec3(0.0));
 }
 
 }  // namespace pleat

@@ -35,6 +35,7 @@
 #pragma once
 
 #include <glm/vec3.hpp>
+#include <span>
 #include <vector>
 
 #include "shading/lights.hpp"
@@ -47,6 +48,9 @@ struct ConeIrradiance {
   glm::dvec3 irradiance{0.0};   ///< direct irradiance from all lights, linear RGB
   double sky_visibility = 0.0;  ///< A: cosine-weighted visible fraction of the hemisphere about the axis
 };
+
+/// The sum of proj(piece, axis) over `list`.
+double total_projection(const SphericalPolygonList& list, const glm::dvec3& axis);
 
 class ConeLighting {
  public:
@@ -67,24 +71,35 @@ class ConeLighting {
   std::size_t num_pieces() const { return m_pieces.size(); }
   const SphericalPolygon& piece(std::size_t k) const { return *m_pieces[k]; }
 
-  glm::dvec3 uniform_sky(const UniformSkyLight& light) const;
-  glm::dvec3 hemisphere_sky(const HemisphereSkyLight& light);
-  glm::dvec3 directional(const DirectionalLight& light) const;
-  glm::dvec3 point(const PointLight& light, const glm::dvec3& position) const;
-  glm::dvec3 area(const AreaLight& light, const glm::dvec3& position);
-  glm::dvec3 environment(const EnvironmentLight& light) const;
+  /// One light through the set cone at `position` (its kind's cone_irradiance, shading/light_kind.hpp).
+  template <class Kind>
+  glm::dvec3 irradiance(const Kind& light, const glm::dvec3& position = glm::dvec3(0.0)) {
+    return light.cone_irradiance(*this, position);
+  }
 
- private:
+  // What the kinds of light read (shading/light_kind.hpp), for the cone set last.
+  const glm::dvec3& axis() const { return m_axis; }
+  /// proj(cone, axis): the sum of the pieces' projected solid angles (or the measures' pi A).
+  double projected() const { return m_projected; }
+  /// Whether the pieces are the cone's own (none clipped): projected() is then their sum.
+  bool all_in_place() const { return m_all_in_place; }
+  std::span<const SphericalPolygon* const> pieces() const { return m_pieces; }
+  /// proj(piece k, axis), computed once per cone.
+  double piece_projection(std::size_t k);
   /// Whether unit direction l (with axis.l > 0) lies in one of the cone's pieces.
   bool sees(const glm::dvec3& l) const;
+  HemisphereClipper& clipper() { return m_clipper; }
+  /// Two lists and a polygon of scratch memory, reused from call to call.
+  SphericalPolygonList& scratch(int i) { return i == 0 ? m_work_a : m_work_b; }
+  SphericalPolygon& scratch_polygon() { return m_light; }
+
+ private:
   /// Sets m_pieces: the cone's pieces that lie in the axis hemisphere in place, the others clipped into
   /// m_clipped (or, with copy, every piece clipped into m_clipped). Returns whether all were in place.
   bool prepare(const VisibilityCone& cone, const glm::dvec3& axis, bool copy);
-  /// proj(piece k, axis), computed once per cone.
-  double piece_projection(std::size_t k);
 
   const Lighting* m_lighting;
-  bool m_needs_pieces = true;  // some light other than a uniform sky
+  bool m_needs_pieces = true;  // some light whose kind reads the pieces
   glm::dvec3 m_axis{0.0, 0.0, 1.0};
   double m_projected = 0.0;     // sum of proj(piece_k, axis)
   bool m_all_in_place = false;  // m_pieces are the cone's own pieces (so m_projected is their sum)

@@ -1,7 +1,8 @@
 // Lights for shading from visibility cones (docs/method.md §10), and how users write them: command-line specs
 // and a small JSON lighting file. Several lights of any kinds combine in one Lighting; all quantities are
-// linear RGB. Parsing validates once, where input enters, and throws InputError naming the spec or the JSON
-// path.
+// linear RGB. The kinds are one type list (Light): each kind is one file pair in shading/lights/ and one row
+// below (shading/light_kind.hpp says what a kind provides). Parsing validates once, where input enters, and
+// throws InputError naming the spec or the JSON path.
 //
 // Spec strings (--light), TYPE:ARGS with comma-separated positional numbers, then key=value items (a key's
 // value may continue over following numbers, e.g. up=0,0,1); `rgb=r,g,b` tints any light:
@@ -20,68 +21,77 @@
 // Relative env-map paths are resolved against the JSON file's directory (or the working directory).
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
-#include <glm/vec3.hpp>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <variant>
 #include <vector>
 
-#include "shading/environment_map.hpp"
+#include "shading/lights/area.hpp"
+#include "shading/lights/cloudy_sky.hpp"
+#include "shading/lights/directional.hpp"
+#include "shading/lights/environment.hpp"
+#include "shading/lights/point.hpp"
+#include "shading/lights/uniform_sky.hpp"
 
 namespace pleat {
 
-struct UniformSkyLight {
-  glm::dvec3 radiance{1.0};
-};
+/// Every kind of light, one row each; the order is the order lights are summed in (kind by kind, each kind
+/// in the order given), and the order their names are listed in.
+using Light = std::variant<UniformSkyLight,     //
+                           HemisphereSkyLight,  //
+                           DirectionalLight,    //
+                           PointLight,          //
+                           AreaLight,           //
+                           EnvironmentLight>;
 
-/// Radiance for directions w with up.w > 0, none below (Stewart 1999 §4's "cloudy day").
-struct HemisphereSkyLight {
-  glm::dvec3 radiance{1.0};
-  glm::dvec3 up{0.0, 0.0, 1.0};  ///< unit
-};
-
-struct DirectionalLight {
-  glm::dvec3 direction{0.0, 0.0, -1.0};  ///< unit; the direction the light travels (towards the cloth)
-  glm::dvec3 irradiance{1.0};            ///< on a surface facing the light
-};
-
-struct PointLight {
-  glm::dvec3 position{0.0};
-  glm::dvec3 intensity{1.0};  ///< irradiance at distance d, facing: intensity / d^2
-};
-
-/// A planar convex polygon of uniform radiance.
-struct AreaLight {
-  std::vector<glm::dvec3> polygon;
-  glm::dvec3 radiance{1.0};
-  bool two_sided = true;   ///< false: emits only towards the right-hand normal of the vertex order
-  glm::dvec3 normal{0.0};  ///< unit right-hand normal (set by validation)
-};
-
-struct EnvironmentLight {
-  EnvironmentMap map;
-  double scale = 1.0;
-  std::filesystem::path file;
-};
-
-/// A lighting setup: any number of lights of each kind.
+/// A lighting setup: any number of lights of any kinds.
 struct Lighting {
   std::string name;
-  std::vector<UniformSkyLight> skies;
-  std::vector<HemisphereSkyLight> cloudy_skies;
-  std::vector<DirectionalLight> directional;
-  std::vector<PointLight> points;
-  std::vector<AreaLight> areas;
-  std::vector<EnvironmentLight> environments;
+  std::vector<Light> lights;
 
-  std::size_t size() const {
-    return skies.size() + cloudy_skies.size() + directional.size() + points.size() + areas.size() +
-           environments.size();
+  std::size_t size() const { return lights.size(); }
+  bool empty() const { return lights.empty(); }
+  /// The lights of one kind, in the order given.
+  template <class Kind>
+  std::vector<const Kind*> all() const {
+    std::vector<const Kind*> out;
+    for (const Light& light : lights)
+      if (const Kind* l = std::get_if<Kind>(&light)) out.push_back(l);
+    return out;
   }
-  bool empty() const { return size() == 0; }
+  /// f(light) for every light, kind by kind in the type list's order, each kind in the order given (the
+  /// order lights are summed in everywhere, so that sums do not depend on the order they were given in).
+  template <class F>
+  void for_each(F&& f) const {
+    for_each_kind(f, std::make_index_sequence<std::variant_size_v<Light>>());
+  }
   /// One line per light, for logs and --help-like summaries.
   std::string describe() const;
+  /// The files the lights read (the kinds with a `file`), each with what names it: "--light NAME:".
+  std::vector<std::pair<std::string, std::filesystem::path>> files() const {
+    std::vector<std::pair<std::string, std::filesystem::path>> out;
+    for_each([&](const auto& light) {
+      if constexpr (requires { light.file; })
+        out.emplace_back("--light " + std::string(light.kNames.spec) + ":", light.file);
+    });
+    return out;
+  }
+
+ private:
+  template <class F, std::size_t... K>
+  void for_each_kind(F& f, std::index_sequence<K...>) const {
+    (..., [&] {
+      for (const Light& light : lights)
+        if (light.index() == K) f(std::get<K>(light));
+    }());
+  }
 };
+
+/// The spec syntax of every kind, "a | b | ...", for --help.
+std::string light_spec_syntax();
 
 /// Parses one spec string (grammar above) into `lighting`. Throws InputError("--light", spec, why).
 void add_light_spec(Lighting& lighting, std::string_view spec, const std::filesystem::path& base_dir = {});
@@ -97,9 +107,5 @@ Lighting load_lighting(const std::filesystem::path& path);
 std::vector<Lighting> parse_lighting_setups_json(const std::string& text, const std::string& source,
                                                  const std::filesystem::path& base_dir = {});
 std::vector<Lighting> load_lighting_setups(const std::filesystem::path& path);
-
-/// Checks and completes an area light: >= 3 finite vertices, planar (within 1e-6 of the size), convex and
-/// not degenerate; sets `normal`. Throws std::invalid_argument saying what is wrong.
-void validate_area_light(AreaLight& light);
 
 }  // namespace pleat

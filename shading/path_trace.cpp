@@ -32,37 +32,24 @@ class Random {
   std::uint64_t m_state;
 };
 
-/// Radiance arriving along w from the lights that live at infinity (uniform and cloudy skies, maps).
+/// Radiance arriving along w from the lights that live at infinity (the kinds with escaped_radiance).
 glm::dvec3 sky_radiance(const Lighting& lighting, const glm::dvec3& w) {
   glm::dvec3 l(0.0);
-  for (const UniformSkyLight& s : lighting.skies) l += s.radiance;
-  for (const HemisphereSkyLight& s : lighting.cloudy_skies)
-    if (glm::dot(w, s.up) > 0.0) l += s.radiance;
-  for (const EnvironmentLight& e : lighting.environments) l += e.scale * e.map.radiance(w);
+  lighting.for_each([&](const auto& light) {
+    if constexpr (requires { light.escaped_radiance(w); }) l += light.escaped_radiance(w);
+  });
   return l;
 }
 
-/// The nearest area light crossed by the ray o + t w, t in (0, tmax): its radiance towards the ray, and t.
+/// The nearest light crossed by the ray o + t w, t in (0, tmax) (the kinds with hit): its radiance towards
+/// the ray.
 bool area_light_hit(const Lighting& lighting, const glm::dvec3& o, const glm::dvec3& w, double tmax,
                     glm::dvec3& radiance) {
   bool found = false;
-  for (const AreaLight& a : lighting.areas) {
-    const double denom = glm::dot(w, a.normal);
-    if (denom == 0.0 || (!a.two_sided && denom > 0.0)) continue;  // parallel, or seen from behind
-    const double t = glm::dot(a.polygon[0] - o, a.normal) / denom;
-    if (!(t > 0.0 && t < tmax)) continue;
-    const glm::dvec3 x = o + t * w;
-    bool inside = true;
-    for (std::size_t i = 0; i < a.polygon.size() && inside; ++i) {
-      const glm::dvec3& p = a.polygon[i];
-      const glm::dvec3& q = a.polygon[(i + 1) % a.polygon.size()];
-      inside = glm::dot(glm::cross(q - p, x - p), a.normal) >= 0.0;
-    }
-    if (!inside) continue;
-    tmax = t;
-    radiance = a.radiance;
-    found = true;
-  }
+  lighting.for_each([&](const auto& light) {
+    if constexpr (requires { light.hit(o, w, tmax, radiance); })
+      if (light.hit(o, w, tmax, radiance)) found = true;
+  });
   return found;
 }
 
@@ -92,19 +79,14 @@ class Tracer {
   /// Irradiance at x from point and directional lights (shadow rays), over the hemisphere of x.axis.
   glm::dvec3 direct_irradiance(const PathPoint& x) {
     glm::dvec3 e(0.0);
-    for (const DirectionalLight& d : m_lighting.directional) {
-      const glm::dvec3 l = -d.direction;
-      const double c = glm::dot(l, x.axis);
-      if (c > 0.0 && visible(x, l, std::numeric_limits<double>::infinity())) e += c * d.irradiance;
-    }
-    for (const PointLight& p : m_lighting.points) {
-      const glm::dvec3 to = p.position - x.position;
-      const double d2 = glm::dot(to, to);
-      if (!(d2 > 0.0)) continue;
-      const glm::dvec3 l = to / std::sqrt(d2);
-      const double c = glm::dot(l, x.axis);
-      if (c > 0.0 && visible(x, l, std::sqrt(d2))) e += (c / d2) * p.intensity;
-    }
+    m_lighting.for_each([&](const auto& light) {
+      LightSample s;
+      if constexpr (requires { light.sample(x.position, s); }) {
+        if (!light.sample(x.position, s)) return;
+        const double c = glm::dot(s.direction, x.axis);
+        if (c > 0.0 && visible(x, s.direction, s.distance)) e += (c / s.divisor) * s.value;
+      }
+    });
     return e;
   }
 

@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -22,6 +23,7 @@
 #include <stdexcept>
 
 #include "sim_io/input_file.hpp"
+#include "sim_io/input_formats.hpp"
 #include "static_core/input_error.hpp"
 #include "support/srgb.hpp"
 
@@ -750,5 +752,53 @@ MeshSequence load_gltf(const std::filesystem::path& path, double scene_fps, cons
   return MeshSequence(file, std::move(triangles), Index(num_vertices), std::move(source), scan,
                       std::move(surface));
 }
+
+namespace {
+
+MeshSequence open_gltf(const std::filesystem::path& input, const std::filesystem::path&,
+                       const LoadOptions& options) {
+  return load_gltf(input, options.scene_fps, options.scan);
+}
+
+// "%20" and the like of a URI.
+std::string percent_decoded(const std::string& uri) {
+  std::string text;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      text += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      text += uri[i];
+    }
+  }
+  return text;
+}
+
+/// A .gltf and the external files (buffers, images) it names, beside it.
+std::vector<std::filesystem::path> gltf_files(const std::filesystem::path& gltf) {
+  std::vector<std::filesystem::path> files{gltf};
+  std::ifstream in(gltf);
+  const nlohmann::json document = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!document.is_object()) return files;
+  for (const char* kind : {"buffers", "images"}) {
+    const auto list = document.find(kind);
+    if (list == document.end() || !list->is_array()) continue;
+    for (const nlohmann::json& item : *list) {
+      if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
+      const std::string uri = item["uri"].get<std::string>();
+      if (uri.rfind("data:", 0) == 0 || uri.find("://") != std::string::npos) continue;
+      files.push_back(gltf.parent_path() / percent_decoded(uri));
+    }
+  }
+  return files;
+}
+
+}  // namespace
+
+namespace formats {
+extern const MeshFormat kGltf{".gltf", ".gltf", "glTF", nullptr, open_gltf, gltf_files};
+extern const MeshFormat kGlb{".glb", ".glb", "glTF", nullptr, open_gltf, nullptr};
+}  // namespace formats
 
 }  // namespace pleat

@@ -6,6 +6,7 @@
 
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/input_file.hpp"
+#include "sim_io/input_formats.hpp"
 #include "static_core/input_error.hpp"
 #include "support/byte_order.hpp"
 
@@ -42,6 +43,7 @@ class MddSource : public FrameSource {
     const std::uint64_t offset = 8 + 4 * std::uint64_t(m_header.num_frames) + std::uint64_t(i) * points * 12;
     return read_point_block(m_path, offset, points, i, ByteOrder::Big);
   }
+  Announced announced_points() const override { return {m_header.num_points, "byte 4"}; }
 
  private:
   std::filesystem::path m_path;
@@ -128,5 +130,10 @@ void write_mdd(const std::filesystem::path& path, const std::vector<std::vector<
     }
   });
 }
+
+namespace formats {
+extern const CacheFormat kMdd{
+    ".mdd", [](const std::filesystem::path& path, double scene_fps) { return open_mdd(path, scene_fps); }};
+}  // namespace formats
 
 }  // namespace pleat

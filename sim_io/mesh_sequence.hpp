@@ -41,6 +41,13 @@ class FrameSource {
   virtual std::int64_t source_frame(std::size_t i) const { return std::int64_t(i); }
   /// Positions of frame i in input order; throws InputError naming the file and the frame on bad data.
   virtual std::vector<glm::dvec3> read_frame(std::size_t i) const = 0;
+  /// The number of points every frame has as the source's header announces it, and where it says so (a
+  /// byte offset), so that a mesh's vertex count is checked before any frame is read; points -1: none.
+  struct Announced {
+    std::int64_t points = -1;
+    std::string place;
+  };
+  virtual Announced announced_points() const { return {}; }
 };
 
 /// A FrameSource over positions held in memory (static meshes, tests). frames[i] pairs with times[i].

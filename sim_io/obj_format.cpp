@@ -11,6 +11,7 @@
 
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/input_file.hpp"
+#include "sim_io/input_formats.hpp"
 #include "sim_io/polygon_triangulation.hpp"
 #include "static_core/input_error.hpp"
 
@@ -365,5 +366,32 @@ void write_obj(const std::filesystem::path& path, const MeshTopology& topology,
     out.write(chunk.data(), std::streamsize(chunk.size()));
   });
 }
+
+namespace {
+
+/// An .obj: one frame, or the frames of its cache (by the cache formats' table), named after the cache then
+/// (frame-level errors, NaN or truncation, are about its bytes).
+MeshSequence open_obj(const std::filesystem::path& input, const std::filesystem::path& cache,
+                      const LoadOptions& options) {
+  const std::string name = input.string();
+  ObjMesh mesh = read_obj(input);
+  const auto num_vertices = Index(mesh.positions.size());
+  SurfaceAttributes surface = surface_of(mesh);
+  if (cache.empty()) {
+    std::vector<std::vector<glm::dvec3>> frames;
+    frames.push_back(std::move(mesh.positions));
+    return MeshSequence(name, std::move(mesh.triangles), num_vertices,
+                        make_memory_source(std::move(frames), {0.0}), options.scan, std::move(surface));
+  }
+  std::unique_ptr<FrameSource> source = open_cache_for(cache, num_vertices, name, options.scene_fps);
+  return MeshSequence(cache.string(), std::move(mesh.triangles), num_vertices, std::move(source),
+                      options.scan, std::move(surface));
+}
+
+}  // namespace
+
+namespace formats {
+extern const MeshFormat kObj{".obj", ".obj [+ .pc2/.mdd cache]", "", nullptr, open_obj, nullptr};
+}  // namespace formats
 
 }  // namespace pleat

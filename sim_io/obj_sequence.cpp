@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 
+#include "sim_io/input_formats.hpp"
 #include "sim_io/obj_format.hpp"
 #include "static_core/input_error.hpp"
 
@@ -338,5 +339,45 @@ void write_obj_sequence(const std::string& pattern, const MeshSequence& sequence
     write_obj(as_path.parent_path() / parsed->format(first_number + (long long)i), sequence.topology(),
               sequence.frame(i).positions);
 }
+
+namespace {
+
+bool is_obj_sequence(const std::filesystem::path& input) {
+  std::error_code ec;
+  return std::filesystem::is_directory(input, ec) || is_frame_pattern(input.string());
+}
+
+MeshSequence open_obj_sequence(const std::filesystem::path& input, const std::filesystem::path&,
+                               const LoadOptions& options) {
+  const std::string name = input.string();
+  std::error_code ec;
+  const auto files =
+      std::filesystem::is_directory(input, ec) ? list_obj_directory(input) : expand_frame_pattern(name);
+  return load_obj_sequence(name, files, options.scene_fps, options.scan);
+}
+
+std::vector<std::filesystem::path> obj_sequence_files(const std::filesystem::path& input) {
+  std::vector<std::filesystem::path> files;
+  try {
+    std::error_code ec;
+    files = std::filesystem::is_directory(input, ec) ? list_obj_directory(input)
+                                                     : expand_frame_pattern(input.string());
+  } catch (const std::exception&) {
+    files.clear();
+  }
+  if (files.empty()) files.push_back(input);
+  return files;
+}
+
+}  // namespace
+
+namespace formats {
+extern const MeshFormat kObjSequence{"",
+                                     "a directory of .obj files or a printf pattern like frames/f_%04d.obj",
+                                     "an OBJ sequence",
+                                     is_obj_sequence,
+                                     open_obj_sequence,
+                                     obj_sequence_files};
+}  // namespace formats
 
 }  // namespace pleat

@@ -9,6 +9,7 @@
 
 #include "sim_io/atomic_file.hpp"
 #include "sim_io/input_file.hpp"
+#include "sim_io/input_formats.hpp"
 #include "static_core/input_error.hpp"
 #include "support/byte_order.hpp"
 
@@ -38,6 +39,7 @@ class Pc2Source : public FrameSource {
     const std::uint64_t offset = kHeaderBytes + std::uint64_t(i) * points * 12;
     return read_point_block(m_path, offset, points, i, ByteOrder::Little);
   }
+  Announced announced_points() const override { return {m_header.num_points, "byte 16"}; }
 
  private:
   std::filesystem::path m_path;
@@ -121,5 +123,10 @@ void write_pc2(const std::filesystem::path& path, const std::vector<std::vector<
     }
   });
 }
+
+namespace formats {
+extern const CacheFormat kPc2{
+    ".pc2", [](const std::filesystem::path& path, double scene_fps) { return open_pc2(path, scene_fps); }};
+}  // namespace formats
 
 }  // namespace pleat

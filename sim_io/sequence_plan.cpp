@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "sim_io/plan_file.hpp"
+#include "static_core/cone_rules.hpp"
 #include "static_core/input_error.hpp"
 
 namespace pleat {
@@ -66,18 +67,26 @@ void PlanOptions::check(Naming naming) const {
     bad(name("planes", "--planes") + ": must be >= 1, got " + std::to_string(*planes_per_orientation));
   if (!(max_missing >= 0 && max_missing <= 1))
     bad(name("max_missing", "--max-missing") + ": must be in [0, 1], got " + number(max_missing));
-  if (storage != "aimed-on-fan" && storage != "interpolated-on-fan" && storage != "nearest-on-fan" &&
-      storage != "nearer-endpoint")
-    bad(name("cone_storage", "--cone-storage") + ": '" + storage +
-        "' is not aimed-on-fan, interpolated-on-fan, nearest-on-fan or nearer-endpoint");
+  const auto rule = [&](const std::string& value, const char* keyword, const char* option, auto from_name,
+                        const std::string& names) {
+    try {
+      from_name(value);
+    } catch (const std::invalid_argument&) {
+      bad(name(keyword, option) + ": '" + value + "' is not " + names);
+    }
+  };
+  rule(storage, "cone_storage", "--cone-storage", cone_storage_from_name, cone_storage_names());
+  rule(reconstruction, "cone_reconstruction", "--cone-reconstruction", cone_reconstruction_from_name,
+       cone_reconstruction_names());
   const PlanOptions defaults;
   if (!plan_file.empty() &&
       (orientations != defaults.orientations || spacing || spacing_edges || planes_per_orientation ||
-       adaptive || max_missing != defaults.max_missing || storage != defaults.storage || paper))
+       adaptive || max_missing != defaults.max_missing || storage != defaults.storage ||
+       reconstruction != defaults.reconstruction || paper))
     bad(cli ? "--plan: a plan file fixes the planes; it excludes --orientations, --spacing, --spacing-edges, "
-              "--planes, --adaptive, --max-missing, --cone-storage and --paper"
+              "--planes, --adaptive, --max-missing, --cone-storage, --cone-reconstruction and --paper"
             : "plan: a plan file fixes the planes; it excludes orientations, spacing, spacing_edges, planes, "
-              "adaptive, max_missing, cone_storage and paper");
+              "adaptive, max_missing, cone_storage, cone_reconstruction and paper");
 }
 
 SlicingPlan PlanOptions::make(const MeshSequence& sequence, Naming naming) const {
@@ -110,6 +119,7 @@ SlicingPlan PlanOptions::make(const MeshSequence& sequence, Naming naming) const
       }
       plan.storage = paper ? ConeStorage::NearerEndpoint : cone_storage_from_name(storage);
     }
+    plan.reconstruction = cone_reconstruction_from_name(reconstruction);
   }
   check_spacing_cuts(plan, topology, frame, sequence.name(), naming);
   if (plan.spacing > 0) plan.planes.clear();  // a lattice: each frame's planes are its own
@@ -142,7 +152,9 @@ void PlanOptions::check_spacing_cuts(const SlicingPlan& plan, const MeshTopology
 std::string PlanOptions::describe() const {
   if (!plan_file.empty()) return "plan " + plan_file;
   const int count = paper ? 6 : orientations;
-  const std::string stored = std::string(", ") + (paper ? "nearer-endpoint" : storage) + " storage";
+  std::string stored =
+      std::string(", ") + (paper ? cone_storage_name(ConeStorage::NearerEndpoint) : storage) + " storage";
+  if (reconstruction != PlanOptions{}.reconstruction) stored += ", " + reconstruction + " reconstruction";
   if (adaptive)
     return std::to_string(count) + " orientations, adaptive (max missing " + std::to_string(max_missing) +
            ")" + stored;

@@ -1,5 +1,6 @@
 // The slicing plan of a whole sequence, from the options `pleat visibility` takes (--orientations,
-// --spacing, --spacing-edges, --planes, --adaptive, --max-missing, --cone-storage, --paper, --plan), the same
+// --spacing, --spacing-edges, --planes, --adaptive, --max-missing, --cone-storage, --cone-reconstruction,
+// --paper, --plan), the same
 // for the command line and the Python module (docs/method.md §2). The plan is made once for the whole
 // sequence, never from the frames a run computes: orientations and spacing from the sequence's first frame,
 // the world-anchored lattice of planes over the box of all its frames (MeshSequence::bounds), so a frame's
@@ -20,8 +21,9 @@ struct PlanOptions {
   std::optional<double> spacing_edges;  ///< finite, > 0: spacing in average edge lengths of the first frame
   std::optional<int> planes_per_orientation;  ///< >= 1
   bool adaptive = false;
-  double max_missing = 0.05;  ///< with adaptive, in [0, 1]
-  std::string storage = "aimed-on-fan";
+  double max_missing = 0.05;               ///< with adaptive, in [0, 1]
+  std::string storage = "aimed-on-fan";    ///< a storage rule's name (static_core/cone_rules.hpp)
+  std::string reconstruction = "grouped";  ///< a reconstruction rule's name
   bool paper = false;
   std::string plan_file;  ///< read the plan from this file (--save-plan) instead; excludes the others
 

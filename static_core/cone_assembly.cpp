@@ -9,7 +9,7 @@
 #include <numeric>
 #include <span>
 
-#include "static_core/internal/nearest_circle.hpp"
+#include "static_core/cone_rules.hpp"
 #include "static_core/union_find.hpp"
 
 namespace pleat {
@@ -441,7 +441,8 @@ struct ConeAssemblyScratch::Buffers {
   std::vector<double> piece_solid_angle;
   std::vector<glm::dvec3> piece_irradiance;
   std::vector<BoundingCap> piece_cap;
-  NearestCircleAssembler nearest_circle;
+  std::vector<std::unique_ptr<ConeReconstructor>> rules;  // per reconstruction rule, made when first used
+  std::unique_ptr<ConeReconstructor> nearest_circle;      // the grouped rule's fallback (its step 4)
 };
 
 namespace {
@@ -502,21 +503,27 @@ void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_nor
 void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
                                ConeAssemblyScratch& scratch, VisibilityCone& result, ConeMeasures* measures,
                                std::span<const glm::dvec3> half_spaces, ConeReconstruction rule) {
-  auto& b = *scratch.m_buffers;
-  auto nearest_circle = [&] {
-    b.nearest_circle.assemble(cones, side_normal, half_spaces, result);
-    if (measures) {
-      MeasureSums sums;
-      for (std::size_t i = 0; i < result.pieces.size(); ++i)
-        sums.add(result.pieces[i], b.nearest_circle.irradiance()[i], b.nearest_circle.solid_angle()[i],
-                 side_normal);
-      *measures = sums.measures(side_normal);
-    }
-  };
-  if (rule == ConeReconstruction::NearestCircle) {
-    nearest_circle();
-    return;
-  }
+  auto& rules = scratch.m_buffers->rules;
+  const std::size_t id = static_cast<std::size_t>(rule);
+  if (id >= rules.size()) rules.resize(cone_reconstruction_rules().size());
+  if (!rules[id]) rules[id] = cone_reconstruction_rule(rule).make();
+  rules[id]->assemble(cones, side_normal, half_spaces, result, measures);
+}
+
+ConeMeasures measures_of_pieces(const VisibilityCone& cone, std::span<const glm::dvec3> irradiance,
+                                std::span<const double> solid_angle, const glm::dvec3& side_normal) {
+  MeasureSums sums;
+  for (std::size_t i = 0; i < cone.pieces.size(); ++i)
+    sums.add(cone.pieces[i], irradiance[i], solid_angle[i], side_normal);
+  return sums.measures(side_normal);
+}
+
+namespace {
+
+/// The paper's grouped reconstruction (the header's): wedges linked into groups, each group one piece.
+void assemble_grouped(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
+                      ConeAssemblyScratch::Buffers& b, VisibilityCone& result, ConeMeasures* measures,
+                      std::span<const glm::dvec3> half_spaces) {
   // In a plane, the half-space {d : dot(d, h) >= 0} is the half-turn of directions within a quarter turn of
   // h's projection; a plane perpendicular to h lies on its boundary and keeps every direction.
   // Returns where the kept half-turn starts (NaN: the whole turn is kept).
@@ -650,7 +657,9 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
   //    cannot leave that region out: the nearest-circle rule, which keeps every plane's samples whatever
   //    their shape, rebuilds the cone.
   if (count > 0 && holds_gaps(cones, b, count)) {
-    nearest_circle();
+    if (!b.nearest_circle)
+      b.nearest_circle = cone_reconstruction_rule(ConeReconstruction::NearestCircle).make();
+    b.nearest_circle->assemble(cones, side_normal, half_spaces, result, measures);
     return;
   }
   std::size_t out = 0;
@@ -665,6 +674,27 @@ void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dve
   result.pieces.resize(out);
   if (measures) *measures = sums.measures(side_normal);
 }
+
+class GroupedReconstructor final : public ConeReconstructor {
+ public:
+  void assemble(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
+                std::span<const glm::dvec3> half_spaces, VisibilityCone& result,
+                ConeMeasures* measures) override {
+    assemble_grouped(cones, side_normal, m_buffers, result, measures, half_spaces);
+  }
+
+ private:
+  ConeAssemblyScratch::Buffers m_buffers;
+};
+
+}  // namespace
+
+namespace rules {
+extern const ConeReconstructionRule kGrouped{
+    "grouped",
+    "the paper's: wedges that cross or come close grouped, each group one polygon about its mean direction",
+    [] { return std::unique_ptr<ConeReconstructor>(std::make_unique<GroupedReconstructor>()); }};
+}  // namespace rules
 
 VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal) {
   ConeAssemblyScratch scratch;

@@ -52,14 +52,20 @@ void assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_nor
 /// The same, and the cone's measures (as measure_cone gives them) from the integrals the assembly computes
 /// anyway (each piece's vector irradiance and solid angle): what the engines call. Each wedge is also clipped
 /// to every half-space {d : dot(d, h) >= 0} of `half_spaces` (unit normals: the sides of the occluding planes
-/// the vertex is on, MeshTopology::planes). `rule` NearestCircle: the cone by the nearest-circle rule instead
-/// (static_core/internal/nearest_circle.hpp; its pieces are disjoint cells, many more than the groups).
+/// the vertex is on, MeshTopology::planes). `rule`: the reconstruction rule's row
+/// (static_core/cone_rules.hpp; this file's grouped rule, or the nearest-circle rule of
+/// static_core/internal/nearest_circle.hpp), its reconstructor made in `scratch` when first used.
 void assemble_and_measure_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
                                ConeAssemblyScratch& scratch, VisibilityCone& result, ConeMeasures* measures,
                                std::span<const glm::dvec3> half_spaces = {},
                                ConeReconstruction rule = ConeReconstruction::Grouped);
 /// The same, allocating (tests, one-off use).
 VisibilityCone assemble_cone(std::span<const PlanarCone> cones, const glm::dvec3& side_normal);
+
+/// The measures of `cone` from each piece's vector irradiance and solid angle (as measure_cone sums them):
+/// for a reconstruction rule that computed them. O(pieces).
+ConeMeasures measures_of_pieces(const VisibilityCone& cone, std::span<const glm::dvec3> irradiance,
+                                std::span<const double> solid_angle, const glm::dvec3& side_normal);
 
 /// A, bent normal and solid angle of a cone from assemble_cone (Lambert's formula on each piece).
 ConeMeasures measure_cone(const VisibilityCone& cone, const glm::dvec3& side_normal);

@@ -9,6 +9,7 @@
 
 #include "static_core/assert.hpp"
 #include "static_core/cone_assembly.hpp"
+#include "static_core/cone_rules.hpp"
 #include "static_core/contact.hpp"
 #include "static_core/internal/fan_cone.hpp"
 
@@ -30,9 +31,10 @@ void store_cones(Index num_receivers, ConeStorage storage, const Frame& frame, c
       stored[best] = {vertex, side, x, distance, vertex_above};
     }
   };
+  const bool nearer = cone_storage_rule(storage).offer == ConeStorageRule::Offer::NearerEndpoint;
   for (Index x = 0; x < slice.vertices.size(); ++x) {
     const SliceVertex& sv = slice.vertices[x];
-    if (storage == ConeStorage::NearerEndpoint) {
+    if (nearer) {
       offer(sv.nearer, x, sv.distance, sv.nearer == sv.above);
     } else {
       const double length = glm::distance(frame.positions[sv.above], frame.positions[sv.below]);
@@ -119,7 +121,7 @@ bool offer_plane_cones(Index num_receivers, ConeStorage storage, const Frame& fr
   }
   s.needed.assign(out.slice.vertices.size(), 0);
   for (const StoredCone& c : out.stored) s.needed[c.slice_vertex] = 1;
-  if (storage == ConeStorage::AimedOnFan) {
+  if (cone_storage_rule(storage).fan_cones) {
     list_fan_cuts(num_receivers, frame, out.slice, whole_fans, out.stored, s.fan_cuts, out.fan_cuts);
     out.chain_angles.assign(out.slice.vertices.size(), glm::dvec2(INFINITY));
     for (const Index x : out.fan_cuts) {
@@ -292,13 +294,13 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
       refs[at] = {p, c.slice_vertex, c.cuts_begin, c.cuts_count};
       offer_keys[at] = {c.distance, c.vertex_above};
     }
-  if (plan.storage != ConeStorage::NearerEndpoint) {
+  const ConeStorageRule& rule = cone_storage_rule(plan.storage);
+  if (rule.keep != ConeStorageRule::Keep::EveryPlane) {
     // Keep only the nearest offer of each key (ties: the first, i.e. the lower plane), or under
     // InterpolatedOnFan the nearest from a plane below the vertex and then the nearest from a plane above it
     // (only the nearer of the two where their planes are not parallel: they are not blended, see
     // the aiming in step 4): compact the CSR in place.
-    const bool both_sides_of_vertex =
-        plan.storage == ConeStorage::InterpolatedOnFan || plan.storage == ConeStorage::AimedOnFan;
+    const bool both_sides_of_vertex = rule.keep == ConeStorageRule::Keep::NearestBelowAndAbove;
     std::uint32_t out = 0;
     for (std::size_t k = 0; k < keys; ++k) {
       const std::uint32_t begin = first[k], end = first[k + 1];
@@ -358,7 +360,7 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
   // Under AimedOnFan, the cone of plane r at vertex v from v's own cuts is the cone of its fan
   // (fan_cone.hpp); a borrowed cone (own false), or one whose fan gives no range, is the stored slice
   // vertex's.
-  const bool fan = plan.storage == ConeStorage::AimedOnFan;
+  const bool fan = rule.fan_cones;
   auto plane_cone = [&](const Ref& r, int side, bool own, Workspace& ws,
                         std::vector<Wedge>& buffer) -> std::span<const Wedge> {
     const int o = plan.planes[r.plane].orientation;
@@ -404,8 +406,8 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
       place(lower ? below : above, lower ? a : b, ws);
     }
   };
-  const bool aim = plan.storage == ConeStorage::AimedOnFan;
-  const bool blend = aim || plan.storage == ConeStorage::InterpolatedOnFan;
+  const bool aim = rule.combine == ConeStorageRule::Combine::Aim;
+  const bool blend = rule.combine != ConeStorageRule::Combine::None;
   auto assemble_vertex = [&](std::size_t v) {
     if (params.progress && v % 64 == 63) params.progress->vertices.fetch_add(64, std::memory_order_relaxed);
     Workspace& ws = workspaces.local();

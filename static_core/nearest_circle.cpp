@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include "static_core/cone_assembly.hpp"
+#include "static_core/cone_rules.hpp"
 
 namespace pleat {
 namespace {
@@ -133,9 +134,7 @@ const NearestCircleAssembler::CircleSet& NearestCircleAssembler::circle_set() {
   return set;
 }
 
-void NearestCircleAssembler::assemble(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
-                                      std::span<const glm::dvec3> half_spaces, VisibilityCone& result) {
-  // 1. One circle per plane normal (up to sign); each cone's wedges in its circle's frame.
+void NearestCircleAssembler::gather_circles(std::span<const PlanarCone> cones) {
   m_circles.clear();
   for (auto& wedges : m_circle_wedges) wedges.clear();
   for (const PlanarCone& cone : cones) {
@@ -162,6 +161,85 @@ void NearestCircleAssembler::assemble(std::span<const PlanarCone> cones, const g
       into.push_back(w);
     }
   }
+}
+
+bool NearestCircleAssembler::make_cell(const CircleSet& set, std::size_t k, double a, double b) {
+  const Circle& c = set.circles[k];
+  SphericalPolygon& cell = m_cell;
+  cell.clear();
+  auto add = [&](const glm::dvec3& d) {
+    if (cell.empty() || glm::dot(cell.back(), d) < 1 - 1e-15) cell.push_back(d);
+  };
+  for (int sheet : {1, 0}) {
+    const std::vector<EnvelopePiece>& envelope = set.envelope[2 * k + sheet];
+    const std::size_t n = envelope.size(), i = piece_at(envelope, a);
+    // The breakpoints in (a, b) start pieces i + 1, ..., i + count (cyclically).
+    const double base = a - wrap_angle(a);  // a's turn: breakpoint phi + base (+ 2 pi) follows a
+    std::size_t count = 0;
+    while (count + 1 < n) {
+      double phi = envelope[(i + count + 1) % n].phi + base;
+      while (phi <= a) phi += kTwoPi;
+      if (!(phi < b)) break;
+      ++count;
+    }
+    const glm::dvec3 at_a = envelope_point(set, k, sheet, envelope[i], a);
+    const glm::dvec3 at_b = envelope_point(set, k, sheet, envelope[piece_at(envelope, b)], b);
+    if (sheet == 1) {  // lower, from a to b
+      add(at_a);
+      for (std::size_t step = 1; step <= count; ++step) add(envelope[(i + step) % n].start);
+      add(at_b);
+      add(on_circle(c, b));
+    } else {  // upper, from b back to a
+      add(at_b);
+      for (std::size_t step = count; step >= 1; --step) add(envelope[(i + step) % n].start);
+      add(at_a);
+      add(on_circle(c, a));
+    }
+  }
+  while (cell.size() > 1 && glm::dot(cell.back(), cell.front()) > 1 - 1e-15) cell.pop_back();
+  if (cell.size() < 3) return false;
+  // Along the lower sheet with increasing φ the cell is on the left when (u, w, n) is right-handed.
+  if (c.handed < 0) std::reverse(cell.begin(), cell.end());
+  return true;
+}
+
+void NearestCircleAssembler::clip_cell(const glm::dvec3& side_normal,
+                                       std::span<const glm::dvec3> half_spaces) {
+  m_parts.clear();
+  m_parts.push() = m_cell;
+  auto clip_all = [&](const glm::dvec3& h) {
+    // A vertex within rounding of the boundary is put just inside it: the clipper reads the sign of
+    // each vertex, and zeros or noise about zero would make crossings of no length.
+    for (std::size_t q = 0; q < m_parts.size; ++q)
+      for (glm::dvec3& d : m_parts[q]) {
+        const double up = glm::dot(d, h);
+        if (std::abs(up) < kOnBoundary) d = glm::normalize(d + (kOnBoundary - up) * h);
+      }
+    m_next.clear();
+    for (std::size_t q = 0; q < m_parts.size; ++q) {
+      const SphericalPolygon& part = m_parts[q];
+      // Minor arcs between points of an open hemisphere stay in it, so a part whose vertices are all
+      // inside is kept whole, and one whose vertices are all outside is dropped: it does not hold the
+      // whole half-space (a part lies in a lune of width kMaxPart, of area under 2 pi), and the
+      // clipper's test for that case is undecided where a vertex lies at the opposite pole (as the
+      // cells' corners can).
+      int below = 0;
+      for (const glm::dvec3& d : part) below += glm::dot(d, h) < 0;
+      if (below == 0)
+        m_next.push() = part;
+      else if (below < static_cast<int>(part.size()))
+        m_clipper.clip(part, h, m_next);
+    }
+    std::swap(m_parts, m_next);
+  };
+  clip_all(side_normal);
+  for (const glm::dvec3& h : half_spaces) clip_all(h);
+}
+
+void NearestCircleAssembler::assemble(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
+                                      std::span<const glm::dvec3> half_spaces, VisibilityCone& result) {
+  // 1. One circle per plane normal (up to sign); each cone's wedges in its circle's frame.
+  gather_circles(cones);
   m_irradiance.clear();
   m_solid_angle.clear();
   std::size_t out = 0;
@@ -182,7 +260,6 @@ void NearestCircleAssembler::assemble(std::span<const PlanarCone> cones, const g
   }
   const CircleSet& set = circle_set();
   for (std::size_t k = 0; k < m_circles.size(); ++k) {
-    const Circle& c = set.circles[k];
     m_united.clear();
     unite_wedges(m_circle_wedges[k], m_intervals, m_united);
     for (const Wedge& wedge : m_united) {
@@ -190,79 +267,43 @@ void NearestCircleAssembler::assemble(std::span<const PlanarCone> cones, const g
       for (int p = 0; p < parts; ++p) {
         const double a = wedge.start + wedge.width * p / parts;
         const double b = p + 1 == parts ? wedge.end() : wedge.start + wedge.width * (p + 1) / parts;
-        // 2. The cell over [a, b]: the lower envelope from a to b, the circle's point at b, the upper
-        // envelope
-        //    from b back to a, the circle's point at a (kept so that no edge joins the two poles).
-        SphericalPolygon& cell = m_cell;
-        cell.clear();
-        auto add = [&](const glm::dvec3& d) {
-          if (cell.empty() || glm::dot(cell.back(), d) < 1 - 1e-15) cell.push_back(d);
-        };
-        for (int sheet : {1, 0}) {
-          const std::vector<EnvelopePiece>& envelope = set.envelope[2 * k + sheet];
-          const std::size_t n = envelope.size(), i = piece_at(envelope, a);
-          // The breakpoints in (a, b) start pieces i + 1, ..., i + count (cyclically).
-          const double base = a - wrap_angle(a);  // a's turn: breakpoint phi + base (+ 2 pi) follows a
-          std::size_t count = 0;
-          while (count + 1 < n) {
-            double phi = envelope[(i + count + 1) % n].phi + base;
-            while (phi <= a) phi += kTwoPi;
-            if (!(phi < b)) break;
-            ++count;
-          }
-          const glm::dvec3 at_a = envelope_point(set, k, sheet, envelope[i], a);
-          const glm::dvec3 at_b = envelope_point(set, k, sheet, envelope[piece_at(envelope, b)], b);
-          if (sheet == 1) {  // lower, from a to b
-            add(at_a);
-            for (std::size_t step = 1; step <= count; ++step) add(envelope[(i + step) % n].start);
-            add(at_b);
-            add(on_circle(c, b));
-          } else {  // upper, from b back to a
-            add(at_b);
-            for (std::size_t step = count; step >= 1; --step) add(envelope[(i + step) % n].start);
-            add(at_a);
-            add(on_circle(c, a));
-          }
-        }
-        while (cell.size() > 1 && glm::dot(cell.back(), cell.front()) > 1 - 1e-15) cell.pop_back();
-        if (cell.size() < 3) continue;
-        // Along the lower sheet with increasing φ the cell is on the left when (u, w, n) is right-handed.
-        if (c.handed < 0) std::reverse(cell.begin(), cell.end());
-        // 3. Its part in the side's hemisphere and the occluding planes' half-spaces.
-        m_parts.clear();
-        m_parts.push() = cell;
-        auto clip_all = [&](const glm::dvec3& h) {
-          // A vertex within rounding of the boundary is put just inside it: the clipper reads the sign of
-          // each vertex, and zeros or noise about zero would make crossings of no length.
-          for (std::size_t q = 0; q < m_parts.size; ++q)
-            for (glm::dvec3& d : m_parts[q]) {
-              const double up = glm::dot(d, h);
-              if (std::abs(up) < kOnBoundary) d = glm::normalize(d + (kOnBoundary - up) * h);
-            }
-          m_next.clear();
-          for (std::size_t q = 0; q < m_parts.size; ++q) {
-            const SphericalPolygon& part = m_parts[q];
-            // Minor arcs between points of an open hemisphere stay in it, so a part whose vertices are all
-            // inside is kept whole, and one whose vertices are all outside is dropped: it does not hold the
-            // whole half-space (a part lies in a lune of width kMaxPart, of area under 2 pi), and the
-            // clipper's test for that case is undecided where a vertex lies at the opposite pole (as the
-            // cells' corners can).
-            int below = 0;
-            for (const glm::dvec3& d : part) below += glm::dot(d, h) < 0;
-            if (below == 0)
-              m_next.push() = part;
-            else if (below < static_cast<int>(part.size()))
-              m_clipper.clip(part, h, m_next);
-          }
-          std::swap(m_parts, m_next);
-        };
-        clip_all(side_normal);
-        for (const glm::dvec3& h : half_spaces) clip_all(h);
+        // 2. The cell over [a, b]; 3. its part in the side's hemisphere and the occluding planes'
+        // half-spaces.
+        if (!make_cell(set, k, a, b)) continue;
+        clip_cell(side_normal, half_spaces);
         for (std::size_t q = 0; q < m_parts.size; ++q) emit(m_parts[q]);
       }
     }
   }
   result.pieces.resize(out);
 }
+
+namespace {
+
+/// The nearest-circle rule's reconstructor: the assembler and its measures.
+class NearestCircleReconstructor final : public ConeReconstructor {
+ public:
+  void assemble(std::span<const PlanarCone> cones, const glm::dvec3& side_normal,
+                std::span<const glm::dvec3> half_spaces, VisibilityCone& result,
+                ConeMeasures* measures) override {
+    m_assembler.assemble(cones, side_normal, half_spaces, result);
+    if (measures)
+      *measures =
+          measures_of_pieces(result, m_assembler.irradiance(), m_assembler.solid_angle(), side_normal);
+  }
+
+ private:
+  NearestCircleAssembler m_assembler;
+};
+
+}  // namespace
+
+namespace rules {
+extern const ConeReconstructionRule kNearestCircle{
+    "nearest-circle",
+    "every direction takes the visibility of the nearest point of the nearest slicing circle: exact "
+    "polygons, no grouping rules",
+    [] { return std::unique_ptr<ConeReconstructor>(std::make_unique<NearestCircleReconstructor>()); }};
+}  // namespace rules
 
 }  // namespace pleat

@@ -421,41 +421,4 @@ SlicingPlan make_area_light_plan(const MeshTopology& topology, const Frame& fram
   return plan;
 }
 
-const char* cone_storage_name(ConeStorage storage) {
-  switch (storage) {
-    case ConeStorage::NearerEndpoint:
-      return "nearer-endpoint";
-    case ConeStorage::NearestOnFan:
-      return "nearest-on-fan";
-    case ConeStorage::InterpolatedOnFan:
-      return "interpolated-on-fan";
-    case ConeStorage::AimedOnFan:
-      return "aimed-on-fan";
-  }
-  return "?";
-}
-
-ConeStorage cone_storage_from_name(std::string_view name) {
-  for (ConeStorage s : {ConeStorage::NearerEndpoint, ConeStorage::NearestOnFan,
-                        ConeStorage::InterpolatedOnFan, ConeStorage::AimedOnFan})
-    if (name == cone_storage_name(s)) return s;
-  throw std::invalid_argument("unknown cone storage rule '" + std::string(name) + "'");
-}
-
-const char* cone_reconstruction_name(ConeReconstruction reconstruction) {
-  switch (reconstruction) {
-    case ConeReconstruction::Grouped:
-      return "grouped";
-    case ConeReconstruction::NearestCircle:
-      return "nearest-circle";
-  }
-  return "?";
-}
-
-ConeReconstruction cone_reconstruction_from_name(std::string_view name) {
-  for (ConeReconstruction r : {ConeReconstruction::Grouped, ConeReconstruction::NearestCircle})
-    if (name == cone_reconstruction_name(r)) return r;
-  throw std::invalid_argument("unknown cone reconstruction rule '" + std::string(name) + "'");
-}
-
 }  // namespace pleat

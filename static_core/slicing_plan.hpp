@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <glm/vec3.hpp>
 #include <span>
 #include <string_view>
@@ -30,42 +31,21 @@ struct SlicingPlane {
       0;  ///< index into SlicingPlan::orientations (cones are grouped and filled per orientation)
 };
 
-/// How a plane's 2D cones reach mesh vertices (docs/method.md §7). A slice vertex lies on a mesh edge; its
-/// cone is offered to the edge's endpoints, at their 3D distances from it.
-enum class ConeStorage {
-  /// The paper's rule: to the nearer endpoint only; per plane, side and vertex the nearest offer is kept, and
-  /// a
-  /// vertex keeps one cone from every plane that offered it one.
-  NearerEndpoint,
-  /// To both endpoints; per orientation, side and vertex only the nearest offer over all planes of the
-  /// orientation is kept (ties: the lower plane, then the lower slice vertex). A vertex gets a cone in every
-  /// orientation whose planes cut its own edges, from the nearest such cut, so far fewer vertices borrow a
-  /// neighbour's, and parallel planes' cones taken from different points are not merged into one vertex.
-  NearestOnFan,
-  /// As NearestOnFan, but per orientation two cuts: the nearest in a plane below the vertex and the nearest
-  /// in a plane above it. When both exist (the planes are parallel), the vertex's 2D cone is the blend of
-  /// theirs at its own height (blend_wedges: each wedge end interpolated linearly in the vertex's offset
-  /// between the two planes), so the slice point's offset from the vertex cancels to first order and the
-  /// cone moves continuously as the vertex moves between planes; where the two cones cannot be matched (a
-  /// wedge appears or vanishes between the planes), the cone of the nearer plane.
-  InterpolatedOnFan,
-  /// As InterpolatedOnFan, but the cones are seen from the vertex itself (aim_wedges, docs/method.md §7): a
-  /// wedge end bounded by a slice point (its reach) is a point of the horizon, so the end becomes the
-  /// direction
-  /// from the vertex to that point — for two planes, to the blend of their two horizon points at the vertex's
-  /// height. This removes the slice point's offset from the vertex within the plane as well as across it.
-  AimedOnFan,
+/// How a plane's 2D cones reach mesh vertices (docs/method.md §7): the id of a storage rule, its row in
+/// cone_storage_rules() (static_core/cone_rules.hpp; each rule's file says what it does). The enumerators
+/// name the built-in rows for code that asks for one; a new rule needs none.
+enum class ConeStorage : std::uint8_t {
+  NearerEndpoint,     ///< the paper's (static_core/rules/nearer_endpoint.cpp)
+  NearestOnFan,       ///< static_core/rules/nearest_on_fan.cpp
+  InterpolatedOnFan,  ///< static_core/rules/interpolated_on_fan.cpp
+  AimedOnFan,         ///< static_core/rules/aimed_on_fan.cpp
 };
 
-/// How a vertex's 2D cones become its 3D cone (docs/method.md §8).
-enum class ConeReconstruction {
-  /// The paper's: wedges that cross or come close are grouped, each group one polygon through its wedges'
-  /// bounding directions sorted about the group's mean direction.
-  Grouped,
-  /// Every direction takes the visibility of the nearest point of the nearest slicing circle through the
-  /// vertex (its cell on the sphere, projected onto the circle along the meridian): exact polygons, no
-  /// grouping rules (static_core/internal/nearest_circle.hpp).
-  NearestCircle,
+/// How a vertex's 2D cones become its 3D cone (docs/method.md §8): the id of a reconstruction rule, its row
+/// in cone_reconstruction_rules() (static_core/cone_rules.hpp), named as ConeStorage's.
+enum class ConeReconstruction : std::uint8_t {
+  Grouped,        ///< the paper's (static_core/cone_assembly.cpp)
+  NearestCircle,  ///< static_core/nearest_circle.cpp
 };
 
 struct SlicingPlan {
@@ -107,14 +87,14 @@ void cover_with_planes(SlicingPlan& plan, const Bounds& cover);
 /// The box of the vertices the triangles use (isolated vertices do not stretch a plan).
 Bounds cloth_bounds(const MeshTopology& topology, const Frame& frame);
 
-/// "nearer-endpoint", "nearest-on-fan", "interpolated-on-fan", "aimed-on-fan".
+/// The rule's name in its table (static_core/cone_rules.hpp).
 const char* cone_storage_name(ConeStorage storage);
-/// The rule of a name from cone_storage_name; throws std::invalid_argument for any other.
+/// The rule of a name in the table; throws std::invalid_argument naming the table's names for any other.
 ConeStorage cone_storage_from_name(std::string_view name);
 
-/// "grouped", "nearest-circle".
+/// The rule's name in its table (static_core/cone_rules.hpp).
 const char* cone_reconstruction_name(ConeReconstruction reconstruction);
-/// The rule of a name from cone_reconstruction_name; throws std::invalid_argument for any other.
+/// The rule of a name in the table; throws std::invalid_argument naming the table's names for any other.
 ConeReconstruction cone_reconstruction_from_name(std::string_view name);
 
 /// The plane through `point` with unit normal `normal` and a deterministic in-plane frame.

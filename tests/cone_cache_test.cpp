@@ -208,8 +208,8 @@ TEST(ConeCache, CompactCachesAreAThirdOfTheSizeAndShadeAlike) {
   // the frame's brightest vertex).
   ConeCacheReader reader(dir / "compact.cones");
   Lighting lighting;
-  lighting.skies.push_back({});
-  lighting.directional.push_back({});
+  lighting.lights.push_back(UniformSkyLight{});
+  lighting.lights.push_back(DirectionalLight{});
   for (std::size_t k = 0; k < fx.frames.size(); ++k) {
     FrameVisibility compact;
     reader.read_frame(k, fx.positions[k], compact);

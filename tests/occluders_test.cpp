@@ -115,7 +115,7 @@ TEST(Occluders, PathTracingTakesTheGroundAsAnInfinitePlane) {
   const Frame frame = grounded.frame(0);
   EmbreeScene rays(grounded.topology(), frame);
   Lighting lighting;
-  lighting.skies.push_back({glm::dvec3(1.0)});
+  lighting.lights.push_back(UniformSkyLight{glm::dvec3(1.0)});
   PathTraceParams params;
   params.paths_per_vertex = 2048;
   params.albedo = 0.5;

@@ -81,7 +81,7 @@ PathTracedFrame trace(const Mesh& m, const Lighting& lighting, const PathTracePa
 TEST(PathTrace, FlatSheetUnderAUniformSkyIsRhoL) {
   const Mesh sheet = flat_sheet(8, 1.0);
   Lighting lighting;
-  lighting.skies.push_back({glm::dvec3(1.0, 0.5, 0.25)});
+  lighting.lights.push_back(UniformSkyLight{glm::dvec3(1.0, 0.5, 0.25)});
   PathTraceParams params;
   params.paths_per_vertex = 64;
   params.albedo = 0.5;
@@ -95,7 +95,7 @@ TEST(PathTrace, FlatSheetUnderADirectionalLightIsRhoEOverPi) {
   const Mesh sheet = flat_sheet(6, 1.0);
   Lighting lighting;
   const glm::dvec3 travel = glm::normalize(glm::dvec3(0.3, 0.0, -1.0));
-  lighting.directional.push_back({travel, glm::dvec3(2.0)});
+  lighting.lights.push_back(DirectionalLight{travel, glm::dvec3(2.0)});
   PathTraceParams params;
   params.paths_per_vertex = 16;
   params.albedo = 0.6;
@@ -110,8 +110,8 @@ TEST(PathTrace, FlatSheetUnderADirectionalLightIsRhoEOverPi) {
 TEST(PathTrace, InsideAClosedSphereIsDark) {
   const Mesh ball = sphere(3);
   Lighting lighting;
-  lighting.skies.push_back({glm::dvec3(1.0)});
-  lighting.directional.push_back({glm::dvec3(0.0, 0.0, -1.0), glm::dvec3(3.0)});
+  lighting.lights.push_back(UniformSkyLight{glm::dvec3(1.0)});
+  lighting.lights.push_back(DirectionalLight{glm::dvec3(0.0, 0.0, -1.0), glm::dvec3(3.0)});
   PathTraceParams params;
   params.paths_per_vertex = 32;
   const PathTracedFrame r = trace(ball, lighting, params);
@@ -131,7 +131,7 @@ TEST(PathTrace, VFoldBottomLiesBetweenStewartLangerAndFlat) {
   const Mesh fold =
       v_fold(alpha, {0.0, 0.5, 1.0, 3.0, 10.0, 100.0}, {-100.0, -10.0, -1.0, 0.0, 1.0, 10.0, 100.0}, columns);
   Lighting lighting;
-  lighting.skies.push_back({glm::dvec3(1.0)});
+  lighting.lights.push_back(UniformSkyLight{glm::dvec3(1.0)});
   PathTraceParams params;
   params.paths_per_vertex = 4096;
   params.albedo = 0.7;
@@ -151,8 +151,8 @@ TEST(PathTrace, DeterministicForASeed) {
   int columns = 0;
   const Mesh fold = v_fold(0.6, {0.0, 0.5, 1.0}, {-1.0, 0.0, 1.0}, columns);
   Lighting lighting;
-  lighting.cloudy_skies.push_back({glm::dvec3(1.0), glm::dvec3(0.0, 1.0, 0.0)});
-  lighting.points.push_back({glm::dvec3(0.0, 2.0, 0.5), glm::dvec3(4.0)});
+  lighting.lights.push_back(HemisphereSkyLight{glm::dvec3(1.0), glm::dvec3(0.0, 1.0, 0.0)});
+  lighting.lights.push_back(PointLight{glm::dvec3(0.0, 2.0, 0.5), glm::dvec3(4.0)});
   PathTraceParams params;
   params.paths_per_vertex = 32;
   const PathTracedFrame a = trace(fold, lighting, params);

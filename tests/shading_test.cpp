@@ -96,7 +96,7 @@ EnvironmentMap procedural_map(int width, int height, const EnvironmentOrientatio
 
 TEST(ConeLighting, UniformSkyOnHemisphereAndOctant) {
   Lighting lighting;
-  lighting.skies.push_back({glm::dvec3(2.0)});
+  lighting.lights.push_back(UniformSkyLight{glm::dvec3(2.0)});
   ConeLighting cl(lighting);
   const glm::dvec3 n(0, 0, 1);
   ConeIrradiance e = cl.evaluate(cone_of({hemisphere_polygon(n)}), glm::dvec3(0.0), n);
@@ -113,7 +113,7 @@ TEST(ConeLighting, UniformSkyOnHemisphereAndOctant) {
 
 TEST(ConeLighting, CloudySkyOnAVerticalWall) {
   Lighting lighting;
-  lighting.cloudy_skies.push_back({glm::dvec3(1.0), glm::dvec3(0, 0, 1)});
+  lighting.lights.push_back(HemisphereSkyLight{glm::dvec3(1.0), glm::dvec3(0, 0, 1)});
   ConeLighting cl(lighting);
   const glm::dvec3 n(1, 0, 0);
   // Half the hemisphere of a wall is above the horizon: pi/2 of projected solid angle.
@@ -209,11 +209,7 @@ TEST(ShadeFrame, FastPathsEqualClippingEveryPiece) {
           const glm::dvec3 axis = (s == 0 ? 1.0 : -1.0) * vis.normals[v];
           const double a = reference.set_cone(vis.cones[s][v], axis);
           glm::dvec3 e(0.0);
-          for (const auto& l : lighting.skies) e += reference.uniform_sky(l);
-          for (const auto& l : lighting.cloudy_skies) e += reference.hemisphere_sky(l);
-          for (const auto& l : lighting.directional) e += reference.directional(l);
-          for (const auto& l : lighting.points) e += reference.point(l, frame.positions[v]);
-          for (const auto& l : lighting.areas) e += reference.area(l, frame.positions[v]);
+          lighting.for_each([&](const auto& l) { e += reference.irradiance(l, frame.positions[v]); });
           SCOPED_TRACE(std::string(spec) + " side " + std::to_string(s) + " vertex " + std::to_string(v));
           EXPECT_NEAR(fast.sky_visibility[s][v], a, 1e-6);
           EXPECT_NEAR(fast.irradiance[s][v].x, e.x, 1e-5 * (1.0 + std::abs(e.x)));
@@ -241,19 +237,19 @@ TEST(ConeLighting, PointAndDirectionalInsideOutsideKnownCone) {
     add_light_spec(lighting, "point:2,0,1,I=8");  // 63 degrees off the axis: outside
     ConeLighting cl(lighting);
     cl.set_cone(cone_of({piece}), n);
-    EXPECT_NEAR(cl.point(lighting.points[0], glm::dvec3(0.0)).x, 8.0 / 4.0, 1e-12);
-    EXPECT_EQ(cl.point(lighting.points[1], glm::dvec3(0.0)).x, 0.0);
+    EXPECT_NEAR(cl.irradiance((*lighting.all<PointLight>()[0]), glm::dvec3(0.0)).x, 8.0 / 4.0, 1e-12);
+    EXPECT_EQ(cl.irradiance((*lighting.all<PointLight>()[1]), glm::dvec3(0.0)).x, 0.0);
     // Inside but tilted: cosine and inverse-square falloff.
     const PointLight tilted{glm::dvec3(0.2, 0.0, 3.0), glm::dvec3(5.0)};
     const double d2 = 0.04 + 9.0;
-    EXPECT_NEAR(cl.point(tilted, glm::dvec3(0.0)).x, 5.0 * (3.0 / std::sqrt(d2)) / d2, 1e-12);
+    EXPECT_NEAR(cl.irradiance(tilted, glm::dvec3(0.0)).x, 5.0 * (3.0 / std::sqrt(d2)) / d2, 1e-12);
 
     DirectionalLight sun{glm::normalize(glm::dvec3(-0.1, 0.0, -1.0)), glm::dvec3(3.0)};
-    EXPECT_NEAR(cl.directional(sun).x, 3.0 / std::sqrt(1.01), 1e-12);
+    EXPECT_NEAR(cl.irradiance(sun).x, 3.0 / std::sqrt(1.01), 1e-12);
     sun.direction = glm::normalize(glm::dvec3(-1.0, 0.0, -1.0));  // 45 degrees: outside both cones
-    EXPECT_EQ(cl.directional(sun).x, 0.0);
+    EXPECT_EQ(cl.irradiance(sun).x, 0.0);
     sun.direction = glm::dvec3(0, 0, 1);  // from below
-    EXPECT_EQ(cl.directional(sun).x, 0.0);
+    EXPECT_EQ(cl.irradiance(sun).x, 0.0);
   }
   // In a notch of the star (between two long arms, at polar angle 0.5): outside.
   const Lighting none;
@@ -263,11 +259,11 @@ TEST(ConeLighting, PointAndDirectionalInsideOutsideKnownCone) {
   frame_about(n, t1, t2);
   const double psi = 2 * kPi * 1 / 10;  // direction of a short arm
   const glm::dvec3 notch = std::cos(0.5) * n + std::sin(0.5) * (std::cos(psi) * t1 + std::sin(psi) * t2);
-  EXPECT_EQ(cl.directional({-notch, glm::dvec3(1.0)}).x, 0.0);
+  EXPECT_EQ(cl.irradiance(DirectionalLight{-notch, glm::dvec3(1.0)}).x, 0.0);
   const double psi_long = 0.0;
   const glm::dvec3 arm =
       std::cos(0.5) * n + std::sin(0.5) * (std::cos(psi_long) * t1 + std::sin(psi_long) * t2);
-  EXPECT_NEAR(cl.directional({-arm, glm::dvec3(1.0)}).x, std::cos(0.5), 1e-12);
+  EXPECT_NEAR(cl.irradiance(DirectionalLight{-arm, glm::dvec3(1.0)}).x, std::cos(0.5), 1e-12);
 }
 
 TEST(ConeLighting, InsideConeTestAgreesWithWindingFan) {
@@ -286,7 +282,7 @@ TEST(ConeLighting, InsideConeTestAgreesWithWindingFan) {
       if (glm::dot(l, m) <= 0.0) l = -l;
       const bool expected = contains_direction(piece, l);
       inside += expected;
-      EXPECT_EQ(cl.directional({-l, glm::dvec3(1.0)}).x > 0.0, expected) << trial << " " << k;
+      EXPECT_EQ(cl.irradiance(DirectionalLight{-l, glm::dvec3(1.0)}).x > 0.0, expected) << trial << " " << k;
     }
   }
   EXPECT_GT(inside, 200);  // both outcomes exercised
@@ -302,17 +298,18 @@ TEST(ConeLighting, AreaLightCoveringTheConeEqualsTheSky) {
   add_light_spec(lighting, "sky:2");
   ConeLighting cl(lighting);
   const double a = cl.set_cone(cone, n);
-  const glm::dvec3 area = cl.area(lighting.areas[0], glm::dvec3(0.0));
-  EXPECT_NEAR(area.x, cl.uniform_sky(lighting.skies[0]).x, 1e-12);
+  const glm::dvec3 area = cl.irradiance((*lighting.all<AreaLight>()[0]), glm::dvec3(0.0));
+  EXPECT_NEAR(area.x, cl.irradiance((*lighting.all<UniformSkyLight>()[0])).x, 1e-12);
   EXPECT_NEAR(area.x, 2 * kPi * a, 1e-12);
   // Clockwise vertex order (light facing down) gives the same for a two-sided light, nothing one-sided.
   Lighting reversed;
   add_light_spec(reversed, "area:-10,10,1;10,10,1;10,-10,1;-10,-10,1,L=2");
   add_light_spec(reversed, "area:-10,-10,1;10,-10,1;10,10,1;-10,10,1,L=2,sided=1");
   add_light_spec(reversed, "area:-10,10,1;10,10,1;10,-10,1;-10,-10,1,L=2,sided=1");
-  EXPECT_NEAR(cl.area(reversed.areas[0], glm::dvec3(0.0)).x, area.x, 1e-12);
-  EXPECT_EQ(cl.area(reversed.areas[1], glm::dvec3(0.0)).x, 0.0);  // normal +z: emits away from the vertex
-  EXPECT_NEAR(cl.area(reversed.areas[2], glm::dvec3(0.0)).x, area.x, 1e-12);
+  EXPECT_NEAR(cl.irradiance((*reversed.all<AreaLight>()[0]), glm::dvec3(0.0)).x, area.x, 1e-12);
+  EXPECT_EQ(cl.irradiance((*reversed.all<AreaLight>()[1]), glm::dvec3(0.0)).x,
+            0.0);  // normal +z: emits away from the vertex
+  EXPECT_NEAR(cl.irradiance((*reversed.all<AreaLight>()[2]), glm::dvec3(0.0)).x, area.x, 1e-12);
 }
 
 TEST(ConeLighting, AreaLightCoveringTheHemisphereConeEqualsTheSky) {
@@ -323,7 +320,7 @@ TEST(ConeLighting, AreaLightCoveringTheHemisphereConeEqualsTheSky) {
   add_light_spec(lighting, "area:-1000,-1000,1;1000,-1000,1;1000,1000,1;-1000,1000,1,L=1");
   ConeLighting cl(lighting);
   cl.set_cone(cone_of({hemisphere_polygon(n)}), n);
-  EXPECT_NEAR(cl.area(lighting.areas[0], glm::dvec3(0.0)).x, kPi, 2e-3);
+  EXPECT_NEAR(cl.irradiance((*lighting.all<AreaLight>()[0]), glm::dvec3(0.0)).x, kPi, 2e-3);
 }
 
 TEST(ConeLighting, AreaLightPartialOverlapAgainstBruteForce) {
@@ -336,9 +333,9 @@ TEST(ConeLighting, AreaLightPartialOverlapAgainstBruteForce) {
     const VisibilityCone cone =
         cone_of({star(glm::normalize(n + 0.4 * random_unit(rng)), 10, 1.0, 0.45, trial)});
     cl.set_cone(cone, n);
-    const glm::dvec3 e = cl.area(lighting.areas[0], glm::dvec3(0.0));
+    const glm::dvec3 e = cl.irradiance((*lighting.all<AreaLight>()[0]), glm::dvec3(0.0));
     // Brute force: in the cone and in the light polygon (ray-plane hit inside the quad).
-    const AreaLight& light = lighting.areas[0];
+    const AreaLight& light = (*lighting.all<AreaLight>()[0]);
     SphericalPolygon seen;
     for (auto it = light.polygon.rbegin(); it != light.polygon.rend(); ++it)
       seen.push_back(glm::normalize(*it));
@@ -360,8 +357,8 @@ TEST(EnvironmentMap, ConstantMapEqualsUniformSky) {
   EnvironmentMap map(w, h, std::vector<glm::vec3>(w * h, glm::vec3(0.7f, 0.5f, 0.25f)));
   std::mt19937 rng(3);
   Lighting lighting;
-  lighting.environments.push_back({map, 2.0, {}});
-  lighting.skies.push_back({glm::dvec3(1.4, 1.0, 0.5)});
+  lighting.lights.push_back(EnvironmentLight{map, 2.0, {}});
+  lighting.lights.push_back(UniformSkyLight{glm::dvec3(1.4, 1.0, 0.5)});
   ConeLighting cl(lighting);
   for (int trial = 0; trial < 20; ++trial) {
     const glm::dvec3 m = random_unit(rng);
@@ -369,8 +366,8 @@ TEST(EnvironmentMap, ConstantMapEqualsUniformSky) {
         trial == 0 ? cone_of({hemisphere_polygon(m)})
                    : cone_of({star(glm::normalize(m + 0.7 * random_unit(rng)), 12, 1.3, 0.5, trial)});
     cl.set_cone(cone, m);
-    const glm::dvec3 env = cl.environment(lighting.environments[0]);
-    const glm::dvec3 sky = cl.uniform_sky(lighting.skies[0]);
+    const glm::dvec3 env = cl.irradiance((*lighting.all<EnvironmentLight>()[0]));
+    const glm::dvec3 sky = cl.irradiance((*lighting.all<UniformSkyLight>()[0]));
     SCOPED_TRACE(trial);
     EXPECT_NEAR(env.x, sky.x, 1e-5 * (1 + sky.x));
     EXPECT_NEAR(env.y, sky.y, 1e-5 * (1 + sky.y));
@@ -468,15 +465,15 @@ TEST(Lights, SpecStrings) {
   add_light_spec(l, "point:0,2,1,I=10");
   add_light_spec(l, "area:0,0,2;1,0,2;1,1,2;0,1,2,L=5");
   ASSERT_EQ(l.size(), 5u);
-  EXPECT_EQ(l.cloudy_skies[0].up, glm::dvec3(0, 1, 0));
-  EXPECT_EQ(l.cloudy_skies[0].radiance, glm::dvec3(0.5, 0.25, 0.125));
-  EXPECT_EQ(l.directional[0].direction, glm::dvec3(0, 0, -1));
-  EXPECT_EQ(l.directional[0].irradiance, glm::dvec3(3.0));
-  EXPECT_EQ(l.points[0].position, glm::dvec3(0, 2, 1));
-  EXPECT_EQ(l.points[0].intensity, glm::dvec3(10.0));
-  EXPECT_EQ(l.areas[0].polygon.size(), 4u);
-  EXPECT_EQ(l.areas[0].radiance, glm::dvec3(5.0));
-  EXPECT_NEAR(l.areas[0].normal.z, 1.0, 1e-15);
+  EXPECT_EQ((*l.all<HemisphereSkyLight>()[0]).up, glm::dvec3(0, 1, 0));
+  EXPECT_EQ((*l.all<HemisphereSkyLight>()[0]).radiance, glm::dvec3(0.5, 0.25, 0.125));
+  EXPECT_EQ((*l.all<DirectionalLight>()[0]).direction, glm::dvec3(0, 0, -1));
+  EXPECT_EQ((*l.all<DirectionalLight>()[0]).irradiance, glm::dvec3(3.0));
+  EXPECT_EQ((*l.all<PointLight>()[0]).position, glm::dvec3(0, 2, 1));
+  EXPECT_EQ((*l.all<PointLight>()[0]).intensity, glm::dvec3(10.0));
+  EXPECT_EQ((*l.all<AreaLight>()[0]).polygon.size(), 4u);
+  EXPECT_EQ((*l.all<AreaLight>()[0]).radiance, glm::dvec3(5.0));
+  EXPECT_NEAR((*l.all<AreaLight>()[0]).normal.z, 1.0, 1e-15);
   EXPECT_FALSE(l.describe().empty());
 
   for (const char* bad :
@@ -496,9 +493,9 @@ TEST(Lights, JsonFilesAndSetups) {
       {"type": "directional", "direction": [0, 0, -1], "irradiance": 2}]})";
   const Lighting l = parse_lighting_json(text, "test.json");
   EXPECT_EQ(l.size(), 4u);
-  EXPECT_EQ(l.points[0].intensity, glm::dvec3(10, 5, 5));
-  EXPECT_FALSE(l.areas[0].two_sided);
-  EXPECT_EQ(l.areas[0].radiance, glm::dvec3(1, 2, 3));
+  EXPECT_EQ((*l.all<PointLight>()[0]).intensity, glm::dvec3(10, 5, 5));
+  EXPECT_FALSE((*l.all<AreaLight>()[0]).two_sided);
+  EXPECT_EQ((*l.all<AreaLight>()[0]).radiance, glm::dvec3(1, 2, 3));
 
   try {
     parse_lighting_json(R"({"lights": [{"type": "point", "position": [0, 2]}]})", "bad.json");

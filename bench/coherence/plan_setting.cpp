@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "static_core/cone_rules.hpp"
+
 namespace pleat::bench {
 
 Setting setting(int orientations, double spacing_edges, ConeStorage storage, bool relaxed) {
@@ -65,7 +67,7 @@ Setting parse_setting(const std::string& text, const std::string& flag) {
   try {
     rule = cone_storage_from_name(storage);
   } catch (const std::invalid_argument&) {
-    throw bad("names no storage rule (nearer-endpoint, nearest-on-fan, interpolated-on-fan, aimed-on-fan)");
+    throw bad("names no storage rule (" + cone_storage_names() + ")");
   }
   Setting result = setting(orientations, edges, rule, relaxed);
   result.reconstruction = reconstruction;

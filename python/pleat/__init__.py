@@ -6,9 +6,9 @@ visibility from folded surfaces", 1999), with numpy arrays in and out.
     sky = pleat.sky_visibility(cloth.faces, cloth.positions, ground="y=0")  # (T, V, 2): front, back
 
 The options are those of `pleat visibility` (underscores for dashes): engine ("kinetic" or "static"; the
-same results), orientations, spacing, spacing_edges, planes, adaptive, max_missing, cone_storage, paper,
-plan (a file written by --save-plan), occluders, ground ("y=0"), threads (like --threads; None: all cores),
-max_edit_fraction; a misspelt one raises TypeError with the nearest name. Results are in the caller's vertex
+same results), orientations, spacing, spacing_edges, planes, adaptive, max_missing, cone_storage,
+cone_reconstruction, paper, plan (a file written by --save-plan), occluders, ground ("y=0"), threads (like
+--threads; None: all cores), max_edit_fraction; a misspelt one raises TypeError with the nearest name. Results are in the caller's vertex
 order and equal, bit for bit, the command line's on the same input and options. The frames you pass are the
 shot: as the whole file does for `pleat visibility`, their first frame sets the plan's orientations and
 spacing (its planes are a lattice anchored in world space, over the box of every frame). To compute a part of

@@ -25,6 +25,7 @@
 
 #include "kinetic/engine.hpp"
 #include "shading/cone_cache.hpp"
+#include "sim_io/job_spec.hpp"
 #include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_report.hpp"
 #include "sim_io/mesh_sequence.hpp"
@@ -276,8 +277,9 @@ struct Outputs {
 struct EngineOptions {
   py::object engine = py::none(), orientations = py::none(), spacing = py::none(), spacing_edges = py::none(),
              planes = py::none(), adaptive = py::none(), max_missing = py::none(), cone_storage = py::none(),
-             paper = py::none(), plan = py::none(), occluders = py::none(), ground = py::none(),
-             threads = py::none(), max_edit_fraction = py::none(), contact_tolerance = py::none();
+             cone_reconstruction = py::none(), paper = py::none(), plan = py::none(), occluders = py::none(),
+             ground = py::none(), threads = py::none(), max_edit_fraction = py::none(),
+             contact_tolerance = py::none();
 };
 
 struct EngineOption {
@@ -293,6 +295,7 @@ const EngineOption kEngineOptions[] = {
     {"adaptive", &EngineOptions::adaptive},
     {"max_missing", &EngineOptions::max_missing},
     {"cone_storage", &EngineOptions::cone_storage},
+    {"cone_reconstruction", &EngineOptions::cone_reconstruction},
     {"paper", &EngineOptions::paper},
     {"plan", &EngineOptions::plan},
     {"occluders", &EngineOptions::occluders},
@@ -329,21 +332,32 @@ EngineOptions engine_options(const py::kwargs& kwargs, const std::vector<std::st
   return options;
 }
 
-PlanOptions plan_options_of(const EngineOptions& o) {
-  PlanOptions plan;
+/// The job specification of the keywords (sim_io/job_spec.hpp), the command line's: TypeError naming a
+/// keyword of the wrong type, and its one check (ValueError naming the keyword) on the values.
+JobSpec job_spec_of(const EngineOptions& o) {
+  JobSpec spec;
+  PlanOptions& plan = spec.plan;
   plan.orientations = option(o.orientations, plan.orientations, "orientations", "an int");
   if (!o.spacing.is_none()) plan.spacing = option(o.spacing, 0.0, "spacing", "a number");
   if (!o.spacing_edges.is_none())
     plan.spacing_edges = option(o.spacing_edges, 0.0, "spacing_edges", "a number");
   if (!o.planes.is_none()) plan.planes_per_orientation = option(o.planes, 0, "planes", "an int");
   plan.adaptive = option(o.adaptive, false, "adaptive", "a bool");
-  plan.max_missing = option(o.max_missing, 0.05, "max_missing", "a number");
-  plan.storage = option(o.cone_storage, std::string("aimed-on-fan"), "cone_storage", "a str");
+  plan.max_missing = option(o.max_missing, plan.max_missing, "max_missing", "a number");
+  plan.storage = option(o.cone_storage, plan.storage, "cone_storage", "a str");
+  plan.reconstruction = option(o.cone_reconstruction, plan.reconstruction, "cone_reconstruction", "a str");
   plan.paper = option(o.paper, false, "paper", "a bool");
   if (!o.plan.is_none())  // str or PathLike
     plan.plan_file = py::module_::import("os").attr("fspath")(o.plan).cast<std::string>();
-  plan.check();
-  return plan;
+  spec.engine = option(o.engine, spec.engine, "engine", "a str");
+  spec.max_edit_fraction =
+      option(o.max_edit_fraction, spec.max_edit_fraction, "max_edit_fraction", "a number");
+  spec.threads = option(o.threads, 0, "threads", "an int");
+  if (!o.ground.is_none()) spec.ground = option(o.ground, std::string(), "ground", "a str like 'y=0'");
+  if (!o.contact_tolerance.is_none())
+    spec.contact_tolerance = option(o.contact_tolerance, 0.0, "contact_tolerance", "a number");
+  spec.check(JobSpec::Naming::Keywords);
+  return spec;
 }
 
 /// Ctrl+C while pleat computes without the GIL. Python runs signal handlers on its main thread only, when
@@ -384,25 +398,16 @@ class InterruptCheck {
 class PyEngine {
  public:
   PyEngine(py::object faces, py::object positions, const EngineOptions& options) {
+    const JobSpec spec = job_spec_of(options);
     EngineParams params;
-    params.kind = engine_kind_from_name(option(options.engine, std::string("kinetic"), "engine", "a str"));
-    const double max_edit_fraction = option(options.max_edit_fraction, 0.5, "max_edit_fraction", "a number");
-    if (!(max_edit_fraction >= 0)) bad("max_edit_fraction: must be >= 0");
-    params.policy.max_edit_fraction = max_edit_fraction;
+    params.kind = engine_kind_from_name(spec.engine);
+    params.policy.max_edit_fraction = spec.max_edit_fraction;
     params.poll = [this] { m_interrupt.poll(); };  // the engine is made in place and never moves
-    const PlanOptions plan_options = plan_options_of(options);
+    const PlanOptions& plan_options = spec.plan;
     std::vector<GroundPlane> grounds;
-    if (!options.ground.is_none())
-      grounds.push_back(
-          parse_ground_plane(option(options.ground, std::string(), "ground", "a str like 'y=0'")));
-    std::optional<double> tolerance;
-    if (!options.contact_tolerance.is_none()) {
-      tolerance = option(options.contact_tolerance, 0.0, "contact_tolerance", "a number");
-      if (!(std::isfinite(*tolerance) && *tolerance >= 0))
-        bad("contact_tolerance: must be a finite distance >= 0");
-    }
-    const int thread_count = option(options.threads, 0, "threads", "an int");
-    if (thread_count < 0) bad("threads: must be >= 0 (0 or None: all cores)");
+    if (!spec.ground.empty()) grounds.push_back(parse_ground_plane(spec.ground));
+    const std::optional<double> tolerance = spec.contact_tolerance;
+    const int thread_count = spec.threads;
     m_arena =
         std::make_unique<tbb::task_arena>(thread_count > 0 ? thread_count : int(tbb::task_arena::automatic));
 
@@ -780,7 +785,8 @@ PYBIND11_MODULE(_pleat, m) {
                        R"(The cones of a cloth, frame by frame, over fixed faces and a fixed plan.
 
 Engine(faces, positions, *, engine="kinetic", orientations=None, spacing=None, spacing_edges=None, planes=None,
-       adaptive=False, max_missing=0.05, cone_storage="aimed-on-fan", paper=False, plan=None,
+       adaptive=False, max_missing=0.05, cone_storage="aimed-on-fan", cone_reconstruction="grouped", paper=False,
+       plan=None,
        occluders=(), ground=None, threads=None, max_edit_fraction=0.5, contact_tolerance=None)
 
 faces: (F, 3) integers; positions: (T, V, 3) or (V, 3) float64/float32, every frame the engine will be asked

@@ -68,6 +68,13 @@ class NearestCircleAssembler {
 
  private:
   const CircleSet& circle_set();  // of m_circles (from the cache, or made and cached)
+  /// Step 1: m_circles, one per plane normal (up to sign), and each circle's wedges in its frame.
+  void gather_circles(std::span<const PlanarCone> cones);
+  /// Step 2: m_cell, circle k's cell over [a, b] (the lower envelope from a to b, the circle's point at b,
+  /// the upper envelope back to a, the circle's point at a); false when it has no area.
+  bool make_cell(const CircleSet& set, std::size_t k, double a, double b);
+  /// Step 3: m_parts, m_cell's part in the side's hemisphere and the half-spaces.
+  void clip_cell(const glm::dvec3& side_normal, std::span<const glm::dvec3> half_spaces);
 
   std::vector<glm::dvec3> m_irradiance;
   std::vector<double> m_solid_angle;

@@ -65,8 +65,8 @@ inline std::string check_engines(const FuzzCloth& cloth) {
   kinetic_params.check_invariants = true;
   KineticVisibility kinetic(cloth.topology, plan, cloth.frames[0], kinetic_params);
   Lighting lighting;
-  lighting.skies.push_back({});
-  lighting.directional.push_back({});
+  lighting.lights.push_back(UniformSkyLight{});
+  lighting.lights.push_back(DirectionalLight{});
   for (std::size_t f = 0; f < cloth.frames.size(); ++f) {
     const FrameVisibility expected = compute_visibility(cloth.topology, cloth.frames[f], plan, {false});
     const FrameVisibility& got = f == 0 ? kinetic.current() : kinetic.advance(cloth.frames[f]);
