@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "kinetic/internal/change_tracking.hpp"
 #include "kinetic/internal/kinetic_inspect.hpp"
 #include "kinetic/internal/kinetic_slice.hpp"
 #include "static_core/assert.hpp"
@@ -32,6 +33,7 @@ struct KineticVisibility::Impl {
     planes_for_frame(plan, cloth, first, frame_plan.planes);
     slices.resize(frame_plan.planes.size());
     counts.resize(slices.size());
+    changed_of_plane.resize(slices.size());
     candidate_faces_per_plane(topology, first, frame_plan, faces);
     mark_frame(topology, connectivity, first, marks);
     for_each_plane([&](std::size_t p) {
@@ -39,7 +41,7 @@ struct KineticVisibility::Impl {
                       split_faces(topology, faces[p]), marks, local_scratch());
       check(p);
     });
-    gather_and_assemble(first);
+    gather_and_assemble(first, false);
     stats = {};
   }
 
@@ -110,6 +112,7 @@ struct KineticVisibility::Impl {
   /// frame.
   void take_planes_of(const Frame& next) {
     fresh.assign(frame_plan.planes.size(), 0);
+    dropped_offers.clear();
     if (!(plan.spacing > 0)) return;  // the planes are the plan's, every frame
     planes_for_frame(plan, cloth, next, next_planes);
     std::vector<KineticSlice> kept(next_planes.size());
@@ -117,66 +120,118 @@ struct KineticVisibility::Impl {
     auto before = [](const SlicingPlane& a, const SlicingPlane& b) {
       return a.orientation != b.orientation ? a.orientation < b.orientation : a.offset < b.offset;
     };
+    std::vector<char> taken(slices.size(), 0);
     for (std::size_t i = 0, j = 0; i < next_planes.size(); ++i) {  // both ordered by orientation, offset
       while (j < frame_plan.planes.size() && before(frame_plan.planes[j], next_planes[i])) ++j;
       if (j < frame_plan.planes.size() && !before(next_planes[i], frame_plan.planes[j])) {
+        taken[j] = 1;
         kept[i] = std::move(slices[j++]);
         fresh[i] = 0;
       }
     }
+    for (std::size_t j = 0; j < slices.size(); ++j)  // the cloth left these planes: their offers are gone
+      if (!taken[j]) kinetic::append_offered(slices[j].cones(), dropped_offers);
     slices = std::move(kept);
     counts.resize(slices.size());
+    changed_of_plane.resize(slices.size());
     frame_plan.planes.swap(next_planes);
   }
 
   void advance(const Frame& next) {
     const auto start = std::chrono::steady_clock::now();
-    if (std::memcmp(next.positions.data(), previous.positions.data(),    // a held frame, bit for bit: every
-                    next.positions.size() * sizeof(glm::dvec3)) == 0) {  // slice and cone holds as it is
+    kinetic::find_moved_vertices(previous, next, moved, moved_list);
+    if (moved_list.empty()) {  // a held frame, bit for bit: every slice and cone holds as it is
       stats = {};
-      stats.slices_unchanged = slices.size();
+      stats.slices_kept = slices.size();
       previous.time = next.time;
       stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return;
     }
     take_planes_of(next);
     candidate_faces_per_plane(topology, next, frame_plan, faces);
+    whole_fans_before.swap(marks.whole_fans);
     mark_frame(topology, connectivity, next, marks);
+    find_reached_planes(next);
     const bool engine_cost = params.policy.measured_cost;
     const bool rebuild_all =
         engine_cost && (schedule.rebuilds_left > 0 || schedule.carried >= Schedule::kProbeEvery ||
                         (schedule.rebuild_cost < 0 && schedule.carried > 0));
     // A run's last rebuild keeps the triangulations: the next interval carries them.
     const bool keep = !rebuild_all || schedule.rebuilds_left <= 1;
-    for_each_plane([&](std::size_t p) {
-      const PlaneFaces split = split_faces(topology, faces[p]);
-      const SlicingPlane& plane = frame_plan.planes[p];
-      if (fresh[p]) {  // a plane the cloth reached this frame: built as the static engine builds it
-        counts[p] = {};
-        counts[p].slices_rebuilt = 1;
-        slices[p].build(topology, connectivity, next, plane, plan.storage, split, marks, local_scratch());
-      } else {
-        counts[p] = rebuild_all ? slices[p].rebuild_outright(topology, connectivity, next, plane, split,
-                                                             marks, keep, local_scratch())
-                                : slices[p].advance(topology, connectivity, next, plane, split, marks,
-                                                    params.policy, local_scratch());
-      }
-      check(p);
-    });
+    for_each_plane([&](std::size_t p) { advance_plane(p, next, rebuild_all, keep); });
     if (engine_cost) update_schedule(rebuild_all, std::chrono::steady_clock::now() - start);
     const auto assembly_start = std::chrono::steady_clock::now();
-    gather_and_assemble(next);
+    gather_changes();
+    gather_and_assemble(next, true);
     const double assembly_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - assembly_start).count();
     stats = {};
     stats.assembly_seconds = assembly_seconds;
+    stats.vertices_assembled = assembler.last_assembled();
+    for (std::size_t p = 0; p < slices.size(); ++p) stats += counts[p];
+    count_side_changes(next);
+    previous = next;
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  /// reached[p]: plane p's slice is reached by this interval's motion (kinetic/internal/change_tracking.hpp):
+  /// some edge at a moved vertex, or at a vertex whose whole-fan mark changed, crosses it before or after; a
+  /// plane new to the frame is reached.
+  void find_reached_planes(const Frame& next) {
+    touched.assign(moved_list.begin(), moved_list.end());
+    kinetic::append_whole_fan_changes(whole_fans_before, marks.whole_fans, touched);
+    kinetic::planes_reached(connectivity, frame_plan.planes, plan.orientations.size(), previous, next, touched,
+                            reached);
+    for (std::size_t p = 0; p < slices.size(); ++p) reached[p] |= fresh[p];
+  }
+
+  /// Plane p to `next`: kept as it is when the motion does not reach it; else built (new to the frame),
+  /// rebuilt (the whole-interval policy) or carried, and the vertices its offers changed listed in
+  /// changed_of_plane[p].
+  void advance_plane(std::size_t p, const Frame& next, bool rebuild_all, bool keep) {
+    changed_of_plane[p].clear();
+    if (!reached[p]) {
+      counts[p] = {};
+      counts[p].slices_kept = 1;
+      return;
+    }
+    ChangeScratch& change = change_scratch.local();
+    if (fresh[p])
+      change.before.clear();
+    else
+      change.before.take(slices[p].cones());
+    const PlaneFaces split = split_faces(topology, faces[p]);
+    const SlicingPlane& plane = frame_plan.planes[p];
+    if (fresh[p]) {  // a plane the cloth reached this frame: built as the static engine builds it
+      counts[p] = {};
+      counts[p].slices_rebuilt = 1;
+      slices[p].build(topology, connectivity, next, plane, plan.storage, split, marks, local_scratch());
+    } else {
+      counts[p] = rebuild_all ? slices[p].rebuild_outright(topology, connectivity, next, plane, split, marks,
+                                                           keep, local_scratch())
+                              : slices[p].advance(topology, connectivity, next, plane, split, marks,
+                                                  params.policy, local_scratch());
+    }
+    check(p);
+    kinetic::offers_changed(topology.num_receivers(), change.before, slices[p].cones(), change.diff,
+                            changed_of_plane[p]);
+  }
+
+  /// offers_changed (per mesh vertex) from the planes' lists and the planes dropped from the frame.
+  void gather_changes() {
+    offers_changed.assign(topology.num_vertices, 0);
+    for (const Index v : dropped_offers) offers_changed[v] = 1;
+    for (const std::vector<Index>& changed : changed_of_plane)
+      for (const Index v : changed) offers_changed[v] = 1;
+  }
+
+  /// The mesh vertices that crossed each carried plane (each counted once per plane), regular or critical.
+  void count_side_changes(const Frame& next) {
     for (std::size_t p = 0; p < slices.size(); ++p) {
-      stats += counts[p];
-      if (counts[p].slices_rebuilt) continue;
-      // Classify the mesh vertices that crossed this plane (each counted once per plane).
+      if (counts[p].slices_rebuilt || !reached[p]) continue;
+      const SlicingPlane& plane = frame_plan.planes[p];
       for (Index e : slices[p].changed_edges())
         for (Index v : connectivity.endpoints()[e]) {
-          const SlicingPlane& plane = frame_plan.planes[p];
           if (on_or_above(plane, previous.positions[v]) == on_or_above(plane, next.positions[v])) continue;
           if (crossed_stamp[v] == p + 1 + stamp_base) continue;
           crossed_stamp[v] = p + 1 + stamp_base;
@@ -184,15 +239,14 @@ struct KineticVisibility::Impl {
         }
     }
     stamp_base += slices.size();
-    previous = next;
-    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
   /// After an interval: its wall time per slice vertex into the estimate of its kind, then the next
   /// interval's kind (Schedule, KineticPolicy::measured_cost).
   void update_schedule(bool rebuilt_all, std::chrono::steady_clock::duration elapsed) {
-    std::size_t vertices = 0;
-    for (const KineticSlice& slice : slices) vertices += slice.cones().slice.vertices.size();
+    std::size_t vertices = 0;  // of the slices the interval carried or rebuilt
+    for (std::size_t p = 0; p < slices.size(); ++p)
+      if (reached[p]) vertices += slices[p].cones().slice.vertices.size();
     const double sample =
         std::chrono::duration<double>(elapsed).count() / double(std::max<std::size_t>(vertices, 1));
     auto average = [&](double& cost) { cost = cost < 0 ? sample : 0.5 * (cost + sample); };
@@ -217,10 +271,13 @@ struct KineticVisibility::Impl {
     }
   }
 
-  void gather_and_assemble(const Frame& frame) {
+  /// The frame's 3D cones; `incremental`: only the vertices whose inputs changed since the last frame
+  /// (offers_changed, moved; FrameAssembler::assemble) are assembled again.
+  void gather_and_assemble(const Frame& frame, bool incremental) {
     plane_views.resize(slices.size());
     for (std::size_t p = 0; p < slices.size(); ++p) plane_views[p] = &slices[p].cones();
-    assembler.assemble(frame, marks, plane_views, result);
+    const AssemblyChanges changes{offers_changed, moved};
+    assembler.assemble(frame, marks, plane_views, result, incremental ? &changes : nullptr);
   }
 
   const MeshTopology& topology;
@@ -242,6 +299,19 @@ struct KineticVisibility::Impl {
   std::vector<std::size_t> crossed_stamp;
   std::size_t stamp_base = 0;
   Schedule schedule;
+  // What the interval changed (kinetic/internal/change_tracking.hpp).
+  struct ChangeScratch {
+    kinetic::OfferSnapshot before;  // a reached plane's offers before the interval
+    kinetic::OfferDiffScratch diff;
+  };
+  tbb::enumerable_thread_specific<ChangeScratch> change_scratch;
+  std::vector<char> moved;                       // per mesh vertex: its position changed, bit for bit
+  std::vector<Index> moved_list, touched;        // the moved vertices; and those whose whole fan changed
+  std::vector<std::uint8_t> whole_fans_before;   // the previous frame's FrameMarks::whole_fans
+  std::vector<char> reached;                     // per plane: the motion reaches its slice
+  std::vector<std::vector<Index>> changed_of_plane;  // per plane: vertices whose offers from it changed
+  std::vector<Index> dropped_offers;             // vertices offered cones by planes the cloth left
+  std::vector<char> offers_changed;              // per mesh vertex: some plane offers it something new
   FrameVisibility result;
   KineticFrameStats stats;
 };
@@ -258,6 +328,7 @@ KineticFrameStats& KineticFrameStats::operator+=(const KineticFrameStats& o) {
   KineticCounts::operator+=(o);
   seconds += o.seconds;
   assembly_seconds += o.assembly_seconds;
+  vertices_assembled += o.vertices_assembled;
   return *this;
 }
 

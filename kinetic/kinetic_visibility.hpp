@@ -114,6 +114,8 @@ struct KineticCounts {
   std::size_t slices_unchanged = 0;       ///< no CGAL edit (at most fan swaps of equal length), no failed
                                      ///< certificate: the triangulation kept as it was, the cones regrown
   std::size_t slices_repaired = 0;  ///< kept and edited locally
+  std::size_t slices_kept = 0;  ///< not reached by the motion (no moved vertex on an edge crossing it, before
+                                ///< or after): slice, triangulation and cones kept, nothing regrown
   std::size_t slices_rebuilt = 0;   ///< built from scratch
   std::array<std::size_t, static_cast<std::size_t>(kinetic::RebuildReason::count)> rebuilt_because{};
   /// Where the time went (seconds, summed over slices, so CPU time when slices run in parallel): carrying
@@ -143,6 +145,7 @@ inline constexpr KineticCounter kKineticCounters[] = {
     {"slices_unchanged", &KineticCounts::slices_unchanged},
     {"slices_repaired", &KineticCounts::slices_repaired},
     {"slices_rebuilt", &KineticCounts::slices_rebuilt},
+    {"slices_kept", &KineticCounts::slices_kept},
 };
 
 /// One advance(): its counters summed over slices, and its wall time (reported by `pleat visibility
@@ -150,6 +153,9 @@ inline constexpr KineticCounter kKineticCounters[] = {
 struct KineticFrameStats : KineticCounts {
   double seconds = 0.0;             ///< wall time of advance()
   double assembly_seconds = 0.0;    ///< of which storage, fill and 3D cones (FrameAssembler; wall time)
+  /// Receiving vertices whose 3D cones were assembled again (the others' inputs did not change); summed over
+  /// frames for a run.
+  std::size_t vertices_assembled = 0;
   using KineticCounts::operator+=;  // a slice's counters into the frame's
   /// Sums every counter and the time: totals over frames.
   KineticFrameStats& operator+=(const KineticFrameStats& other);
@@ -165,9 +171,11 @@ class KineticVisibility {
 
   /// The cones of the current frame (the first one after construction).
   const FrameVisibility& current() const;
-  /// Moves to `next` (same topology) and returns its cones; the reference stays valid until the next call. A
-  /// frame whose positions equal the previous frame's bit for bit (a held frame) costs O(V): its cones are
-  /// the previous ones.
+  /// Moves to `next` (same topology) and returns its cones; the reference stays valid until the next call.
+  /// Costs in proportion to what changed (docs/method.md §11.6): a frame whose positions equal the previous
+  /// frame's bit for bit (a held frame) costs O(V), its cones are the previous ones; otherwise only the
+  /// slices the moved vertices reach are carried (the others keep their slice, triangulation and cones), and
+  /// only the vertices whose offers, fan or fill source changed get their 3D cones assembled again.
   const FrameVisibility& advance(const Frame& next);
   /// What the last advance() did (zeros after construction).
   const KineticFrameStats& last_stats() const;

@@ -232,7 +232,10 @@ struct FrameAssembler::Impl {
   }
 
   void assemble(const Frame& frame, const FrameMarks& marks, std::span<const PlaneCones* const> planes,
-                FrameVisibility& result);
+                FrameVisibility& result, const AssemblyChanges* changes);
+  /// Under `changes`, the receivers whose 3D cone can differ from the last frame's into `to_assemble`
+  /// (FrameAssembler::assemble); false when there is no completed last frame to keep from.
+  bool select_changed(const AssemblyChanges* changes, Index receivers);
 
   const MeshTopology& topology;
   const MeshConnectivity& connectivity;
@@ -249,10 +252,39 @@ struct FrameAssembler::Impl {
   std::vector<char> own;                  // one orientation's: the vertex has a cone of its own
   std::vector<double> edge_length;        // per edge (MeshConnectivity::endpoints)
   NearestSourceScratch fill;
+  std::vector<std::int32_t> previous_source;  // the last completed frame's `source`
+  bool has_previous = false;                  // the last call completed (its result may be kept from)
+  std::vector<Index> to_assemble;             // the vertices an incremental frame assembles
+  std::size_t assembled = 0;                  // by the last call
 };
 
+bool FrameAssembler::Impl::select_changed(const AssemblyChanges* changes, Index receivers) {
+  if (!changes || !has_previous || previous_source.size() != source.size() ||
+      changes->offers_changed.size() < receivers || changes->moved.size() < topology.num_vertices)
+    return false;
+  const std::size_t orientations = plan.orientations.size();
+  const std::span<const char> offers = changes->offers_changed, moved = changes->moved;
+  auto changed = [&](Index v) {
+    if (offers[v] || moved[v]) return true;
+    for (const Index u : connectivity.neighbours(v))  // its normal and fan
+      if (moved[u]) return true;
+    for (std::size_t o = 0; o < orientations; ++o) {  // both sides share their sources (step 3)
+      const std::size_t k = std::size_t(v) * 2 * orientations + o;
+      const std::int32_t from = source[k];
+      if (from != previous_source[k]) return true;
+      if (from >= 0 && Index(from) != v && (offers[Index(from)] || moved[Index(from)])) return true;
+    }
+    return false;
+  };
+  to_assemble.clear();
+  for (Index v = 0; v < receivers; ++v)
+    if (changed(v)) to_assemble.push_back(v);
+  return true;
+}
+
 void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
-                                    std::span<const PlaneCones* const> planes, FrameVisibility& result) {
+                                    std::span<const PlaneCones* const> planes, FrameVisibility& result,
+                                    const AssemblyChanges* changes) {
   const std::size_t n = topology.num_vertices;
   const Index receivers = topology.num_receivers();  // the result holds theirs only: occluders get no cone
   result.normals.assign(marks.normals.begin(), marks.normals.begin() + receivers);
@@ -349,10 +381,16 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
     stats.filled_fraction[o] = receivers ? double(filled) / double(receivers) : 0.0;
   }
 
-  // 4. 3D cones and their measures, per vertex and side (per-thread scratch; result memory reused).
+  // 4. 3D cones and their measures, per vertex and side (per-thread scratch; result memory reused); under
+  //    `changes`, of the vertices whose cones can differ only.
+  const bool incremental = select_changed(changes, receivers);
+  has_previous = false;  // until this frame completes
   for (int side = 0; side < 2; ++side) {
     result.cones[side].resize(receivers);
-    result.measures[side].assign(receivers, {});
+    if (incremental)
+      result.measures[side].resize(receivers);
+    else
+      result.measures[side].assign(receivers, {});
   }
   auto cone_of = [&](const Ref& r, int side) {
     return planes[r.plane]->cones.cone(r.slice_vertex, static_cast<Side>(side));
@@ -455,10 +493,14 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
     }
     if (params.poll && v % 256 == 0) params.poll();
   };
+  assembled = incremental ? to_assemble.size() : std::size_t(receivers);
+  auto assemble_at = [&](std::size_t i) { assemble_vertex(incremental ? std::size_t(to_assemble[i]) : i); };
   if (params.parallel)
-    tbb::parallel_for(std::size_t(0), std::size_t(receivers), assemble_vertex);
+    tbb::parallel_for(std::size_t(0), assembled, assemble_at);
   else
-    for (std::size_t v = 0; v < receivers; ++v) assemble_vertex(v);
+    for (std::size_t i = 0; i < assembled; ++i) assemble_at(i);
+  previous_source.swap(source);
+  has_previous = true;
 }
 
 FrameAssembler::FrameAssembler(const MeshTopology& topology, const MeshConnectivity& connectivity,
@@ -467,8 +509,10 @@ FrameAssembler::FrameAssembler(const MeshTopology& topology, const MeshConnectiv
 FrameAssembler::~FrameAssembler() = default;
 
 void FrameAssembler::assemble(const Frame& frame, const FrameMarks& marks,
-                              std::span<const PlaneCones* const> planes, FrameVisibility& result) {
-  m_impl->assemble(frame, marks, planes, result);
+                              std::span<const PlaneCones* const> planes, FrameVisibility& result,
+                              const AssemblyChanges* changes) {
+  m_impl->assemble(frame, marks, planes, result, changes);
 }
+std::size_t FrameAssembler::last_assembled() const { return m_impl->assembled; }
 
 }  // namespace pleat

@@ -423,7 +423,7 @@ TEST(KineticVisibility, AHeldFrameKeepsEverySliceAndCone) {
         ASSERT_EQ(k.measure(side, v).sky_visibility, s.measure(side, v).sky_visibility) << f << " " << v;
     const bool held = f >= 5 && f <= 6;
     EXPECT_EQ(
-        kinetic.last_stats().slices_unchanged == s.stats.slices && kinetic.last_stats().certificates == 0,
+        kinetic.last_stats().slices_kept == s.stats.slices && kinetic.last_stats().certificates == 0,
         held)
         << f;
   }

@@ -153,8 +153,10 @@ std::vector<Frame> make_frames(const Sequence& s, double u, int count) {
     Frame& out = frames[k];
     out.time = (1 - f) * a.time + f * b.time;
     out.positions.resize(a.positions.size());
+    // a + f (b - a): a vertex at rest in both frames (a collider, a pinned or settled part) stays bit for bit
+    // where it is, as a simulator's sub-frame samples leave it.
     for (std::size_t v = 0; v < a.positions.size(); ++v)
-      out.positions[v] = (1 - f) * a.positions[v] + f * b.positions[v];
+      out.positions[v] = a.positions[v] + f * (b.positions[v] - a.positions[v]);
   }
   return frames;
 }

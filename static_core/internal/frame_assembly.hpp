@@ -132,6 +132,15 @@ struct NearestSourceScratch {
 void nearest_sources(const MeshConnectivity& connectivity, std::span<const double> edge_length,
                      std::span<const char> own, NearestSourceScratch& scratch, std::span<std::int32_t> src);
 
+/// What changed since the frame an assembler assembled last, per mesh vertex (the kinetic engine's
+/// incremental frames; kinetic/internal/change_tracking.hpp finds them): whether some plane's offers to the
+/// vertex differ from that frame's (stored cone, distance, side of the plane, apex, fan cuts: anything step 4
+/// reads of an offer), and whether its position differs bit for bit.
+struct AssemblyChanges {
+  std::span<const char> offers_changed;
+  std::span<const char> moved;
+};
+
 /// Steps after the planes: CSR of stored cones, Dijkstra fill, 3D assembly and measures. Keeps its memory
 /// between frames. `topology` and `plan` must outlive it.
 class FrameAssembler {
@@ -139,9 +148,16 @@ class FrameAssembler {
   FrameAssembler(const MeshTopology& topology, const MeshConnectivity& connectivity, const SlicingPlan& plan,
                  const VisibilityParams& params);
   ~FrameAssembler();
-  /// Writes normals, cones, measures and the static counters of `result`.
+  /// Writes normals, cones, measures and the static counters of `result`. With `changes` (relative to the
+  /// frame of the last call, which must have completed and written this same `result`, untouched since),
+  /// only the vertices whose 3D cone can differ are assembled again: those whose offers changed, whose fan
+  /// (the vertex or a neighbour) moved, or whose fill source in some orientation changed or is a vertex whose
+  /// offers changed or that moved. The others keep their cones and measures, which are what a full assembly
+  /// gives, bit for bit (it is deterministic and their inputs are equal). Steps 1–3 run whole either way.
   void assemble(const Frame& frame, const FrameMarks& marks, std::span<const PlaneCones* const> planes,
-                FrameVisibility& result);
+                FrameVisibility& result, const AssemblyChanges* changes = nullptr);
+  /// The receiving vertices the last assemble() assembled (all of them without changes).
+  std::size_t last_assembled() const;
 
   struct Impl;
 
