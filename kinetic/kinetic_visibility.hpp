@@ -64,11 +64,12 @@ struct KineticPolicy {
   /// rebuilding it: each slice measures both (wall time of its intervals, averaged) and takes the cheaper.
   /// The output is the same either way; which slices are rebuilt, and the counters, depend on the timings.
   /// The engine, above the slices, measures whole intervals too: the wall time per slice vertex of the
-  /// intervals it carries against that of intervals that rebuild every slice outright (the static engine's
-  /// work), and rebuilds every slice for a run of intervals (8, 16, 32, 64: doubling after each carrying
-  /// probe that still loses) while carrying costs more than 0.95 of that; while carrying, every 16th
-  /// interval rebuilds every slice to keep that estimate fresh (counted as rebuilt for frame_cost). False:
-  /// neither measures (edits alone).
+  /// planes' loop of intervals it carries against that of intervals that rebuild outright every slice the
+  /// motion reaches (the static engine's work on them), and rebuilds every reached slice for a run of
+  /// intervals (8, 16, 32, 64: doubling after each carrying probe that still loses) while carrying costs
+  /// more than 0.95 of that; while carrying, every 16th interval rebuilds every reached slice to keep that
+  /// estimate fresh (counted as rebuilt for frame_cost). Slices the motion does not reach are kept either
+  /// way. False: neither measures (edits alone).
   bool measured_cost = true;
   /// A slice whose attempt after a run of outright rebuilds fails again (rebuilt for its edits or its cost)
   /// starts a run twice as long as the last, up to this many doublings (8, 16, 32 intervals by default); an
