@@ -1,21 +1,21 @@
-// The frame-coherence benchmark's coherence cases: what a frame costs the kinetic engine against the static one
-// when only part of the cloth moves (docs/method.md §11.6; bench/run_frame_coherence.sh runs it).
+// The frame-coherence benchmark's coherence cases: what a frame costs the kinetic engine against the static
+// one when only part of the cloth moves (docs/method.md §11.6; bench/run_frame_coherence.sh runs it).
 //
 // On each real sequence in the scene it was simulated in (bench/coherence/sequences.hpp), from its last frame
 // (the cloth settled):
 //   still      the frame held: every frame the same positions, bit for bit;
 //   corner     the cloth at rest while one corner is lifted: the 5% of its vertices nearest (along edges) to
-//              the cloth vertex farthest from its centre rise a little more each frame, tapering to nothing at
-//              the rim of that region;
+//              the cloth vertex farthest from its centre rise a little more each frame, tapering to nothing
+//              at the rim of that region;
 //   patch1, patch10, patch50  a patch of 1%, 10% or 50% of the vertices (nearest along edges to the vertex
 //              nearest the cloth's centre) waving, tapering to nothing at its rim, the rest bit-identical;
 // and the sequence itself at the native frame rate (u1) and 4x and 8x (u4, u8: frames interpolated in
 // between, a vertex at rest staying bit for bit where it is). The static and kinetic engines are built on
 // frame 0 (untimed), then frames 1.. are computed by each in turn at one thread (no TBB parallelism) and each
 // frame's process CPU time is taken; kinetic ÷ static is the median of the per-frame ratios (and the ratio of
-// the medians is given too). The two engines' A values must be equal bit for bit on every frame (else exit 1).
-// Outputs: DIR/frame_coherence_cases.csv and DIR/frame_coherence_cases.md (bench/plot_coherence_cases.py draws
-// DIR/frame_coherence_cases.png from the CSV).
+// the medians is given too). The two engines' A values must be equal bit for bit on every frame (else exit
+// 1). Outputs: DIR/frame_coherence_cases.csv and DIR/frame_coherence_cases.md (bench/plot_coherence_cases.py
+// draws DIR/frame_coherence_cases.png from the CSV).
 //
 // Flags: --out DIR (default bench/results), --sequences a,b (default: every real sequence in data/),
 // --frames N (timed frames per case, default 12), --cases a,b (default all), --data DIR, --quick (the drape,
@@ -49,10 +49,10 @@ const std::vector<std::string> kCases = {"still", "corner", "patch1", "patch10",
 struct CaseRow {
   std::string name, sequence;
   Index vertices = 0;
-  double moved = 0;                        ///< median fraction of the cloth's vertices that moved per frame
-  double static_ms = 0, kinetic_ms = 0;    ///< medians per frame
-  double ratio = 0;                        ///< median of kinetic ÷ static per frame
-  double kept = 0, assembled = 0;          ///< per frame: slices kept whole, vertices assembled again (shares)
+  double moved = 0;                      ///< median fraction of the cloth's vertices that moved per frame
+  double static_ms = 0, kinetic_ms = 0;  ///< medians per frame
+  double ratio = 0;                      ///< median of kinetic ÷ static per frame
+  double kept = 0, assembled = 0;        ///< per frame: slices kept whole, vertices assembled again (shares)
   double structure_ms = 0, cones_ms = 0, assembly_ms = 0;  ///< the kinetic frame's parts (means)
   bool equal = true;
 };
@@ -82,7 +82,8 @@ std::vector<std::pair<Index, int>> ball(const MeshConnectivity& connectivity, In
 
 double mean_edge(const MeshConnectivity& connectivity, const Frame& frame) {
   double sum = 0;
-  for (const auto& e : connectivity.endpoints()) sum += glm::distance(frame.positions[e[0]], frame.positions[e[1]]);
+  for (const auto& e : connectivity.endpoints())
+    sum += glm::distance(frame.positions[e[0]], frame.positions[e[1]]);
   return connectivity.endpoints().empty() ? 1.0 : sum / double(connectivity.endpoints().size());
 }
 
@@ -100,7 +101,8 @@ std::vector<Frame> case_frames(const Sequence& s, const std::string& name, int c
   auto by_distance = [&](bool farthest) {
     Index best = 0;
     for (Index v = 1; v < n; ++v) {
-      const double d = glm::distance(base.positions[v], centre), b = glm::distance(base.positions[best], centre);
+      const double d = glm::distance(base.positions[v], centre),
+                   b = glm::distance(base.positions[best], centre);
       if (farthest ? d > b : d < b) best = v;
     }
     return best;
@@ -116,11 +118,11 @@ std::vector<Frame> case_frames(const Sequence& s, const std::string& name, int c
       const double w = 1.0 - double(d) / double(rim);  // 1 at the seed, 0 past the rim
       const glm::dvec3 p = base.positions[v];
       const double phase = 0.5 * double(f);
-      frames[f].positions[v] +=
-          corner ? glm::dvec3(0.0, 0.3 * edge * double(f) * w * w, 0.0)
-                 : 0.3 * edge * w *
-                       glm::dvec3(std::sin(3.1 * p.y / edge * 0.1 + phase), std::cos(2.3 * p.x / edge * 0.1 + phase),
-                                  std::sin(2.7 * p.z / edge * 0.1 + 1.7 * phase));
+      frames[f].positions[v] += corner ? glm::dvec3(0.0, 0.3 * edge * double(f) * w * w, 0.0)
+                                       : 0.3 * edge * w *
+                                             glm::dvec3(std::sin(3.1 * p.y / edge * 0.1 + phase),
+                                                        std::cos(2.3 * p.x / edge * 0.1 + phase),
+                                                        std::sin(2.7 * p.z / edge * 0.1 + 1.7 * phase));
     }
   return frames;
 }
@@ -185,10 +187,12 @@ void write(const std::vector<CaseRow>& rows, const fs::path& out, int count) {
   std::ofstream md(out / "frame_coherence_cases.md");
   md << "Coherence cases (bench/coherence_cases_bench.cpp): " << count
      << " timed frames per case, one thread, process CPU time per frame; kinetic ÷ static = median of the "
-        "per-frame ratios. moved: median share of the cloth's vertices whose position changed; kept: share of "
+        "per-frame ratios. moved: median share of the cloth's vertices whose position changed; kept: share "
+        "of "
         "the slices kept whole; assembled: share of the vertices whose 3D cones were assembled again; the "
         "kinetic frame's parts (structure, 2D cones, assembly) are means.\n\n"
-        "| case | sequence | vertices | moved | static ms | kinetic ms | kinetic ÷ static | kept | assembled | "
+        "| case | sequence | vertices | moved | static ms | kinetic ms | kinetic ÷ static | kept | assembled "
+        "| "
         "structure / cones / assembly ms | equal |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const CaseRow& r : rows)
     md << format("| %s | %s | %u | %.4f | %.1f | %.2f | **%.3f** | %.2f | %.3f | %.1f / %.1f / %.1f | %s |\n",
@@ -206,30 +210,40 @@ int run(int argc, char** argv) {
       if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
       return argv[++i];
     };
-    if (arg == "--out") out = next();
-    else if (arg == "--data") data = next();
-    else if (arg == "--sequences") sequences = split(next());
-    else if (arg == "--cases") cases = split(next());
-    else if (arg == "--frames") count = std::stoi(next());
-    else if (arg == "--quick") sequences = {"drape"}, count = 3;
-    else throw std::invalid_argument("unknown flag " + arg);
+    if (arg == "--out")
+      out = next();
+    else if (arg == "--data")
+      data = next();
+    else if (arg == "--sequences")
+      sequences = split(next());
+    else if (arg == "--cases")
+      cases = split(next());
+    else if (arg == "--frames")
+      count = std::stoi(next());
+    else if (arg == "--quick")
+      sequences = {"drape"}, count = 3;
+    else
+      throw std::invalid_argument("unknown flag " + arg);
   }
   if (count < 1) throw std::invalid_argument("--frames must be at least 1");
   for (const std::string& c : cases)
-    if (std::find(kCases.begin(), kCases.end(), c) == kCases.end()) throw std::invalid_argument("no case " + c);
+    if (std::find(kCases.begin(), kCases.end(), c) == kCases.end())
+      throw std::invalid_argument("no case " + c);
   if (sequences.empty())
     for (const std::string& name : default_sequences(data))
       if (is_real_sequence(name, data)) sequences.push_back(name);
   std::vector<CaseRow> rows;
   bool all_equal = true;
   for (const std::string& name : sequences) {
-    if (!is_real_sequence(name, data)) throw std::invalid_argument(name + " is not a real sequence in " + data.string());
+    if (!is_real_sequence(name, data))
+      throw std::invalid_argument(name + " is not a real sequence in " + data.string());
     const Sequence s = make_sequence(name, 0, data, true);
     for (const std::string& c : cases) {
       rows.push_back(run_case(s, c, count));
       const CaseRow& r = rows.back();
       all_equal = all_equal && r.equal;
-      std::fprintf(stderr, "[coherence_cases] %s %s: moved %.4f, static %.1f ms, kinetic %.2f ms, ratio %.3f%s\n",
+      std::fprintf(stderr,
+                   "[coherence_cases] %s %s: moved %.4f, static %.1f ms, kinetic %.2f ms, ratio %.3f%s\n",
                    name.c_str(), c.c_str(), r.moved, r.static_ms, r.kinetic_ms, r.ratio,
                    r.equal ? "" : " (NOT EQUAL)");
     }
@@ -243,4 +257,6 @@ int run(int argc, char** argv) {
 }  // namespace
 }  // namespace pleat::bench
 
-int main(int argc, char** argv) { return pleat::bench::run_main("coherence_cases_bench", pleat::bench::run, argc, argv); }
+int main(int argc, char** argv) {
+  return pleat::bench::run_main("coherence_cases_bench", pleat::bench::run, argc, argv);
+}

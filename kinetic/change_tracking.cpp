@@ -11,9 +11,15 @@ namespace pleat::kinetic {
 
 namespace {
 
-bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
-bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
-bool same_bits(const glm::dvec2& a, const glm::dvec2& b) { return same_bits(a.x, b.x) && same_bits(a.y, b.y); }
+bool same_bits(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+bool same_bits(float a, float b) {
+  return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b);
+}
+bool same_bits(const glm::dvec2& a, const glm::dvec2& b) {
+  return same_bits(a.x, b.x) && same_bits(a.y, b.y);
+}
 
 bool same_wedges(std::span<const Wedge> a, std::span<const Wedge> b) {
   if (a.size() != b.size()) return false;
@@ -26,9 +32,11 @@ bool same_wedges(std::span<const Wedge> a, std::span<const Wedge> b) {
 
 /// Whether stored cone `b` of the snapshot and `a` of `after` hand their vertex the same data (the one side
 /// they are stored for).
-bool same_offer(const OfferSnapshot& before, const StoredCone& b, const PlaneCones& after, const StoredCone& a) {
+bool same_offer(const OfferSnapshot& before, const StoredCone& b, const PlaneCones& after,
+                const StoredCone& a) {
   const Side side = static_cast<Side>(a.side);
-  if (!same_bits(b.distance, a.distance) || b.vertex_above != a.vertex_above || b.cuts_count != a.cuts_count ||
+  if (!same_bits(b.distance, a.distance) || b.vertex_above != a.vertex_above ||
+      b.cuts_count != a.cuts_count ||
       !same_bits(before.points[b.slice_vertex], after.slice.vertices[a.slice_vertex].point) ||
       !same_wedges(before.cones.cone(b.slice_vertex, side), after.cones.cone(a.slice_vertex, side)))
     return false;

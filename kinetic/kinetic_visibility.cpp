@@ -148,10 +148,10 @@ struct KineticVisibility::Impl {
       return;
     }
     take_planes_of(next);
-    candidate_faces_per_plane(topology, next, frame_plan, faces);
     whole_fans_before.swap(marks.whole_fans);
     mark_frame(topology, connectivity, next, marks);
     find_reached_planes(next);
+    candidate_faces_per_plane(topology, next, frame_plan, faces, reached);
     const bool engine_cost = params.policy.measured_cost;
     const bool rebuild_all =
         engine_cost && (schedule.rebuilds_left > 0 || schedule.carried >= Schedule::kProbeEvery ||
@@ -183,8 +183,8 @@ struct KineticVisibility::Impl {
   void find_reached_planes(const Frame& next) {
     touched.assign(moved_list.begin(), moved_list.end());
     kinetic::append_whole_fan_changes(whole_fans_before, marks.whole_fans, touched);
-    kinetic::planes_reached(connectivity, frame_plan.planes, plan.orientations.size(), previous, next, touched,
-                            reached);
+    kinetic::planes_reached(connectivity, frame_plan.planes, plan.orientations.size(), previous, next,
+                            touched, reached);
     for (std::size_t p = 0; p < slices.size(); ++p) reached[p] |= fresh[p];
   }
 
@@ -308,13 +308,13 @@ struct KineticVisibility::Impl {
     kinetic::OfferDiffScratch diff;
   };
   tbb::enumerable_thread_specific<ChangeScratch> change_scratch;
-  std::vector<char> moved;                       // per mesh vertex: its position changed, bit for bit
-  std::vector<Index> moved_list, touched;        // the moved vertices; and those whose whole fan changed
-  std::vector<std::uint8_t> whole_fans_before;   // the previous frame's FrameMarks::whole_fans
-  std::vector<char> reached;                     // per plane: the motion reaches its slice
+  std::vector<char> moved;                           // per mesh vertex: its position changed, bit for bit
+  std::vector<Index> moved_list, touched;            // the moved vertices; and those whose whole fan changed
+  std::vector<std::uint8_t> whole_fans_before;       // the previous frame's FrameMarks::whole_fans
+  std::vector<char> reached;                         // per plane: the motion reaches its slice
   std::vector<std::vector<Index>> changed_of_plane;  // per plane: vertices whose offers from it changed
-  std::vector<Index> dropped_offers;             // vertices offered cones by planes the cloth left
-  std::vector<char> offers_changed;              // per mesh vertex: some plane offers it something new
+  std::vector<Index> dropped_offers;                 // vertices offered cones by planes the cloth left
+  std::vector<char> offers_changed;                  // per mesh vertex: some plane offers it something new
   FrameVisibility result;
   KineticFrameStats stats;
 };

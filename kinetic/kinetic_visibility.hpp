@@ -117,7 +117,7 @@ struct KineticCounts {
   std::size_t slices_repaired = 0;  ///< kept and edited locally
   std::size_t slices_kept = 0;  ///< not reached by the motion (no moved vertex on an edge crossing it, before
                                 ///< or after): slice, triangulation and cones kept, nothing regrown
-  std::size_t slices_rebuilt = 0;   ///< built from scratch
+  std::size_t slices_rebuilt = 0;  ///< built from scratch
   std::array<std::size_t, static_cast<std::size_t>(kinetic::RebuildReason::count)> rebuilt_because{};
   /// Where the time went (seconds, summed over slices, so CPU time when slices run in parallel): carrying
   /// the structure to the frame (slicing, edits, certificates, put-backs, rebuilds, regions) and growing
@@ -152,8 +152,8 @@ inline constexpr KineticCounter kKineticCounters[] = {
 /// One advance(): its counters summed over slices, and its wall time (reported by `pleat visibility
 /// --stats`).
 struct KineticFrameStats : KineticCounts {
-  double seconds = 0.0;             ///< wall time of advance()
-  double assembly_seconds = 0.0;    ///< of which storage, fill and 3D cones (FrameAssembler; wall time)
+  double seconds = 0.0;           ///< wall time of advance()
+  double assembly_seconds = 0.0;  ///< of which storage, fill and 3D cones (FrameAssembler; wall time)
   /// Receiving vertices whose 3D cones were assembled again (the others' inputs did not change); summed over
   /// frames for a run.
   std::size_t vertices_assembled = 0;

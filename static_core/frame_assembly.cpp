@@ -347,8 +347,10 @@ void FrameAssembler::Impl::assemble(const Frame& frame, const FrameMarks& marks,
         const bool upper = offer_keys[best[1]].distance < offer_keys[best[0]].distance;
         best[upper ? 0 : 1] = -1;
       }
-      for (std::int64_t b : best)
-        if (b >= 0) refs[out++] = refs[b];
+      // Both chosen before either is written: in place, the first write may land on the second's slot.
+      const Ref chosen[2] = {best[0] >= 0 ? refs[best[0]] : Ref{}, best[1] >= 0 ? refs[best[1]] : Ref{}};
+      for (int i = 0; i < 2; ++i)
+        if (best[i] >= 0) refs[out++] = chosen[i];
     }
     first[keys] = out;
     refs.resize(out);

@@ -224,7 +224,7 @@ std::vector<std::vector<Index>> candidate_faces_per_plane(const MeshTopology& to
 }
 
 void candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
-                               std::vector<std::vector<Index>>& result) {
+                               std::vector<std::vector<Index>>& result, std::span<const char> only) {
   result.resize(plan.planes.size());
   for (auto& faces_of_plane : result) faces_of_plane.clear();  // keeps their capacity from frame to frame
   const std::size_t faces = topology.num_sliced_triangles();
@@ -233,7 +233,7 @@ void candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame,
     glm::dvec3 normal(0.0);
     bool parallel = true;
     for (Index p = 0; p < plan.planes.size(); ++p) {
-      if (plan.planes[p].orientation != o) continue;
+      if (plan.planes[p].orientation != o || (!only.empty() && !only[p])) continue;
       if (planes.empty())
         normal = plan.planes[p].normal;
       else if (plan.planes[p].normal != normal)

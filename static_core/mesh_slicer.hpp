@@ -78,9 +78,11 @@ void flat_occluder_edges(const MeshTopology& topology, const MeshConnectivity& c
 /// margin far above the rounding of a dot product; other planes get every face. O(F log P + output).
 std::vector<std::vector<Index>> candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame,
                                                           const SlicingPlan& plan);
-/// The same into `result`, reusing its lists' memory (a sequence: once per frame).
+/// The same into `result`, reusing its lists' memory (a sequence: once per frame). With `only` (per plane;
+/// empty: every plane), the planes marked 0 get an empty list (the kinetic engine's planes that keep their
+/// slice).
 void candidate_faces_per_plane(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,
-                               std::vector<std::vector<Index>>& result);
+                               std::vector<std::vector<Index>>& result, std::span<const char> only = {});
 
 /// A plane's candidate faces (sorted, as candidate_faces_per_plane lists them) split into the cloth's and the
 /// occluders' (whose triangles follow the cloth's: MeshTopology). The cloth's are sliced and triangulated;

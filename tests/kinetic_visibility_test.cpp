@@ -422,9 +422,8 @@ TEST(KineticVisibility, AHeldFrameKeepsEverySliceAndCone) {
       for (Index v = 0; v < cloth.topology().num_vertices; ++v)
         ASSERT_EQ(k.measure(side, v).sky_visibility, s.measure(side, v).sky_visibility) << f << " " << v;
     const bool held = f >= 5 && f <= 6;
-    EXPECT_EQ(
-        kinetic.last_stats().slices_kept == s.stats.slices && kinetic.last_stats().certificates == 0,
-        held)
+    EXPECT_EQ(kinetic.last_stats().slices_kept == s.stats.slices && kinetic.last_stats().certificates == 0,
+              held)
         << f;
   }
 }
@@ -474,8 +473,8 @@ TEST(KineticVisibility, ThousandFramesWithoutDrift) {
 }
 
 /// The measured policy's whole intervals (KineticPolicy::measured_cost): the engine rebuilds every slice the
-/// motion reaches in some intervals (the second one always: the first sample of a rebuild's cost), the output stays the
-/// recompute's, and without the measured policy no interval is rebuilt whole.
+/// motion reaches in some intervals (the second one always: the first sample of a rebuild's cost), the output
+/// stays the recompute's, and without the measured policy no interval is rebuilt whole.
 TEST(KineticVisibility, WholeIntervalRebuildsKeepTheOutput) {
   const ClothGenerator cloth(ClothKind::Flag, {12, 40, 24.0, 5});
   std::vector<Frame> frames;

@@ -1,17 +1,17 @@
-// What a frame changed, for the kinetic engine's incremental frames (docs/method.md §11.6): which mesh vertices
-// moved, which slicing planes their motion reaches, and which mesh vertices a recomputed plane now offers
-// something different. Exact: every test is a bitwise comparison or an exact-side bound, so what is kept is
-// what a recompute would give, bit for bit.
+// What a frame changed, for the kinetic engine's incremental frames (docs/method.md §11.6): which mesh
+// vertices moved, which slicing planes their motion reaches, and which mesh vertices a recomputed plane now
+// offers something different. Exact: every test is a bitwise comparison or an exact-side bound, so what is
+// kept is what a recompute would give, bit for bit.
 //
 // - A plane's slice, its triangulation and the cones it offers depend only on the mesh edges that cross it
 //   (their endpoints' positions) and on the whole-fan marks of the offered vertices; a mesh edge starts or
-//   stops crossing only when an endpoint moves. So a plane none of whose crossing edges (at the previous frame
-//   or the next) has a moved endpoint, and none of whose offered vertices changed its whole-fan mark, keeps
-//   everything (planes_reached).
+//   stops crossing only when an endpoint moves. So a plane none of whose crossing edges (at the previous
+//   frame or the next) has a moved endpoint, and none of whose offered vertices changed its whole-fan mark,
+//   keeps everything (planes_reached).
 // - A mesh vertex's 3D cone depends on the offers it takes (their stored cone, apex point, fan cuts' cones
-//   and chain angles, distance and side of the plane), on its fan's positions and on the fill's source of each
-//   orientation (static_core/internal/frame_assembly.hpp); offers_changed compares a recomputed plane's offers
-//   with what it offered before, content for content.
+//   and chain angles, distance and side of the plane), on its fan's positions and on the fill's source of
+//   each orientation (static_core/internal/frame_assembly.hpp); offers_changed compares a recomputed plane's
+//   offers with what it offered before, content for content.
 // Internal header: kinetic only. Cost: O(V) for the moved vertices; the rest in proportion to what moved.
 #pragma once
 
