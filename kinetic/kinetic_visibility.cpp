@@ -164,8 +164,8 @@ struct KineticVisibility::Impl {
     for_each_plane([&](std::size_t p) { advance_plane(p, next, rebuild_all, keep); });
     if (engine_cost) update_schedule(rebuild_all, std::chrono::steady_clock::now() - planes_start);
     const auto assembly_start = std::chrono::steady_clock::now();
-    gather_changes();
-    gather_and_assemble(next, true);
+    if (!everything) gather_changes();
+    gather_and_assemble(next, !everything);
     const double assembly_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - assembly_start).count();
     stats = {};
@@ -181,6 +181,13 @@ struct KineticVisibility::Impl {
   /// some edge at a moved vertex, or at a vertex whose whole-fan mark changed, crosses it before or after; a
   /// plane new to the frame is reached.
   void find_reached_planes(const Frame& next) {
+    // Nearly everything moved (a cloth in motion, at any frame rate): every slice counts as reached and every
+    // vertex as changed, without the bounds and the offer comparisons, which would find little to keep.
+    everything = moved_list.size() >= kEverything * double(topology.num_vertices);
+    if (everything) {
+      reached.assign(slices.size(), 1);
+      return;
+    }
     touched.assign(moved_list.begin(), moved_list.end());
     kinetic::append_whole_fan_changes(whole_fans_before, marks.whole_fans, touched);
     kinetic::planes_reached(connectivity, frame_plan.planes, plan.orientations.size(), previous, next,
@@ -199,7 +206,7 @@ struct KineticVisibility::Impl {
       return;
     }
     ChangeScratch& change = change_scratch.local();
-    if (fresh[p])
+    if (fresh[p] || everything)
       change.before.clear();
     else
       change.before.take(slices[p].cones());
@@ -216,8 +223,9 @@ struct KineticVisibility::Impl {
                                                   params.policy, local_scratch());
     }
     check(p);
-    kinetic::offers_changed(topology.num_receivers(), change.before, slices[p].cones(), change.diff,
-                            changed_of_plane[p]);
+    if (!everything)
+      kinetic::offers_changed(topology.num_receivers(), change.before, slices[p].cones(), change.diff,
+                              changed_of_plane[p]);
   }
 
   /// offers_changed (per mesh vertex) from the planes' lists and the planes dropped from the frame.
@@ -315,6 +323,9 @@ struct KineticVisibility::Impl {
   std::vector<std::vector<Index>> changed_of_plane;  // per plane: vertices whose offers from it changed
   std::vector<Index> dropped_offers;                 // vertices offered cones by planes the cloth left
   std::vector<char> offers_changed;                  // per mesh vertex: some plane offers it something new
+  /// The share of moved vertices from which a frame counts as moving everywhere (find_reached_planes).
+  static constexpr double kEverything = 0.9;
+  bool everything = false;  // this frame moved at least that share
   FrameVisibility result;
   KineticFrameStats stats;
 };

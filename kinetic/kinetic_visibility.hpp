@@ -2,16 +2,17 @@
 // kept alive between frames (docs/method.md §11; Stewart 1999 §6 names this as future work).
 //
 // Built from the topology, a slicing plan (fixed for the sequence) and the first frame (a static build).
-// advance(next) carries every slice to the next frame (kinetic_slice.hpp): the mesh vertices that cross a
-// plane are applied as local edits of its chains, the kept triangulation is certified at the new frame with
-// exact predicates, and the slice vertices of failed certificates are taken out and put back; where that
-// would cost more than a rebuild, or the slice degenerates, it is rebuilt. The cones are then grown on the
-// kept structure and merged by the same code as the static engine (static_core/frame_assembly.hpp): the
-// output equals a full static recompute of the same frame (tests/kinetic_visibility_test.cpp proves it on
-// random motions).
-// Slices are independent and processed in parallel (TBB). `topology` must outlive the engine.
-// The constructor validates the topology and the first frame, advance() each frame
-// (static_core/mesh_validation.hpp: InputError; a rejected frame leaves the engine as it was).
+// advance(next) keeps every slice the frame's motion does not reach and every vertex whose 3D cone's inputs
+// did not change (docs/method.md §11.6, kinetic/internal/change_tracking.hpp), and carries every reached
+// slice to the next frame (kinetic_slice.hpp): the mesh vertices that cross a plane are applied as local
+// edits of its chains, the kept triangulation is certified at the new frame with exact predicates, and the
+// slice vertices of failed certificates are taken out and put back; where that would cost more than a
+// rebuild, or the slice degenerates, it is rebuilt. The cones are then grown on the kept structure and merged
+// by the same code as the static engine (static_core/frame_assembly.hpp): the output equals a full static
+// recompute of the same frame (tests/kinetic_visibility_test.cpp proves it on random motions). Slices are
+// independent and processed in parallel (TBB). `topology` must outlive the engine. The constructor validates
+// the topology and the first frame, advance() each frame (static_core/mesh_validation.hpp: InputError; a
+// rejected frame leaves the engine as it was).
 #pragma once
 
 #include <array>
