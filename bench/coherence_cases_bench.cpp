@@ -142,7 +142,9 @@ CaseRow run_case(const Sequence& s, const std::string& name, int count) {
   const std::vector<Frame> frames = case_frames(s, name, count);
   const SlicingPlan plan = default_plan(s, frames[0]);
   StaticVisibility fixed(s.topology, plan, {false});
-  KineticVisibility kinetic(s.topology, plan, frames[0], {false});
+  KineticParams serial;
+  serial.parallel = false;
+  KineticVisibility kinetic(s.topology, plan, frames[0], serial);
   fixed.compute(frames[0]);
   CaseRow row{name, s.name, s.cloth.num_vertices};
   std::vector<double> st, kt, ratio, moved;
