@@ -101,7 +101,7 @@ std::int32_t follow_run(const Slice& slice, const std::vector<Index>& degree, In
   return x;
 }
 
-/// The fan swaps of an interval (the header comment's step 1): per vanishing slice vertex of `old`, the
+/// The fan swaps of an interval (docs/method.md §11.2, step 1): per vanishing slice vertex of `old`, the
 /// slice vertex of `next` that takes its triangulation vertex (scratch.relabel, -1 for none), those new
 /// vertices unmarked in scratch.is_born, and the old closing edges of runs that grow (scratch.unconstrain).
 /// A run is followed only through slice vertices inside a chain (one edge in, one edge out), so a chain's
@@ -136,6 +136,315 @@ std::size_t find_fan_swaps(const Slice& old, const Slice& next, KineticScratch& 
     relabeled += r;
   }
   return relabeled;
+}
+
+/// Matches the slices of frame k (`old`) and k+1 (scratch.next) by mesh edge: scratch.new_of_old (-1: the
+/// slice vertex vanishes), scratch.born and scratch.is_born (the slice vertices that appear), and the mesh
+/// edges that started or stopped crossing the plane appended to `changed_edges`. Returns how many vanish.
+std::size_t match_slice_vertices(const Slice& old, std::size_t num_edges, KineticScratch& scratch,
+                                 std::vector<Index>& changed_edges) {
+  if (scratch.old_of_edge.size() != num_edges) scratch.old_of_edge.assign(num_edges, -1);
+  for (Index x = 0; x < old.vertices.size(); ++x)
+    scratch.old_of_edge[old.vertices[x].edge] = static_cast<std::int32_t>(x);
+  scratch.new_of_old.assign(old.vertices.size(), -1);
+  scratch.born.clear();
+  scratch.is_born.assign(scratch.next.vertices.size(), 0);
+  for (Index y = 0; y < scratch.next.vertices.size(); ++y) {
+    const std::int32_t x = scratch.old_of_edge[scratch.next.vertices[y].edge];
+    if (x >= 0)
+      scratch.new_of_old[x] = static_cast<std::int32_t>(y);
+    else {
+      scratch.born.push_back(y);
+      changed_edges.push_back(scratch.next.vertices[y].edge);
+      scratch.is_born[y] = 1;
+    }
+  }
+  for (Index x = 0; x < old.vertices.size(); ++x) {
+    scratch.old_of_edge[old.vertices[x].edge] = -1;
+    if (scratch.new_of_old[x] < 0) changed_edges.push_back(old.vertices[x].edge);
+  }
+  return old.vertices.size() + scratch.born.size() - scratch.next.vertices.size();
+}
+
+/// Step 1 of an interval (docs/method.md §11.2): in `tri`, restored at frame k, survivors and relabeled
+/// vertices take their new ids; the old closing edges of growing runs stop being constraints; the vanishing
+/// vertices that no fan swap relabels get id -1 and are listed in scratch.vanishing, their chain neighbours
+/// marked in scratch.chain_loose.
+void hand_over_vertices(const Slice& old, SliceTriangulation& tri, KineticScratch& scratch) {
+  Cdt& cdt = tri.cdt_for_editing();
+  for (const auto& [a, b] : scratch.unconstrain) {
+    FaceHandle f;
+    int i = 0;
+    if (cdt.is_edge(tri.vertex_of(a), tri.vertex_of(b), f, i) && f->is_constrained(i))
+      cdt.Cdt::Ctr::remove_constrained_edge(f, i);  // only the mark: no flips on the kept triangulation
+  }
+  scratch.vertex_of_new.assign(scratch.next.vertices.size(), VertexHandle());
+  scratch.vanishing.clear();
+  scratch.chain_loose.assign(scratch.next.vertices.size(), 0);
+  auto new_id = [&](Index x) { return std::max(scratch.new_of_old[x], scratch.relabel[x]); };
+  for (Index x = 0; x < old.vertices.size(); ++x) {
+    const VertexHandle v = tri.vertex_of(x);
+    const std::int32_t y = new_id(x);
+    v->info().slice_vertex = y;
+    if (y >= 0) {
+      scratch.vertex_of_new[y] = v;
+      continue;
+    }
+    scratch.vanishing.push_back(v);
+    // Its chain neighbours lose their constrained edges to it.
+    auto loosen = [&](Index n) {
+      if (const std::int32_t z = new_id(n); z >= 0) scratch.chain_loose[z] = 1;
+    };
+    if (const std::int32_t e = old.in_edge[x]; e >= 0) loosen(old.edges[e].from);
+    if (const std::int32_t e = old.out_edge[x]; e >= 0) loosen(old.edges[e].to);
+  }
+}
+
+/// Step 3, first part: every kept vertex of `cdt` moves to its next point and the planned flips are made
+/// (counted in counts.flipped). Returns repair_failed when the hull then winds more than once, else none.
+RebuildReason move_kept_vertices(Cdt& cdt, KineticScratch& scratch, KineticCounts& counts) {
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v)
+    v->set_point(cgal::to_point(scratch.next.vertices[v->info().slice_vertex].point));
+  for (PlannedFlip& flip : scratch.flips)
+    if (flip.face != FaceHandle()) {
+      cdt.flip(flip.face, flip.index);
+      ++counts.flipped;
+    }
+  return hull_winds_once(cdt) ? RebuildReason::none : RebuildReason::repair_failed;
+}
+
+/// Step 3, second part: the vertices taken out (appended to scratch.born) and the new ones inserted at their
+/// next points, each located from a kept chain neighbour. Returns degenerate when one meets another slice
+/// point, crossing when one lies on a chain edge, else none.
+RebuildReason insert_born_vertices(Cdt& cdt, KineticScratch& scratch) {
+  for (Index y = 0; y < scratch.next.vertices.size(); ++y)
+    if (scratch.taken_out[y]) scratch.born.push_back(y);
+  FaceHandle hint;
+  for (Index y : scratch.born) {
+    // Located from a kept chain neighbour when there is one (a short walk), else from the last insertion.
+    for (const std::int32_t e : {scratch.next.out_edge[y], scratch.next.in_edge[y]}) {
+      if (e < 0) continue;
+      const SliceEdge& edge = scratch.next.edges[e];
+      const VertexHandle w = scratch.vertex_of_new[edge.from == y ? edge.to : edge.from];
+      if (w != VertexHandle()) {
+        hint = w->face();
+        break;
+      }
+    }
+    const cgal::Point2 p = cgal::to_point(scratch.next.vertices[y].point);
+    Cdt::Locate_type type;
+    int li = 0;
+    const FaceHandle at = cdt.locate(p, type, li, hint);
+    if (type == Cdt::VERTEX) return RebuildReason::degenerate;  // meets another slice point
+    if (type == Cdt::EDGE && at->is_constrained(li)) return RebuildReason::crossing;  // a chain
+    const VertexHandle v = cdt.insert(p, type, at, li);
+    v->info().slice_vertex = static_cast<int>(y);
+    scratch.vertex_of_new[y] = v;
+    hint = v->face();
+  }
+  return RebuildReason::none;
+}
+
+/// Step 3, last part: every chain edge that may not be a constrained edge yet inserted as one. Returns
+/// crossing when the chains cross or touch (a chain edge no longer one constrained edge), else none.
+RebuildReason constrain_loose_chains(Cdt& cdt, KineticScratch& scratch) {
+  // Chain edges that may not be constrained edges yet: those of new and put-back vertices, and those
+  // beside removed vertices (the closing edges of runs that shrank, the edges of critical crossings).
+  for (Index y : scratch.born) scratch.chain_loose[y] = 1;
+  const std::size_t vertices = cdt.number_of_vertices();
+  bool inserted = false;
+  for (const SliceEdge& e : scratch.next.edges)
+    if (scratch.chain_loose[e.from] || scratch.chain_loose[e.to])
+      inserted |= cgal::insert_constraint(cdt, scratch.vertex_of_new[e.from], scratch.vertex_of_new[e.to]) ==
+                  cgal::ConstraintInsertion::inserted;
+  // Chains that cross or touch: a chain edge that crosses another is split at a new vertex; one through a
+  // slice point is split there; and a new slice point lying on a kept chain edge to within rounding
+  // (located just off it, in a face) makes its own chain edge "cross" the kept one at a point CGAL snaps
+  // to the new vertex, splitting the kept edge with no vertex added (tests/fuzz/regressions/fuzz_engines/
+  // kept_chain_edge_lost.bin). So where CGAL inserted a constraint (marking an edge changes no other), every
+  // chain edge, new or kept, must still be one constrained edge; else the slice is rebuilt, as crossing
+  // chains are.
+  if (inserted &&
+      (cdt.number_of_vertices() != vertices ||
+       !chains_are_edges(cdt, scratch.next.edges, [&](Index y) { return scratch.vertex_of_new[y]; })))
+    return RebuildReason::crossing;
+  return RebuildReason::none;
+}
+
+/// Step 2 of an interval (docs/method.md §11.2), on the triangulation in `scratch` at frame k's points: the
+/// certificates at the next frame, the flips that repair them planned, and the removals of vertices.
+/// Reservations of faces by planned flips live in their info().index (PlannedFlip).
+class NextFrameCertifier {
+ public:
+  NextFrameCertifier(KineticScratch& scratch, KineticCounts& counts)
+      : m_scratch(scratch),
+        m_cdt(scratch.triangulation.cdt_for_editing()),
+        m_next(scratch.next.vertices),
+        m_counts(counts) {}
+
+  /// Certifies face f at the next frame; a failure plans a flip or queues the vertex it takes out. Faces of
+  /// a vanishing vertex are not certified: its removal replaces them.
+  void certify(FaceHandle f);
+  /// Removes v at frame k's points (the triangulation is valid there), cancelling the flips planned on its
+  /// faces and queueing its neighbours for a recheck: every face the removal creates has its vertices among
+  /// them. False when the triangulation is no longer 2D.
+  bool remove(VertexHandle v);
+
+ private:
+  cgal::Point2 next_point(VertexHandle v) const {
+    return cgal::to_point(m_next[v->info().slice_vertex].point);
+  }
+  bool is_gone(VertexHandle v) const {
+    const int y = v->info().slice_vertex;
+    return y < 0 || m_scratch.taken_out[y];
+  }
+  static bool is_free(FaceHandle f) { return f->info().index == -1; }
+  void reserve(const PlannedFlip& flip);
+  bool convex_corner(VertexHandle previous, VertexHandle x, VertexHandle following) const;
+  bool plan_triangle_flip(FaceHandle f);
+  bool plan_hull_flip(FaceHandle f);
+  void cancel(int n);
+
+  KineticScratch& m_scratch;
+  Cdt& m_cdt;
+  const std::vector<SliceVertex>& m_next;
+  KineticCounts& m_counts;
+};
+
+/// Reserves the faces of `flip` (its number in info().index) and plans it.
+void NextFrameCertifier::reserve(const PlannedFlip& flip) {
+  const int n = static_cast<int>(m_scratch.flips.size());
+  flip.face->info().index = flip.face->neighbor(flip.index)->info().index = n;
+  if (flip.before != FaceHandle()) flip.before->info().index = n, flip.after->info().index = -2 - n;
+  m_scratch.flips.push_back(flip);
+}
+
+/// Whether the hull corner (x_prev, x, x_next), walked in that order, is convex or straight with x between
+/// its neighbours at the next frame (the hull-corner certificate).
+bool NextFrameCertifier::convex_corner(VertexHandle previous, VertexHandle x, VertexHandle following) const {
+  const cgal::Point2 a = next_point(previous), b = next_point(x), c = next_point(following);
+  const CGAL::Orientation o = cgal::orientation(c, b, a);
+  return o == CGAL::LEFT_TURN ||
+         (o == CGAL::COLLINEAR && CGAL::collinear_are_strictly_ordered_along_line(a, b, c));
+}
+
+/// A failed triangle f repaired by flipping one of its edges at the next frame: the edge is not a chain
+/// edge, the triangle across it is finite and free, none of the four vertices leaves, and the flip's two
+/// triangles are positive at the next frame. (The flip then replaces f and its neighbour, which needs no
+/// other repair.) Returns whether one qualifies. The new edge may join two vertices joined already (around
+/// a vertex of degree 3 that leaves its triangle): flips edit the combinatorial structure, where that is a
+/// second edge for a while, and the certificates leave none twice in the end (positive triangles covering
+/// the hull once, docs/method.md §11.2): the triangle beside the old edge, with the new triangle's vertices
+/// reversed, fails too and is flipped away across that edge, or takes out a vertex of the flip, which
+/// cancels it (tests/kinetic_visibility_test.cpp, FlipsMayJoinVerticesJoinedAlready).
+bool NextFrameCertifier::plan_triangle_flip(FaceHandle f) {
+  for (int i = 0; i < 3; ++i)
+    if (is_gone(f->vertex(i))) return false;
+  for (int i = 0; i < 3; ++i) {
+    if (f->is_constrained(i)) continue;
+    const FaceHandle g = f->neighbor(i);
+    if (m_cdt.is_infinite(g) || !is_free(g)) continue;
+    const VertexHandle v = f->vertex(i), w = g->vertex(m_cdt.mirror_index(f, i));
+    if (is_gone(w)) continue;
+    const cgal::Point2 apex = next_point(v), p = next_point(w);
+    if (cgal::orientation(apex, next_point(f->vertex(Cdt::ccw(i))), p) != CGAL::LEFT_TURN ||
+        cgal::orientation(apex, p, next_point(f->vertex(Cdt::cw(i)))) != CGAL::LEFT_TURN)
+      continue;
+    reserve({f, i, FaceHandle(), FaceHandle()});
+    return true;
+  }
+  return false;
+}
+
+/// A reflex hull corner at b, walked a -> b -> c (infinite faces f = (oo, a, b) and g = (oo, b, c)),
+/// repaired by flipping the edge (oo, b): b leaves the hull inside the new triangle (a, b, c), positive at
+/// the next frame exactly when the corner is strictly reflex. The hull corners at a and c change (a_prev
+/// -> a -> c, a -> c -> c_next) and must be convex; the four hull faces from (oo, a_prev, a) to
+/// (oo, c, c_next) must be free and no vertex among them leave, and a and c must not be joined yet.
+bool NextFrameCertifier::plan_hull_flip(FaceHandle f) {
+  const FaceHandle g = next_hull_face(m_cdt, f), before = previous_hull_face(m_cdt, f),
+                   after = next_hull_face(m_cdt, g);
+  const auto [a, b, c] = hull_corner(m_cdt, f);
+  const VertexHandle a_prev = hull_corner(m_cdt, before).a, c_next = hull_corner(m_cdt, g).c;
+  if (a_prev == c || !is_free(f) || !is_free(g) || !is_free(before) || !is_free(after)) return false;
+  for (const VertexHandle v : {a_prev, a, b, c, c_next})
+    if (is_gone(v)) return false;
+  if (cgal::orientation(next_point(a), next_point(b), next_point(c)) != CGAL::LEFT_TURN ||
+      !convex_corner(a_prev, a, c) || !convex_corner(a, c, c_next) || m_cdt.is_edge(a, c))
+    return false;
+  reserve({f, f->index(a), before, after});  // the edge (oo, b), opposite a
+  return true;
+}
+
+/// Cancels flip n (a removal is about to change one of its faces); the certificate it repaired is checked
+/// again with its vertices' faces.
+void NextFrameCertifier::cancel(int n) {
+  PlannedFlip& flip = m_scratch.flips[std::size_t(n)];
+  for (const FaceHandle f : {flip.face, flip.face->neighbor(flip.index), flip.before, flip.after})
+    if (f != FaceHandle()) f->info().index = -1;
+  for (int i = 0; i < 3; ++i)
+    if (const VertexHandle v = flip.face->vertex(i); !m_cdt.is_infinite(v) && !is_gone(v))
+      m_scratch.recheck.push_back(v->info().slice_vertex);
+  flip.face = FaceHandle();
+}
+
+void NextFrameCertifier::certify(FaceHandle f) {
+  for (int i = 0; i < 3; ++i)
+    if (!m_cdt.is_infinite(f->vertex(i)) && f->vertex(i)->info().slice_vertex < 0) return;
+  if (f->info().index >= 0) return;  // replaced by a planned flip, or its hull corner checked by one
+  VertexHandle out;
+  if (m_cdt.is_infinite(f)) {
+    // The hull corner (c, b, a) at b: convex, or straight with b between a and c.
+    const HullCorner h = hull_corner(m_cdt, f);
+    if (h.c->info().slice_vertex < 0) return;  // the next hull vertex vanishes
+    ++m_counts.certificates;
+    if (convex_corner(h.a, h.b, h.c)) return;
+    if (plan_hull_flip(f)) {
+      ++m_counts.certificates_failed;
+      return;
+    }
+    out = h.b;
+  } else {
+    ++m_counts.certificates;
+    const cgal::Point2 p0 = next_point(f->vertex(0)), p1 = next_point(f->vertex(1)),
+                       p2 = next_point(f->vertex(2));
+    if (cgal::orientation(p0, p1, p2) == CGAL::LEFT_TURN) return;
+    if (plan_triangle_flip(f)) {
+      ++m_counts.certificates_failed;
+      return;
+    }
+    // The vertex that moved farthest since frame k.
+    double farthest = -1.0;
+    for (int i = 0; i < 3; ++i) {
+      const VertexHandle v = f->vertex(i);
+      const double d = CGAL::squared_distance(v->point(), next_point(v));
+      if (d > farthest) farthest = d, out = v;
+    }
+  }
+  ++m_counts.certificates_failed;
+  const int y = out->info().slice_vertex;
+  if (m_scratch.taken_out[y]) return;
+  m_scratch.taken_out[y] = 1;
+  m_scratch.take_out.push_back(out);
+}
+
+bool NextFrameCertifier::remove(VertexHandle v) {
+  auto g = m_cdt.incident_faces(v), around = g;
+  do
+    if (const int n = g->info().index; n != -1) cancel(n >= 0 ? n : -2 - n);
+  while (++g != around);
+  auto u = m_cdt.incident_vertices(v), done = u;
+  do
+    if (!m_cdt.is_infinite(u) && u->info().slice_vertex >= 0)
+      m_scratch.recheck.push_back(u->info().slice_vertex);
+  while (++u != done);
+  // Constrained_triangulation_2's operations, not the Delaunay ones: only the constraint marks are cleared
+  // (the Delaunay version then flips edges beyond v's star, making faces that no neighbour of v would
+  // recheck), and the star-shaped hole is filled by ears (the kept triangulation is not Delaunay, and the
+  // Delaunay hole filling can cycle on it).
+  m_cdt.Cdt::Ctr::remove_incident_constraints(v);
+  m_cdt.Cdt::Ctr::remove(v);
+  return m_cdt.dimension() == 2;
 }
 
 }  // namespace
@@ -330,31 +639,10 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   slice_mesh(topology, connectivity, next, plane, faces, scratch.slicer, scratch.next, marks.flat_edges);
   sliced = true;
 
-  // Match slice vertices by mesh edge: survivors, and those that vanish or appear.
+  // Match slice vertices by mesh edge: survivors, and those that vanish or appear; then the fan swaps.
   const Slice& old = m_out.slice;
   SliceTriangulation& tri = scratch.triangulation;
-  if (scratch.old_of_edge.size() != connectivity.num_edges())
-    scratch.old_of_edge.assign(connectivity.num_edges(), -1);
-  for (Index x = 0; x < old.vertices.size(); ++x)
-    scratch.old_of_edge[old.vertices[x].edge] = static_cast<std::int32_t>(x);
-  scratch.new_of_old.assign(old.vertices.size(), -1);
-  scratch.born.clear();
-  scratch.is_born.assign(scratch.next.vertices.size(), 0);
-  for (Index y = 0; y < scratch.next.vertices.size(); ++y) {
-    const std::int32_t x = scratch.old_of_edge[scratch.next.vertices[y].edge];
-    if (x >= 0)
-      scratch.new_of_old[x] = static_cast<std::int32_t>(y);
-    else {
-      scratch.born.push_back(y);
-      m_changed_edges.push_back(scratch.next.vertices[y].edge);
-      scratch.is_born[y] = 1;
-    }
-  }
-  for (Index x = 0; x < old.vertices.size(); ++x) {
-    scratch.old_of_edge[old.vertices[x].edge] = -1;
-    if (scratch.new_of_old[x] < 0) m_changed_edges.push_back(old.vertices[x].edge);
-  }
-  const std::size_t vanished = old.vertices.size() + scratch.born.size() - scratch.next.vertices.size();
+  const std::size_t vanished = match_slice_vertices(old, connectivity.num_edges(), scratch, m_changed_edges);
   counts.relabeled = find_fan_swaps(old, scratch.next, scratch);
   scratch.born.erase(
       std::remove_if(scratch.born.begin(), scratch.born.end(), [&](Index y) { return !scratch.is_born[y]; }),
@@ -368,97 +656,21 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
   restore_triangulation(m_kept, old, tri.cdt_for_editing(), scratch.restore);
   tri.map_vertices(old);
 
-  // 1. Survivors and relabeled vertices take their new ids; the old closing edges of growing runs stop being
-  // constraints; the vanishing slice vertices that no fan swap relabels are marked (id -1) for removal.
-  Cdt& cdt = tri.cdt_for_editing();
-  for (const auto& [a, b] : scratch.unconstrain) {
-    FaceHandle f;
-    int i = 0;
-    if (cdt.is_edge(tri.vertex_of(a), tri.vertex_of(b), f, i) && f->is_constrained(i))
-      cdt.Cdt::Ctr::remove_constrained_edge(f, i);  // only the mark: no flips on the kept triangulation
-  }
-  scratch.vertex_of_new.assign(scratch.next.vertices.size(), VertexHandle());
-  scratch.vanishing.clear();
-  scratch.chain_loose.assign(scratch.next.vertices.size(), 0);
-  auto new_id = [&](Index x) { return std::max(scratch.new_of_old[x], scratch.relabel[x]); };
-  for (Index x = 0; x < old.vertices.size(); ++x) {
-    const VertexHandle v = tri.vertex_of(x);
-    const std::int32_t y = new_id(x);
-    v->info().slice_vertex = y;
-    if (y >= 0) {
-      scratch.vertex_of_new[y] = v;
-      continue;
-    }
-    scratch.vanishing.push_back(v);
-    // Its chain neighbours lose their constrained edges to it.
-    auto loosen = [&](Index n) {
-      if (const std::int32_t z = new_id(n); z >= 0) scratch.chain_loose[z] = 1;
-    };
-    if (const std::int32_t e = old.in_edge[x]; e >= 0) loosen(old.edges[e].from);
-    if (const std::int32_t e = old.out_edge[x]; e >= 0) loosen(old.edges[e].to);
-  }
-
+  // 1. Survivors and relabeled vertices take their new ids; the vanishing ones are marked for removal.
+  hand_over_vertices(old, tri, scratch);
   // 2. Certify at the next frame, remove the vanishing vertices and take out those of failed certificates.
   if (const RebuildReason r =
           certify_at_next_frame(budget - counts.removed - counts.inserted, scratch, counts);
       r != RebuildReason::none)
     return rebuild(r);
-
   // 3. Kept vertices to their next points (a valid triangulation of them, if the hull winds once); then the
   // vertices taken out and the new ones, and their chain edges.
-  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v)
-    v->set_point(cgal::to_point(scratch.next.vertices[v->info().slice_vertex].point));
-  for (PlannedFlip& flip : scratch.flips)
-    if (flip.face != FaceHandle()) {
-      cdt.flip(flip.face, flip.index);
-      ++counts.flipped;
-    }
-  if (!hull_winds_once(cdt)) return rebuild(RebuildReason::repair_failed);
-  for (Index y = 0; y < scratch.next.vertices.size(); ++y)
-    if (scratch.taken_out[y]) scratch.born.push_back(y);
-  FaceHandle hint;
-  for (Index y : scratch.born) {
-    // Located from a kept chain neighbour when there is one (a short walk), else from the last insertion.
-    for (const std::int32_t e : {scratch.next.out_edge[y], scratch.next.in_edge[y]}) {
-      if (e < 0) continue;
-      const SliceEdge& edge = scratch.next.edges[e];
-      const VertexHandle w = scratch.vertex_of_new[edge.from == y ? edge.to : edge.from];
-      if (w != VertexHandle()) {
-        hint = w->face();
-        break;
-      }
-    }
-    const cgal::Point2 p = cgal::to_point(scratch.next.vertices[y].point);
-    Cdt::Locate_type type;
-    int li = 0;
-    const FaceHandle at = cdt.locate(p, type, li, hint);
-    if (type == Cdt::VERTEX) return rebuild(RebuildReason::degenerate);  // meets another slice point
-    if (type == Cdt::EDGE && at->is_constrained(li)) return rebuild(RebuildReason::crossing);  // a chain
-    const VertexHandle v = cdt.insert(p, type, at, li);
-    v->info().slice_vertex = static_cast<int>(y);
-    scratch.vertex_of_new[y] = v;
-    hint = v->face();
-  }
-  // Chain edges that may not be constrained edges yet: those of new and put-back vertices, and those
-  // beside removed vertices (the closing edges of runs that shrank, the edges of critical crossings).
-  for (Index y : scratch.born) scratch.chain_loose[y] = 1;
-  const std::size_t vertices = cdt.number_of_vertices();
-  bool inserted = false;
-  for (const SliceEdge& e : scratch.next.edges)
-    if (scratch.chain_loose[e.from] || scratch.chain_loose[e.to])
-      inserted |= cgal::insert_constraint(cdt, scratch.vertex_of_new[e.from], scratch.vertex_of_new[e.to]) ==
-                  cgal::ConstraintInsertion::inserted;
-  // Chains that cross or touch: a chain edge that crosses another is split at a new vertex; one through a
-  // slice point is split there; and a new slice point lying on a kept chain edge to within rounding
-  // (located just off it, in a face) makes its own chain edge "cross" the kept one at a point CGAL snaps
-  // to the new vertex, splitting the kept edge with no vertex added (fuzz_engines found it:
-  // tests/fuzz/regressions/fuzz_engines/kept_chain_edge_lost.bin). So where CGAL inserted a constraint
-  // (marking an edge changes no other), every chain edge, new or kept, must still be one constrained edge;
-  // else the slice is rebuilt, as crossing chains are.
-  if (inserted &&
-      (cdt.number_of_vertices() != vertices ||
-       !chains_are_edges(cdt, scratch.next.edges, [&](Index y) { return scratch.vertex_of_new[y]; })))
-    return rebuild(RebuildReason::crossing);
+  Cdt& cdt = tri.cdt_for_editing();
+  if (const RebuildReason r = move_kept_vertices(cdt, scratch, counts); r != RebuildReason::none)
+    return rebuild(r);
+  if (const RebuildReason r = insert_born_vertices(cdt, scratch); r != RebuildReason::none) return rebuild(r);
+  if (const RebuildReason r = constrain_loose_chains(cdt, scratch); r != RebuildReason::none)
+    return rebuild(r);
   m_carried = true;
   // (A run that grew leaves a new vertex inserted: its unmarked closing edge is counted there.)
   const bool structure_changed = counts.removed + counts.inserted + counts.reinserted + counts.flipped > 0;
@@ -470,164 +682,26 @@ KineticCounts KineticSlice::carry(const MeshTopology& topology, const MeshConnec
 RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScratch& scratch,
                                                   KineticCounts& counts) {
   Cdt& cdt = scratch.triangulation.cdt_for_editing();
-  const std::vector<SliceVertex>& next = scratch.next.vertices;
-  auto next_point = [&](VertexHandle v) { return cgal::to_point(next[v->info().slice_vertex].point); };
-  scratch.taken_out.assign(next.size(), 0);
+  scratch.taken_out.assign(scratch.next.vertices.size(), 0);
   scratch.take_out.clear();
   scratch.recheck.clear();
   scratch.flips.clear();
-  auto is_gone = [&](VertexHandle v) {
-    const int y = v->info().slice_vertex;
-    return y < 0 || scratch.taken_out[y];
-  };
-  auto is_free = [](FaceHandle f) { return f->info().index == -1; };
-  auto reserve = [&](const PlannedFlip& flip) {
-    const int n = static_cast<int>(scratch.flips.size());
-    flip.face->info().index = flip.face->neighbor(flip.index)->info().index = n;
-    if (flip.before != FaceHandle()) flip.before->info().index = n, flip.after->info().index = -2 - n;
-    scratch.flips.push_back(flip);
-  };
-  // Whether the hull corner (x_prev, x, x_next), walked in that order, is convex or straight with x between
-  // its neighbours at the next frame (the hull-corner certificate).
-  auto convex_corner = [&](VertexHandle previous, VertexHandle x, VertexHandle following) {
-    const cgal::Point2 a = next_point(previous), b = next_point(x), c = next_point(following);
-    const CGAL::Orientation o = cgal::orientation(c, b, a);
-    return o == CGAL::LEFT_TURN ||
-           (o == CGAL::COLLINEAR && CGAL::collinear_are_strictly_ordered_along_line(a, b, c));
-  };
-  // A failed triangle f repaired by flipping one of its edges at the next frame: the edge is not a chain
-  // edge, the triangle across it is finite and free, none of the four vertices leaves, and the flip's two
-  // triangles are positive at the next frame. (The flip then replaces f and its neighbour, which needs no
-  // other repair.) Returns whether one qualifies. The new edge may join two vertices joined already (around
-  // a vertex of degree 3 that leaves its triangle): flips edit the combinatorial structure, where that is a
-  // second edge for a while, and the certificates leave none twice in the end (positive triangles covering
-  // the hull once, the argument at the top of the file): the triangle beside the old edge, with the new
-  // triangle's vertices reversed, fails too and is flipped away across that edge, or takes out a vertex of
-  // the flip, which cancels it (tests/kinetic_visibility_test.cpp, FlipsMayJoinVerticesJoinedAlready).
-  auto plan_triangle_flip = [&](FaceHandle f) {
-    for (int i = 0; i < 3; ++i)
-      if (is_gone(f->vertex(i))) return false;
-    for (int i = 0; i < 3; ++i) {
-      if (f->is_constrained(i)) continue;
-      const FaceHandle g = f->neighbor(i);
-      if (cdt.is_infinite(g) || !is_free(g)) continue;
-      const VertexHandle v = f->vertex(i), w = g->vertex(cdt.mirror_index(f, i));
-      if (is_gone(w)) continue;
-      const cgal::Point2 apex = next_point(v), p = next_point(w);
-      if (cgal::orientation(apex, next_point(f->vertex(Cdt::ccw(i))), p) != CGAL::LEFT_TURN ||
-          cgal::orientation(apex, p, next_point(f->vertex(Cdt::cw(i)))) != CGAL::LEFT_TURN)
-        continue;
-      reserve({f, i, FaceHandle(), FaceHandle()});
-      return true;
-    }
-    return false;
-  };
-  // A reflex hull corner at b, walked a -> b -> c (infinite faces f = (oo, a, b) and g = (oo, b, c)),
-  // repaired by flipping the edge (oo, b): b leaves the hull inside the new triangle (a, b, c), positive at
-  // the next frame exactly when the corner is strictly reflex. The hull corners at a and c change (a_prev
-  // -> a -> c, a -> c -> c_next) and must be convex; the four hull faces from (oo, a_prev, a) to
-  // (oo, c, c_next) must be free and no vertex among them leave, and a and c must not be joined yet.
-  auto plan_hull_flip = [&](FaceHandle f) {
-    const FaceHandle g = next_hull_face(cdt, f), before = previous_hull_face(cdt, f),
-                     after = next_hull_face(cdt, g);
-    const auto [a, b, c] = hull_corner(cdt, f);
-    const VertexHandle a_prev = hull_corner(cdt, before).a, c_next = hull_corner(cdt, g).c;
-    if (a_prev == c || !is_free(f) || !is_free(g) || !is_free(before) || !is_free(after)) return false;
-    for (const VertexHandle v : {a_prev, a, b, c, c_next})
-      if (is_gone(v)) return false;
-    if (cgal::orientation(next_point(a), next_point(b), next_point(c)) != CGAL::LEFT_TURN ||
-        !convex_corner(a_prev, a, c) || !convex_corner(a, c, c_next) || cdt.is_edge(a, c))
-      return false;
-    reserve({f, f->index(a), before, after});  // the edge (oo, b), opposite a
-    return true;
-  };
-  // Cancels flip n (a removal is about to change one of its faces); the certificate it repaired is checked
-  // again with its vertices' faces.
-  auto cancel = [&](int n) {
-    PlannedFlip& flip = scratch.flips[std::size_t(n)];
-    for (const FaceHandle f : {flip.face, flip.face->neighbor(flip.index), flip.before, flip.after})
-      if (f != FaceHandle()) f->info().index = -1;
-    for (int i = 0; i < 3; ++i)
-      if (const VertexHandle v = flip.face->vertex(i); !cdt.is_infinite(v) && !is_gone(v))
-        scratch.recheck.push_back(v->info().slice_vertex);
-    flip.face = FaceHandle();
-  };
-  // Certifies face f at the next frame; a failure queues the vertex it takes out. Faces of a vanishing
-  // vertex are not certified: its removal replaces them.
-  auto certify = [&](FaceHandle f) {
-    for (int i = 0; i < 3; ++i)
-      if (!cdt.is_infinite(f->vertex(i)) && f->vertex(i)->info().slice_vertex < 0) return;
-    if (f->info().index >= 0) return;  // replaced by a planned flip, or its hull corner checked by one
-    VertexHandle out;
-    if (cdt.is_infinite(f)) {
-      // The hull corner (c, b, a) at b: convex, or straight with b between a and c.
-      const HullCorner h = hull_corner(cdt, f);
-      if (h.c->info().slice_vertex < 0) return;  // the next hull vertex vanishes
-      ++counts.certificates;
-      if (convex_corner(h.a, h.b, h.c)) return;
-      if (plan_hull_flip(f)) {
-        ++counts.certificates_failed;
-        return;
-      }
-      out = h.b;
-    } else {
-      ++counts.certificates;
-      const cgal::Point2 p0 = next_point(f->vertex(0)), p1 = next_point(f->vertex(1)),
-                         p2 = next_point(f->vertex(2));
-      if (cgal::orientation(p0, p1, p2) == CGAL::LEFT_TURN) return;
-      if (plan_triangle_flip(f)) {
-        ++counts.certificates_failed;
-        return;
-      }
-      // The vertex that moved farthest since frame k.
-      double farthest = -1.0;
-      for (int i = 0; i < 3; ++i) {
-        const VertexHandle v = f->vertex(i);
-        const double d = CGAL::squared_distance(v->point(), next_point(v));
-        if (d > farthest) farthest = d, out = v;
-      }
-    }
-    ++counts.certificates_failed;
-    const int y = out->info().slice_vertex;
-    if (scratch.taken_out[y]) return;
-    scratch.taken_out[y] = 1;
-    scratch.take_out.push_back(out);
-  };
-  // Removes v at frame k's points (the triangulation is valid there), remembering its neighbours: every face
-  // the removal creates has its vertices among them.
-  auto remove = [&](VertexHandle v) {
-    auto g = cdt.incident_faces(v), around = g;
-    do
-      if (const int n = g->info().index; n != -1) cancel(n >= 0 ? n : -2 - n);
-    while (++g != around);
-    auto u = cdt.incident_vertices(v), done = u;
-    do
-      if (!cdt.is_infinite(u) && u->info().slice_vertex >= 0)
-        scratch.recheck.push_back(u->info().slice_vertex);
-    while (++u != done);
-    // Constrained_triangulation_2's operations, not the Delaunay ones: only the constraint marks are cleared
-    // (the Delaunay version then flips edges beyond v's star, making faces that no neighbour of v would
-    // recheck), and the star-shaped hole is filled by ears (the kept triangulation is not Delaunay, and the
-    // Delaunay hole filling can cycle on it).
-    cdt.Cdt::Ctr::remove_incident_constraints(v);
-    cdt.Cdt::Ctr::remove(v);
-    return cdt.dimension() == 2;
-  };
+  NextFrameCertifier certifier(scratch, counts);
   // The restored faces are new (info().index -1: in no flip), as are those the removals make.
 #if PLEAT_ASSERTS_ON  // no empty pass over the faces where assertions compile away
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
     PLEAT_ASSERT(f->info().index == -1, "a restored face is reserved by a flip");
 #endif
-  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certify(f);
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) certifier.certify(f);
   // More vertices to take out than the budget allows already: rebuild before removing any.
   if (scratch.take_out.size() > budget) return RebuildReason::policy;
   for (const VertexHandle v : scratch.vanishing)
-    if (!remove(v)) return RebuildReason::degenerate;
+    if (!certifier.remove(v)) return RebuildReason::degenerate;
   while (!scratch.take_out.empty() || !scratch.recheck.empty()) {
     for (const VertexHandle v : scratch.take_out) {
       if (++counts.reinserted > budget) return RebuildReason::policy;
       scratch.vertex_of_new[v->info().slice_vertex] = VertexHandle();
-      if (!remove(v)) return RebuildReason::degenerate;
+      if (!certifier.remove(v)) return RebuildReason::degenerate;
     }
     scratch.take_out.clear();
     // Neighbours by id: one queued after it was remembered is gone by now.
@@ -636,7 +710,7 @@ RebuildReason KineticSlice::certify_at_next_frame(std::size_t budget, KineticScr
     for (const std::int32_t y : scratch.recheck) {
       if (scratch.taken_out[y]) continue;
       auto f = cdt.incident_faces(scratch.vertex_of_new[y]), done = f;
-      do certify(f);
+      do certifier.certify(f);
       while (++f != done);
     }
     scratch.recheck.clear();

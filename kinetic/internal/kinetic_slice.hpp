@@ -1,57 +1,14 @@
-// One slicing plane kept alive across frames (docs/method.md §11): its slice and constrained triangulation
-// carried from frame to frame, repaired where the motion changes them; regions, windows and corners derived
-// from the triangulation each frame.
-//
-// Certified at the frame, not over a path. Only the frames are output, and between two frames the motion is
-// a model, so nothing inside an interval needs to be simulated: the kept triangulation is carried to the next
-// frame's points and certified there. The argument: a triangulation of the next frame's slice points whose
-// finite triangles are all positively oriented, whose hull corners are all convex or straight, and whose
-// hull polygon winds once (one lexicographic minimum along it) covers the hull exactly once (the degree of
-// the map is the hull's winding number, 1, and no triangle counts negatively), so it is a valid
-// triangulation of those points. With the chain edges as its constrained edges, its hull, regions, windows
-// and corners are those of every valid constrained triangulation of the same chains — in particular of the
-// static engine's — and the shortest paths grown on it are unique, so its cones equal the static ones.
-//
-// An interval (frame k -> k+1), all decisions exact (CGAL's filtered predicates), in the thread's CGAL
-// triangulation, into which the slice's kept one (indices: kept_triangulation.hpp) is restored at frame k's
-// points first:
-//   1. Edits: the mesh vertices that cross the plane change which mesh edges cross it. Where a chain's
-//      run of vanishing slice vertices p -> x1 .. xm -> q between two survivors becomes p -> y1 .. yk -> q
-//      (a regular vertex crossing: the paper's §6 fan swap, the run being the cuts of its fan), x1 .. x_r,
-//      r = min(m, k), give their triangulation vertices to y1 .. y_r in chain order: no CGAL edit, the chain
-//      edges among them stay constrained edges, and the vertices are certified at frame k+1 like every kept
-//      one. The rest (x_{r+1} .. xm, and the vanishing vertices of critical crossings, which start, end,
-//      split or merge chains) vanish; a run that grows loses its old closing edge x_m q as a constraint.
-//      Survivors and relabeled vertices take their frame-(k+1) ids.
-//   2. Certificates at frame k+1, on the kept vertices' next points: every finite triangle positive, every
-//      hull corner (c, b, a) convex or straight with b between a and c; faces of vanishing vertices are not
-//      certified. A failed triangle whose edge flip makes two positive triangles at frame k+1 (the edge not
-//      a chain edge, the triangle across it in no other flip, none of the four vertices leaving) is
-//      repaired by that flip, planned now and made in step 3; so is a reflex hull corner a -> b -> c, by
-//      flipping the edge from the infinite vertex to b (the new triangle (a, b, c) is positive, and the
-//      corners at a and c it changes must be convex). Any other failed certificate takes one slice
-//      vertex out (the triangle's vertex that moved farthest, the hull corner's apex). When the vertices to
-//      take out already exceed the policy's share, the slice is rebuilt before any CGAL edit; otherwise the
-//      vanishing vertices, then those taken out, are removed with their chain edges at frame k's points,
-//      where the kept triangulation is valid (a removal cancels the planned flips of its faces), and the
-//      faces each removal creates, and those of its neighbours, are certified in turn.
-//   3. Every kept vertex moves to its next point; the planned flips are made (each replaces a failed
-//      triangle and its neighbour, or two hull faces, unchanged since it was planned, by two that pass:
-//      every finite triangle is then positive and every hull corner convex); the hull's winding is
-//      checked. The vertices taken out and the edits' new slice vertices are inserted at their next points
-//      (CGAL, located from a chain neighbour), then every chain edge that is not a constrained edge yet is
-//      inserted as one.
-//   4. Regions, windows and corners are derived from the triangulation (they depend on nothing else), in the
-//      thread's scratch; the funnel trees and cones are grown on it (static_core's code); the triangulation
-//      is kept again as indices.
-// The slice is rebuilt with static_core, and the reason counted, when it is degenerate or not editable
-// (collinear, points merged, chains that cross or touch), when its hull winds more than once, when an
-// inserted point meets another or a chain edge, when edits and put-back vertices exceed the policy's share,
-// or when carrying it has cost more than rebuilding it (both measured on the slice); after either of the last
-// two, outright for the policy's retry interval (twice as long after each retry that fails again, up to the
-// policy's doublings), as the static engine builds it (nothing checked or kept).
-// Checks: check_invariants (Debug builds, tests) after every interval. Internal header (CGAL types): kinetic
-// only.
+// One slicing plane kept alive across frames: its slice and constrained triangulation carried from frame to
+// frame, certified at each new frame and repaired where the motion changes them; regions, windows and corners
+// derived again from the triangulation each frame, the cones grown on it by static_core's code.
+// Paper: Stewart 1999 §6 (named there as future work). Method: docs/method.md §11.1 (why the certificates
+// suffice: the cones equal the static engine's), §11.2 (one interval, steps 1-4, and when a slice is
+// rebuilt), §11.3 (the invariants), §11.4 (the policy), §11.5 (what is kept). Preconditions: the topology,
+// connectivity and plane of build() are those of every later call; frames are validated by the engine
+// (kinetic_visibility.hpp). Cost: an interval costs its certificates, O(faces of the slice), plus one CGAL
+// edit per vertex that vanishes, appears or is taken out; a rebuild costs the static build's, O(s log s) for
+// s slice vertices. Thread safety: one thread at a time per slice, with that thread's KineticScratch; slices
+// are independent. Internal header (CGAL types): kinetic only.
 #pragma once
 
 #include <algorithm>
@@ -61,13 +18,13 @@
 #include <vector>
 
 #include "kinetic/internal/kept_triangulation.hpp"
-#include "kinetic/kinetic_visibility.hpp"
+#include "kinetic/kinetic_policy.hpp"
 #include "static_core/internal/frame_assembly.hpp"
 #include "static_core/internal/slice_triangulation.hpp"
 
 namespace pleat::kinetic {
 
-/// An edge flip planned at the certificates (the header comment's step 2): flip edge `index` of `face`. It
+/// An edge flip planned at the certificates (docs/method.md §11.2, step 2): flip edge `index` of `face`. It
 /// reserves the two faces it replaces and, for an edge to the infinite vertex (a reflex hull corner made
 /// into a triangle), the hull's faces on either side, whose corners it changes or depends on; a reserved
 /// face holds the flip's number n in info().index (-2 - n for the face after, whose own corner it does not
@@ -127,7 +84,7 @@ class KineticSlice {
   void build(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
              const SlicingPlane& plane, ConeStorage storage, const PlaneFaces& faces, const FrameMarks& marks,
              KineticScratch& scratch);
-  /// From the current frame to `next` (see the header comment). Returns what it did: one of
+  /// From the current frame to `next` (docs/method.md §11.2). Returns what it did: one of
   /// slices_unchanged, slices_repaired or slices_rebuilt is 1 (and rebuilt_because the reason), and where its
   /// time went.
   KineticCounts advance(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& next,
@@ -168,16 +125,15 @@ class KineticSlice {
                    KineticScratch& scratch);
   /// The 2D cones of the offered slice vertices, from the triangulation in `scratch`.
   void grow_cones(double contact_tolerance, KineticScratch& scratch);
-  /// Step 2 of the header comment: certify every face at the next frame and take out the vertices of
-  /// failed certificates, up to `budget` of them. Returns why the slice must be rebuilt, or none.
+  /// Step 2 of an interval (docs/method.md §11.2): certify every face at the next frame and take out the
+  /// vertices of failed certificates, up to `budget` of them. Returns why the slice must be rebuilt, or none.
   RebuildReason certify_at_next_frame(std::size_t budget, KineticScratch& scratch, KineticCounts& counts);
 
   PlaneCones m_out;
   /// What is kept between frames besides the slice: the constrained triangulation of an editable slice, as
   /// indices (kept_triangulation.hpp; empty for one that is rebuilt every interval). Its slice-vertex map,
-  /// corners, regions and windows are derived again each frame in the thread's scratch: at the native frame
-  /// rate structure changes in all but 2 of 1,711 slices of the 30k curtain (28 of 538 on the drape), so
-  /// keeping them saved no work but cost about 60 bytes per slice vertex.
+  /// corners, regions and windows are derived again each frame in the thread's scratch (docs/method.md §11.5:
+  /// keeping them saves no work).
   KeptTriangulation m_kept;
   ConeStorage m_storage = ConeStorage::NearestOnFan;
   std::vector<Index> m_changed_edges;
