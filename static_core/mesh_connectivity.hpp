@@ -96,7 +96,15 @@ class MeshConnectivity {
   std::size_t components() const { return m_components; }
 
  private:
-  struct HalfEdges;  // the OpenMesh structure (mesh_connectivity.cpp)
+  struct HalfEdges;      // the OpenMesh structure (mesh_connectivity.cpp)
+  struct EdgeNumbering;  // the edges' ids while the constructor runs (mesh_connectivity.cpp)
+  /// The constructor's steps, in order (see its comments in mesh_connectivity.cpp).
+  void build_half_edges(const MeshTopology& topology);
+  void list_neighbours(EdgeNumbering& numbering);
+  void number_edges(const MeshTopology& topology, EdgeNumbering& numbering);
+  void classify_edges(const EdgeNumbering& numbering);
+  void list_fans();
+  void count_loops_and_components();
   std::unique_ptr<HalfEdges> m_half_edges;
   std::vector<std::array<Index, 2>> m_endpoints;
   std::vector<std::array<Index, 3>> m_of_face;

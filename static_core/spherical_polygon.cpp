@@ -159,48 +159,58 @@ std::size_t HemisphereClipper::clip(const SphericalPolygon& poly, const glm::dve
     m_dots[i] = glm::dot(n, poly[i]);
     if (m_dots[i] >= 0.0) ++inside;
   }
-  if (inside == count || inside == 0) {
-    // The boundary does not cross the horizon, so the open hemisphere beyond it (inside == count) or the
-    // closed hemisphere (inside == 0) is entirely in the polygon or entirely outside it. Which one: the
-    // winding number about n of the boundary's orthographic projection onto the horizon plane (seen from
-    // n, a minor arc projects to less than half an ellipse centred on the origin, so its chord leaves the
-    // origin on the same side): +1 when P holds n, -1 when it holds -n, 0 otherwise.
-    const int winding = projected_winding(poly, n);
-    if (inside == count) {
-      SphericalPolygon& piece = out.push();
-      if (winding != -1) {
-        piece.assign(poly.begin(), poly.end());
-        return 1;
-      }
-      // P holds the other hemisphere: P cap H is the hemisphere with the complement of P cut out, a region
-      // with a hole. One weakly simple polygon: the horizon all the way round from h0, a bridge up the
-      // meridian to the lowest vertex v_k, the polygon's boundary from v_k back to v_k, and the bridge down.
-      std::size_t k = 0;
-      for (std::size_t i = 1; i < count; ++i)
-        if (m_dots[i] < m_dots[k]) k = i;
-      glm::dvec3 h0 = poly[k] - m_dots[k] * n;
-      const double len = glm::length(h0);
-      if (len > 0.0) {
-        h0 /= len;
-      } else {
-        glm::dvec3 e1, e2;
-        horizon_frame(n, e1, e2);
-        h0 = e1;
-      }
-      piece.push_back(h0);
-      append_horizon_arc(h0, n, kTwoPi, piece);
-      piece.push_back(h0);
-      for (std::size_t i = 0; i <= count; ++i) piece.push_back(poly[(k + i) % count]);
+  if (inside == count || inside == 0) return clip_uncrossed(poly, n, inside, out);
+  list_crossings(poly, n);
+  pair_crossings(n);
+  return walk_cycles(n, out);
+}
+
+std::size_t HemisphereClipper::clip_uncrossed(const SphericalPolygon& poly, const glm::dvec3& n,
+                                              std::size_t inside, SphericalPolygonList& out) {
+  const std::size_t count = poly.size();
+  // The boundary does not cross the horizon, so the open hemisphere beyond it (inside == count) or the
+  // closed hemisphere (inside == 0) is entirely in the polygon or entirely outside it. Which one: the
+  // winding number about n of the boundary's orthographic projection onto the horizon plane (seen from
+  // n, a minor arc projects to less than half an ellipse centred on the origin, so its chord leaves the
+  // origin on the same side): +1 when P holds n, -1 when it holds -n, 0 otherwise.
+  const int winding = projected_winding(poly, n);
+  if (inside == count) {
+    SphericalPolygon& piece = out.push();
+    if (winding != -1) {
+      piece.assign(poly.begin(), poly.end());
       return 1;
     }
-    if (winding != 1) return 0;
-    glm::dvec3 e1, e2;
-    horizon_frame(n, e1, e2);
-    SphericalPolygon& piece = out.push();
-    piece.assign({e1, e2, -e1, -e2});
+    // P holds the other hemisphere: P cap H is the hemisphere with the complement of P cut out, a region
+    // with a hole. One weakly simple polygon: the horizon all the way round from h0, a bridge up the
+    // meridian to the lowest vertex v_k, the polygon's boundary from v_k back to v_k, and the bridge down.
+    std::size_t k = 0;
+    for (std::size_t i = 1; i < count; ++i)
+      if (m_dots[i] < m_dots[k]) k = i;
+    glm::dvec3 h0 = poly[k] - m_dots[k] * n;
+    const double len = glm::length(h0);
+    if (len > 0.0) {
+      h0 /= len;
+    } else {
+      glm::dvec3 e1, e2;
+      horizon_frame(n, e1, e2);
+      h0 = e1;
+    }
+    piece.push_back(h0);
+    append_horizon_arc(h0, n, kTwoPi, piece);
+    piece.push_back(h0);
+    for (std::size_t i = 0; i <= count; ++i) piece.push_back(poly[(k + i) % count]);
     return 1;
   }
+  if (winding != 1) return 0;
+  glm::dvec3 e1, e2;
+  horizon_frame(n, e1, e2);
+  SphericalPolygon& piece = out.push();
+  piece.assign({e1, e2, -e1, -e2});
+  return 1;
+}
 
+void HemisphereClipper::list_crossings(const SphericalPolygon& poly, const glm::dvec3& n) {
+  const std::size_t count = poly.size();
   // Sutherland–Hodgman pass: kept vertices and crossing points, in polygon order.
   glm::dvec3 e1, e2;
   horizon_frame(n, e1, e2);
@@ -219,7 +229,9 @@ std::size_t HemisphereClipper::clip(const SphericalPolygon& poly, const glm::dve
                          std::abs(m_dots[i])});
     }
   }
+}
 
+void HemisphereClipper::pair_crossings(const glm::dvec3& n) {
   // Pair each exit with the first entry counter-clockwise along the horizon (the horizon arcs inside the
   // polygon start at exits and end at entries). If rounding made that pairing not one-to-one, fall back to
   // Sutherland–Hodgman's pairing with the next entry in polygon order.
@@ -248,7 +260,10 @@ std::size_t HemisphereClipper::clip(const SphericalPolygon& poly, const glm::dve
       m_nodes[x].arc = crossing_ccw_angle(m_nodes[x], m_nodes[e], n);
     }
   }
+}
 
+std::size_t HemisphereClipper::walk_cycles(const glm::dvec3& n, SphericalPolygonList& out) {
+  const int num_nodes = static_cast<int>(m_nodes.size());
   // Walk the cycles: from an entry along the polygon to the next exit, then along the horizon to its entry.
   m_used.assign(num_nodes, 0);
   std::size_t appended = 0;

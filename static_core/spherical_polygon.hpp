@@ -62,6 +62,15 @@ class HemisphereClipper {
     double wa, wb;    //   the exact ordering of nearly coincident crossings)
   };
   static double crossing_ccw_angle(const Node& x, const Node& e, const glm::dvec3& n);
+  /// clip() where no edge crosses the horizon (`inside` of poly's vertices above it, 0 or all; m_dots set).
+  std::size_t clip_uncrossed(const SphericalPolygon& poly, const glm::dvec3& n, std::size_t inside,
+                             SphericalPolygonList& out);
+  /// The kept vertices and the horizon crossings, in polygon order, into m_nodes (entries in m_entries).
+  void list_crossings(const SphericalPolygon& poly, const glm::dvec3& n);
+  /// Each exit's entry along the horizon (Node::partner, Node::arc).
+  void pair_crossings(const glm::dvec3& n);
+  /// The pieces: the cycles of m_nodes, appended to `out`; returns how many.
+  std::size_t walk_cycles(const glm::dvec3& n, SphericalPolygonList& out);
 
   std::vector<double> m_dots;
   std::vector<Node> m_nodes;
