@@ -9,3 +9,5 @@ build=${1:-build}
 [ -f "$build/compile_commands.json" ] || { echo "check_tidy: no $build/compile_commands.json (run scripts/setup.sh)" >&2; exit 2; }
 run-clang-tidy -p "$build" -j "$(nproc 2>/dev/null || echo 2)" -quiet \
   "$PWD/(support|cli|sim_io|static_core|kinetic|shading|tests|bench)/.*\.cpp$"
+# The function-size check over every file (the ctest function_size checks the files a branch changed).
+python3 tests/tools/check_function_size.py . "$build" --all

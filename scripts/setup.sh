@@ -9,7 +9,7 @@ packages=(cmake ninja-build lld make g++ pkg-config  # the build: CMakePresets.j
           libopenmesh-dev libglm-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
           libtinygltf-dev nlohmann-json3-dev libtbb-dev libembree-dev libstb-dev libcli11-dev
           zlib1g-dev libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev python3-matplotlib
-          clang libfuzzer-14-dev clang-format  # scripts/check_sanitized.sh and the format check
+          clang libfuzzer-14-dev clang-format clang-tidy  # scripts/check_sanitized.sh, the format and function-size checks
           openmpi-bin libopenmpi-dev  # mpirun -np N pleat visibility|shade (cli/world.hpp; PLEAT_MPI)
           pybind11-dev python3-dev python3-numpy python3-pytest python3-tqdm  # the Python module (python/), its tests
           python3-setuptools python3-pip python3-venv  # pip install --no-build-isolation . (pyproject.toml)
