@@ -1,6 +1,6 @@
 // A job's finished chunks kept in a directory (--checkpoint DIR), so that a rerun after a failure computes
 // only the chunks missing. Each chunk is one file DIR/chunk_<first>_<last>.pleatchunk, written atomically
-// (sim_io/atomic_file.hpp): a header (magic "PLEATCK2", the chunk's key, its frame range, the header's
+// (support/atomic_file.hpp): a header (magic "PLEATCK2", the chunk's key, its frame range, the header's
 // CRC-32), one record per frame (frame number, byte count, the CRC-32 of the frame's bytes, the bytes as the
 // command encodes them) and an end marker. The key covers what decides the chunk's bytes
 // (cli/chunk_plan.hpp): a chunk is used again when its name and key are the job's and every checksum matches.
@@ -18,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-#include "sim_io/atomic_file.hpp"
+#include "support/atomic_file.hpp"
 
 namespace pleat::cli {
 

@@ -5,9 +5,9 @@
 
 #include "cli/global_options.hpp"
 #include "shading/lights.hpp"
-#include "sim_io/atomic_file.hpp"
 #include "sim_io/plan_file.hpp"
 #include "static_core/cone_rules.hpp"
+#include "support/atomic_file.hpp"
 
 namespace pleat::cli {
 

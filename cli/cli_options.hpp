@@ -16,9 +16,9 @@
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/scene.hpp"
 #include "sim_io/sequence_plan.hpp"
-#include "static_core/input_error.hpp"
 #include "static_core/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat::cli {
 

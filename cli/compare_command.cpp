@@ -35,10 +35,10 @@
 #include "shading/render.hpp"
 #include "shading/scene_render.hpp"
 #include "shading/shade.hpp"
-#include "sim_io/atomic_file.hpp"
 #include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "static_core/visibility.hpp"
+#include "support/atomic_file.hpp"
 
 namespace pleat::cli {
 

@@ -14,11 +14,11 @@
 #include "cli/global_options.hpp"
 #include "cli/job_error.hpp"
 #include "cli/progress.hpp"
-#include "sim_io/atomic_file.hpp"
 #include "sim_io/cloth_generators.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io/pc2_format.hpp"
+#include "support/atomic_file.hpp"
 
 namespace pleat::cli {
 

@@ -5,7 +5,7 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat::cli {
 

@@ -6,8 +6,8 @@
 #include <stdexcept>
 
 #include "cli/global_options.hpp"
-#include "sim_io/atomic_file.hpp"
 #include "sim_io/input_formats.hpp"
+#include "support/atomic_file.hpp"
 
 namespace pleat::cli {
 

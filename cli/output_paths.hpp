@@ -1,8 +1,8 @@
 // The paths a subcommand writes, checked before any work: each output is a file pleat may replace
-// (sim_io/atomic_file.hpp's resolve_output_target), no two outputs are one file, and no output is one of
+// (support/atomic_file.hpp's resolve_output_target), no two outputs are one file, and no output is one of
 // the inputs the run reads, through symbolic links and hard links (a file is its device and inode; one that
 // does not exist yet, its directory and name with links resolved). Temporaries that dead processes of this
-// machine left where the run will write are removed (sim_io/temporary_files.hpp).
+// machine left where the run will write are removed (support/temporary_files.hpp).
 #pragma once
 
 #include <filesystem>

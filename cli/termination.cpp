@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "cli/world.hpp"
-#include "sim_io/temporary_files.hpp"
+#include "support/temporary_files.hpp"
 
 namespace pleat::cli {
 

@@ -3,7 +3,7 @@
 // reader went away (SIGPIPE: `pleat ... -o - | head`), a CPU time limit (SIGXCPU: `ulimit -t`, a batch
 // system's h_cpu), timers (SIGVTALRM, SIGPROF), and every other signal whose default is to terminate; also
 // Open MPI ending the surviving ranks of a failed job. The handler removes the temporary files of every
-// output not yet committed (sim_io/temporary_files.hpp; destructors do not run), says so in one line on
+// output not yet committed (support/temporary_files.hpp; destructors do not run), says so in one line on
 // stderr (under mpirun rank 0 alone) and exits with 128 + the signal (130 for SIGINT, 143 for SIGTERM, 152
 // for SIGXCPU, ...). Outputs already renamed into place stay; a signal that comes while outputs are being
 // renamed together (a CommitWindow) takes effect once they all are.

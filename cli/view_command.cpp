@@ -4,7 +4,7 @@
 // DIR gets index.html and viewer.js (cli/viewer/, compiled in), three.js r111 with its GLTFLoader and
 // OrbitControls copied from Debian's libjs-three (PLEAT_THREE_JS_DIR), and scene.js holding the glb in
 // base64, so the page works from file:// (browsers refuse to fetch local files from a page) with no network.
-// Every file is staged in DIR first (sim_io/atomic_file.hpp's StagedFiles) and moved in when all are
+// Every file is staged in DIR first (support/atomic_file.hpp's StagedFiles) and moved in when all are
 // complete.
 #include <filesystem>
 #include <fstream>
@@ -19,9 +19,9 @@
 #include "cli/commands.hpp"
 #include "cli/global_options.hpp"
 #include "cli/job_error.hpp"
-#include "sim_io/atomic_file.hpp"
-#include "static_core/input_error.hpp"
+#include "support/atomic_file.hpp"
 #include "support/byte_order.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat::cli {
 

@@ -21,12 +21,12 @@
 #include "kinetic/engine.hpp"
 #include "kinetic/kinetic_visibility.hpp"
 #include "shading/cone_cache.hpp"
-#include "sim_io/atomic_file.hpp"
 #include "sim_io/mesh_report.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/visibility_csv.hpp"
 #include "static_core/plan_codec.hpp"
 #include "static_core/visibility.hpp"
+#include "support/atomic_file.hpp"
 #include "support/byte_stream.hpp"
 #include "support/fingerprint.hpp"
 

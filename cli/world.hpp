@@ -37,7 +37,7 @@ class World {
   /// Seconds since init() (each rank's own clock): when a frame finished, for --timings.
   static double seconds();
   /// Ends every rank of the job with `code` (one rank's error, e.g. an engine failure mid-chunk), after
-  /// removing this process's uncommitted output files (sim_io/atomic_file.hpp).
+  /// removing this process's uncommitted output files (support/atomic_file.hpp).
   [[noreturn]] static void abort(int code);
 
   // ---- Collectives ----

@@ -14,7 +14,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "sim_io/atomic_file.hpp"
+#include "support/atomic_file.hpp"
 
 namespace pleat::cli {
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "cli/world.hpp"
-#include "sim_io/atomic_file.hpp"
+#include "support/atomic_file.hpp"
 
 namespace pleat::cli {
 

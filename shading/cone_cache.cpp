@@ -8,11 +8,11 @@
 #include <glm/geometric.hpp>
 #include <optional>
 
-#include "sim_io/atomic_file.hpp"
-#include "static_core/input_error.hpp"
+#include "support/atomic_file.hpp"
 #include "support/byte_order.hpp"
 #include "support/checksum.hpp"
 #include "support/fingerprint.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

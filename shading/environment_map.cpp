@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 #include "support/srgb.hpp"
 
 namespace pleat {

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "shading/internal/light_parsing.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

@@ -14,8 +14,8 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "sim_io/atomic_file.hpp"
 #include "static_core/mesh_validation.hpp"
+#include "support/atomic_file.hpp"
 #include "support/srgb.hpp"
 
 namespace pleat {

@@ -24,7 +24,7 @@
 
 #include "sim_io/input_file.hpp"
 #include "sim_io/input_formats.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 #include "support/srgb.hpp"
 
 namespace pleat {

@@ -29,9 +29,9 @@
 #include <glm/vec4.hpp>
 #include <vector>
 
-#include "sim_io/atomic_file.hpp"
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/up_axis.hpp"
+#include "support/atomic_file.hpp"
 
 namespace pleat {
 

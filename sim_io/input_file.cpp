@@ -6,8 +6,8 @@
 #include <fstream>
 #include <iterator>
 
-#include "static_core/input_error.hpp"
 #include "support/byte_order.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

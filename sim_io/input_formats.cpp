@@ -3,7 +3,7 @@
 
 #include <cctype>
 
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 namespace formats {

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "sim_io/input_formats.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

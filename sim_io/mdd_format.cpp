@@ -4,11 +4,11 @@
 #include <stdexcept>
 #include <string>
 
-#include "sim_io/atomic_file.hpp"
 #include "sim_io/input_file.hpp"
 #include "sim_io/input_formats.hpp"
-#include "static_core/input_error.hpp"
+#include "support/atomic_file.hpp"
 #include "support/byte_order.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

@@ -8,8 +8,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "static_core/input_error.hpp"
 #include "static_core/slicing_plan.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

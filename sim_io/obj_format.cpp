@@ -9,11 +9,11 @@
 #include <string>
 #include <string_view>
 
-#include "sim_io/atomic_file.hpp"
 #include "sim_io/input_file.hpp"
 #include "sim_io/input_formats.hpp"
 #include "sim_io/polygon_triangulation.hpp"
-#include "static_core/input_error.hpp"
+#include "support/atomic_file.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

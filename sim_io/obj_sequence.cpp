@@ -9,7 +9,7 @@
 
 #include "sim_io/input_formats.hpp"
 #include "sim_io/obj_format.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

@@ -3,9 +3,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "sim_io/atomic_file.hpp"
-#include "static_core/input_error.hpp"
 #include "static_core/plan_codec.hpp"
+#include "support/atomic_file.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

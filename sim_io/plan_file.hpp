@@ -10,7 +10,7 @@
 
 namespace pleat {
 
-/// Writes `plan` atomically (sim_io/atomic_file.hpp). Throws std::runtime_error on I/O failure.
+/// Writes `plan` atomically (support/atomic_file.hpp). Throws std::runtime_error on I/O failure.
 void write_plan_file(const std::filesystem::path& path, const SlicingPlan& plan);
 
 /// Reads a plan file (plan_from_json). Throws InputError naming the file for one it cannot open, and as

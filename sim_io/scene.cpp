@@ -5,8 +5,8 @@
 #include <stdexcept>
 
 #include "sim_io/load_sequence.hpp"
-#include "static_core/input_error.hpp"
 #include "static_core/slicing_plan.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

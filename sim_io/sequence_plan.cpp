@@ -9,8 +9,9 @@
 #include <stdexcept>
 
 #include "sim_io/plan_file.hpp"
+#include "static_core/adaptive_plan.hpp"
 #include "static_core/cone_rules.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

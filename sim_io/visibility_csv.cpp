@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include "sim_io/input_file.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

@@ -15,8 +15,8 @@
 #include <filesystem>
 #include <vector>
 
-#include "sim_io/atomic_file.hpp"
 #include "static_core/mesh.hpp"
+#include "support/atomic_file.hpp"
 
 namespace pleat {
 

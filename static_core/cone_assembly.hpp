@@ -16,25 +16,18 @@
 // meet — exactly there between two planes' boundaries and where an occluding plane's (the ground's) meets a
 // curved horizon, else 2/3 of the way from the chord's middle (a parabolic arc's bulge). Cost: O(k^2) for k
 // wedges at the vertex (k is a few dozen).
+// Thread safety: reentrant; each thread its own ConeAssemblyScratch.
 #pragma once
 
 #include <memory>
 #include <span>
 #include <vector>
 
-#include "static_core/angular_set.hpp"
+#include "static_core/planar_cone.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility_cone.hpp"
 
 namespace pleat {
-
-/// One stored 2D cone: the wedges of a slice vertex's cone, in its plane's (u, w) frame.
-struct PlanarCone {
-  const SlicingPlane* plane = nullptr;
-  std::span<const Wedge> wedges;
-  /// Where known, the horizon's great circle at wedge ends (aim_wedges): the pieces follow it between ends.
-  std::span<const HorizonTangent> tangents = {};
-};
 
 /// Reusable memory of assemble_cone (one per thread): no allocation per call once it has grown.
 class ConeAssemblyScratch {

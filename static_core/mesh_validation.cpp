@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 namespace {
@@ -20,7 +20,7 @@ std::string number(double x) {
 
 /// Whether every coordinate is finite, in one branch-free pass: x * 0 is (+-)0 for a finite x and NaN for a
 /// NaN or an infinity, and a NaN survives any sum. Four independent sums let the compiler use SIMD and hide
-/// the adds' latency (about 1 us of CPU for 3k vertices; a loop of std::isfinite tests costs 3-4 times that).
+/// the adds' latency (cheaper than a loop of std::isfinite tests).
 bool all_finite(const std::vector<glm::dvec3>& positions) {
   glm::dvec3 sum[4] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
   const std::size_t n = positions.size();

@@ -6,9 +6,9 @@
 #include <stdexcept>
 
 #include "static_core/cone_rules.hpp"
-#include "static_core/input_error.hpp"
 #include "support/byte_stream.hpp"
 #include "support/fingerprint.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 namespace {

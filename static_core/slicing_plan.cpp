@@ -9,9 +9,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "static_core/input_error.hpp"
-#include "static_core/mesh_slicer.hpp"
 #include "static_core/mesh_validation.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 namespace {
@@ -78,11 +77,14 @@ void relax_lines(std::vector<glm::dvec3>& dirs) {
   }
 }
 
+constexpr int kMaxRelaxed = 32;  ///< diffuse_orientations relaxes up to this many
+
+}  // namespace
+
 /// The paper's six orientations for 6; otherwise n directions spread over the half sphere (a Fibonacci
 /// spiral on the upper hemisphere: a plane normal and its negation are the same family), relaxed by
 /// relax_lines when asked and n <= kMaxRelaxed (relaxing costs n^2 per step; larger counts are left on the
 /// spiral, unmeasured).
-constexpr int kMaxRelaxed = 32;
 std::vector<glm::dvec3> diffuse_orientations(int n, bool relaxed) {
   if (n <= 0) throw std::invalid_argument("slicing plan: the number of orientations must be positive");
   if (n == 6)
@@ -109,6 +111,8 @@ std::vector<glm::dvec3> diffuse_orientations(int n, bool relaxed) {
   });
   return relaxed_lines[n];
 }
+
+namespace {
 
 std::pair<double, double> extent_along(const std::vector<glm::dvec3>& positions, const glm::dvec3& n) {
   double lo = INFINITY, hi = -INFINITY;
@@ -309,54 +313,6 @@ SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame,
 SlicingPlan make_paper_plan(const MeshTopology& topology, const Frame& frame, const Bounds* cover) {
   SlicingPlan plan = make_diffuse_plan(topology, frame, {6, 0.0, 0, 1.0}, cover);
   plan.storage = ConeStorage::NearerEndpoint;
-  return plan;
-}
-
-SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame,
-                               const AdaptivePlanParams& params) {
-  validate_mesh(topology, frame, "make_adaptive_plan");
-  SlicingPlan plan;
-  plan.orientations = diffuse_orientations(params.orientations, params.relaxed);
-  const MeshConnectivity connectivity(topology);
-  const std::size_t n = topology.num_vertices;
-  const std::size_t allowed_missing = static_cast<std::size_t>(params.max_missing_fraction * n);
-  for (int o = 0; o < static_cast<int>(plan.orientations.size()); ++o) {
-    const glm::dvec3 normal = plan.orientations[o];
-    std::vector<double> height(n);
-    for (std::size_t v = 0; v < n; ++v) height[v] = glm::dot(normal, frame.positions[v]);
-    std::vector<char> has_cone(n, 0);
-    // Only vertices with at least one incident face can ever receive a cone.
-    std::vector<Index> missing;
-    for (Index v = 0; v < n; ++v)
-      if (!connectivity.is_isolated(v)) missing.push_back(v);
-    // Recursive median split, breadth first: each group is the set of still-uncovered vertices
-    // between two planes already placed.
-    std::vector<std::vector<Index>> groups{missing};
-    std::size_t total_missing = missing.size();
-    while (total_missing > allowed_missing && !groups.empty()) {
-      std::vector<std::vector<Index>> next;
-      for (auto& group : groups) {
-        if (group.empty()) continue;
-        auto mid = group.begin() + group.size() / 2;
-        std::nth_element(group.begin(), mid, group.end(),
-                         [&](Index a, Index b) { return height[a] < height[b]; });
-        const double offset = height[*mid];
-        const SlicingPlane plane = make_plane(normal, offset, o);
-        plan.planes.push_back(plane);
-        for (Index v : cone_recipients(topology, connectivity, frame, plane)) has_cone[v] = 1;
-        std::vector<Index> below, above;
-        for (Index v : group) {
-          if (has_cone[v]) continue;
-          (height[v] < offset ? below : above).push_back(v);
-        }
-        if (!below.empty()) next.push_back(std::move(below));
-        if (!above.empty()) next.push_back(std::move(above));
-      }
-      groups = std::move(next);
-      total_missing = 0;
-      for (const auto& g : groups) total_missing += g.size();
-    }
-  }
   return plan;
 }
 

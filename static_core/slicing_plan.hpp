@@ -7,6 +7,7 @@
 // from one planned frame (the sequence's first) and the planes instantiated over a box that covers every
 // frame (cover_with_planes). A plane that cuts no frame adds an empty slice and changes no cone. Every
 // function below that takes (topology, frame) validates them (static_core/mesh_validation.hpp: InputError).
+// Thread safety: plans are plain values; the functions are pure.
 #pragma once
 
 #include <cstddef>
@@ -97,7 +98,8 @@ const char* cone_reconstruction_name(ConeReconstruction reconstruction);
 /// The rule of a name in the table; throws std::invalid_argument naming the table's names for any other.
 ConeReconstruction cone_reconstruction_from_name(std::string_view name);
 
-/// The plane through `point` with unit normal `normal` and a deterministic in-plane frame.
+/// The plane {x : dot(normal, x) = offset} of unit normal `normal`, in the plan's orientation `orientation`,
+/// with a deterministic in-plane frame (u, w).
 SlicingPlane make_plane(const glm::dvec3& normal, double offset, int orientation);
 
 struct DiffusePlanParams {
@@ -115,6 +117,9 @@ struct DiffusePlanParams {
   /// Spread orientations (not 6) relaxed from the Fibonacci spiral to evenly spaced lines (up to 32).
   bool relaxed = true;
 };
+/// The orientations of a diffuse plan (DiffusePlanParams::orientations and relaxed): the paper's six for 6,
+/// else n lines spread over the half sphere. Throws std::invalid_argument for n <= 0. Deterministic.
+std::vector<glm::dvec3> diffuse_orientations(int n, bool relaxed);
 /// Uniform diffuse light: parallel families of planes, the spacing measured on `frame`. With a spacing, the
 /// world-anchored lattice (cover_with_planes) over `cover`, or over the cloth of `frame` (cloth_bounds) when
 /// `cover` is null; with planes_per_orientation, that many planes spread evenly over the extent of `cover`
@@ -124,16 +129,6 @@ SlicingPlan make_diffuse_plan(const MeshTopology& topology, const Frame& frame,
 /// The paper's plan: its 6 axis-aligned orientations, planes one average edge length apart, nearer-endpoint
 /// storage (the baseline pleat's defaults are measured against).
 SlicingPlan make_paper_plan(const MeshTopology& topology, const Frame& frame, const Bounds* cover = nullptr);
-
-struct AdaptivePlanParams {
-  int orientations = 6;
-  double max_missing_fraction = 0.05;  ///< stop when at most this fraction of vertices lacks a cone
-  bool relaxed = true;                 ///< as DiffusePlanParams::relaxed
-};
-/// The paper's §2.3.3 placement: per orientation, a plane through the median vertex, then recursively
-/// through the medians of the vertices above and below that still lack a cone.
-SlicingPlan make_adaptive_plan(const MeshTopology& topology, const Frame& frame,
-                               const AdaptivePlanParams& params);
 
 /// Point light: a pencil of planes through one line through the light (spacing ~ average edge length at
 /// the cloth's distance).

@@ -10,42 +10,18 @@
 // handled). Input is validated where it enters (static_core/mesh_validation.hpp): triangle indices in range,
 // one finite position per vertex; anything else throws InputError naming the entry, the frame and the vertex
 // or triangle.
+// Thread safety: compute_visibility is reentrant; a StaticVisibility computes one frame at a time (itself
+// TBB-parallel over slices and vertices with VisibilityParams::parallel).
 #pragma once
 
-#include <atomic>
-#include <cstddef>
-#include <functional>
 #include <memory>
 
 #include "static_core/mesh.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility_cone.hpp"
+#include "static_core/visibility_params.hpp"
 
 namespace pleat {
-
-/// How far the frame being computed is, for progress reports within long frames: its planes (each frame has
-/// its own: planes_for_frame), slices done (each plane's 2D cones), then receiving vertices whose 3D cones
-/// are assembled (counted in steps of 64). The engines set and add to the counters with relaxed atomics (a
-/// few per thousand vertices); the caller resets them between frames and may read them from any thread.
-struct FrameProgress {
-  std::atomic<std::size_t> planes{0};
-  std::atomic<std::size_t> slices{0};
-  std::atomic<std::size_t> vertices{0};
-  void reset() {
-    planes.store(0, std::memory_order_relaxed);
-    slices.store(0, std::memory_order_relaxed);
-    vertices.store(0, std::memory_order_relaxed);
-  }
-};
-
-struct VisibilityParams {
-  bool parallel = true;  ///< TBB-parallel over slices
-  /// Called during a frame, from the thread that did the work, after each slice and every 256 assembled
-  /// vertices: where a caller checks for an interrupt (the Python module: Ctrl+C). It may throw to abandon
-  /// the frame; the exception leaves compute(), and the engine stays usable. Empty: not called.
-  std::function<void()> poll = {};
-  FrameProgress* progress = nullptr;  ///< when set, advanced as the frame is computed
-};
 
 /// One frame, one shot. Validates the topology and the frame.
 FrameVisibility compute_visibility(const MeshTopology& topology, const Frame& frame, const SlicingPlan& plan,

@@ -1,4 +1,4 @@
-#include "sim_io/atomic_file.hpp"
+#include "support/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>

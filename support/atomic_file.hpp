@@ -7,11 +7,11 @@
 // that is a directory, FIFO, socket or device, or whose links loop, is refused (OutputRefused). If the writer
 // throws before commit(), or any I/O step fails, the temporary file is removed and the target is left as it
 // was. A failed write is reported with its reason and the file ("v.csv: cannot write: no space left on
-// device"). Temporaries are named and listed as sim_io/temporary_files.hpp says, so a termination signal
+// device"). Temporaries are named and listed as support/temporary_files.hpp says, so a termination signal
 // removes them and a later run removes those of a process that died.
 //
 // Several outputs replace their targets together: each is written and close()d first (a failure there leaves
-// every target as it was), then all are commit()ted inside one CommitWindow (sim_io/temporary_files.hpp).
+// every target as it was), then all are commit()ted inside one CommitWindow (support/temporary_files.hpp).
 // StagedFiles does the same for a directory of many files (renders).
 //
 // The path "-" names standard output: the bytes are streamed to it as they come, with no atomicity (a failed
@@ -28,8 +28,8 @@
 #include <string_view>
 #include <vector>
 
-#include "sim_io/temporary_files.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
+#include "support/temporary_files.hpp"
 
 namespace pleat {
 

@@ -1,4 +1,4 @@
-#include "sim_io/temporary_files.hpp"
+#include "support/temporary_files.hpp"
 
 #include <dirent.h>
 #include <fcntl.h>

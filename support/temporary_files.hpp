@@ -1,4 +1,4 @@
-// The temporary files and directories of outputs being written (sim_io/atomic_file.hpp): their names, a
+// The temporary files and directories of outputs being written (support/atomic_file.hpp): their names, a
 // process-wide list of them that a termination signal handler can empty (cli/termination.hpp), the clean-up
 // of those left behind by processes that died without emptying theirs (SIGKILL, an out-of-memory kill, a
 // lost farm node), and the commit window that holds termination back while several outputs are renamed

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "shading/environment_map.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

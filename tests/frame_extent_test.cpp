@@ -17,9 +17,9 @@
 #include "sim_io/load_sequence.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io/pc2_format.hpp"
-#include "static_core/input_error.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

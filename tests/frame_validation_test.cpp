@@ -15,10 +15,11 @@
 #include "shading/path_trace.hpp"
 #include "shading/render.hpp"
 #include "shading/shade.hpp"
-#include "static_core/input_error.hpp"
+#include "static_core/adaptive_plan.hpp"
 #include "static_core/mesh_validation.hpp"
 #include "static_core/slicing_plan.hpp"
 #include "static_core/visibility.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

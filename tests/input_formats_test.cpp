@@ -15,7 +15,7 @@
 #include "shading/lights.hpp"
 #include "sim_io/load_sequence.hpp"
 #include "sim_io/pc2_format.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

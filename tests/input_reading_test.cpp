@@ -14,7 +14,7 @@
 #include "sim_io/scene.hpp"
 #include "sim_io/visibility_csv.hpp"
 #include "sim_io_fixtures.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

@@ -16,7 +16,7 @@
 #include "oracles/mesh_topology_oracle.hpp"
 #include "oracles/test_meshes.hpp"
 #include "sim_io/mesh_report.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 namespace {

@@ -18,10 +18,10 @@
 #include "sim_io/cloth_generators.hpp"
 #include "sim_io/obj_format.hpp"
 #include "sim_io/scene.hpp"
-#include "static_core/input_error.hpp"
 #include "static_core/internal/frame_assembly.hpp"
 #include "static_core/mesh_connectivity.hpp"
 #include "static_core/visibility.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "static_core/cone_rules.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

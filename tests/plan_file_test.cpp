@@ -8,7 +8,8 @@
 #include <string>
 
 #include "sim_io/cloth_generators.hpp"
-#include "static_core/input_error.hpp"
+#include "static_core/adaptive_plan.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

@@ -16,7 +16,7 @@
 #include "sim_io/obj_format.hpp"
 #include "sim_io/pc2_format.hpp"
 #include "sim_io/visibility_csv.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

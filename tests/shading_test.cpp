@@ -16,9 +16,9 @@
 #include "shading/lights.hpp"
 #include "shading/shade.hpp"
 #include "sim_io/cloth_generators.hpp"
-#include "static_core/input_error.hpp"
 #include "static_core/spherical_polygon.hpp"
 #include "static_core/visibility.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

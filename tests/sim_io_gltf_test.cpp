@@ -13,7 +13,7 @@
 #include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_report.hpp"
 #include "sim_io_fixtures.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 #include "support/srgb.hpp"
 #include "test_support.hpp"
 

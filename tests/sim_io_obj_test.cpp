@@ -5,7 +5,7 @@
 
 #include "sim_io/obj_format.hpp"
 #include "sim_io_fixtures.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

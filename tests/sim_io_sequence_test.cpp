@@ -10,7 +10,6 @@
 #include <set>
 #include <stdexcept>
 
-#include "sim_io/atomic_file.hpp"
 #include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_report.hpp"
 #include "sim_io/mesh_sequence.hpp"
@@ -18,7 +17,8 @@
 #include "sim_io/obj_sequence.hpp"
 #include "sim_io/visibility_csv.hpp"
 #include "sim_io_fixtures.hpp"
-#include "static_core/input_error.hpp"
+#include "support/atomic_file.hpp"
+#include "support/input_error.hpp"
 #include "test_support.hpp"
 
 namespace pleat {

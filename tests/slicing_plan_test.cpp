@@ -12,9 +12,10 @@
 
 #include "oracles/test_meshes.hpp"
 #include "sim_io/cloth_generators.hpp"
-#include "static_core/input_error.hpp"
+#include "static_core/adaptive_plan.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/visibility.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 namespace {

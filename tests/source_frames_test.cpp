@@ -14,7 +14,7 @@
 #include "sim_io/pc2_format.hpp"
 #include "sim_io/visibility_csv.hpp"
 #include "sim_io_fixtures.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 namespace {

@@ -2,7 +2,7 @@
 // SIGQUIT, SIGPIPE, SIGXCPU, SIGUSR1, ...) leaves no temporary file and exits with 128 + the signal; a signal
 // ignored at start stays ignored; a CPU time limit ends the run the same way; the temporaries of a process
 // killed outright (SIGKILL) are removed by the next run writing to the same place, never those of a live
-// process or of another machine (sim_io/temporary_files.hpp). The real executable on a job long enough to
+// process or of another machine (support/temporary_files.hpp). The real executable on a job long enough to
 // be stopped in the middle.
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -150,7 +150,7 @@ TEST(Termination, ACpuTimeLimitEndsTheRunCleanly) {
   }
 }
 
-// This machine's name as pleat writes it in temporary names (sim_io/temporary_files.hpp).
+// This machine's name as pleat writes it in temporary names (support/temporary_files.hpp).
 std::string host_tag() {
   char name[256] = {};
   ::gethostname(name, sizeof name - 1);

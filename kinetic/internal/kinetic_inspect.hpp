@@ -3,7 +3,9 @@
 
 #include <cstddef>
 
-#include "kinetic/kinetic_visibility.hpp"
+namespace pleat {
+class KineticVisibility;  // kinetic/kinetic_visibility.hpp, which names this struct its friend
+}  // namespace pleat
 
 namespace pleat::kinetic {
 

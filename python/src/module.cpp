@@ -31,7 +31,7 @@
 #include "sim_io/mesh_sequence.hpp"
 #include "sim_io/scene.hpp"
 #include "sim_io/sequence_plan.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 #include "support/nearest_name.hpp"
 
 namespace py = pybind11;

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat {
 

@@ -8,6 +8,7 @@
 // orientation and side). Then every vertex's 2D cones are merged into 3D cones per side and measured. Both
 // engines hand this stage PlaneCones that are equal, so they produce the same output. Internal header:
 // static_core and kinetic only.
+// Thread safety: a FrameAssembler assembles one frame at a time (TBB-parallel over vertices inside).
 #pragma once
 
 #include <memory>
@@ -20,8 +21,8 @@
 #include "static_core/mesh.hpp"
 #include "static_core/mesh_slicer.hpp"
 #include "static_core/slicing_plan.hpp"
-#include "static_core/visibility.hpp"
 #include "static_core/visibility_cone.hpp"
+#include "static_core/visibility_params.hpp"
 
 namespace pleat {
 

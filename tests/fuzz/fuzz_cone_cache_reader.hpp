@@ -10,7 +10,7 @@
 #include "shading/cone_cache.hpp"
 #include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat::fuzz {
 

@@ -5,7 +5,7 @@
 #include <cstdlib>
 
 #include "fuzz/fuzz_cloth.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto cloth = pleat::fuzz::decode_cloth(data, size);

@@ -5,7 +5,7 @@
 
 #include "sim_io/load_sequence.hpp"
 #include "sim_io/mesh_sequence.hpp"
-#include "static_core/input_error.hpp"
+#include "support/input_error.hpp"
 
 namespace pleat::fuzz {
 
