@@ -7,7 +7,7 @@
 //
 // Chunks are contiguous and of nearly equal measured cost, and each rank takes a contiguous run of them. The
 // cost of a frame is its number of slice vertices (SliceVertexCounter), which the static core's time is
-// proportional to (README: 2.3-4.1 us per slice vertex on every sequence measured).
+// proportional to (docs/benchmarks.md).
 //
 // The keys of the checkpoint (cli/checkpoint.hpp), per chunk: the command's output-determining options (the
 // slicing plan's bytes among them), the welded topology and vertex map, the frame count, the chunk's range

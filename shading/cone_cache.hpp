@@ -31,8 +31,8 @@
 //       per vertex: u32 pieces; per piece: u32 n, then the n unit edge directions (radial order):
 //         version 1: f64[n][3]; version 2: u16[n][2], octahedral coordinates (the direction's projection onto
 //         the octahedron |x|+|y|+|z| = 1, the lower half folded over, each coordinate mapped from [-1, 1] to
-//         0..65535), within 5e-5 radians of the engine's direction: 4 bytes instead of 24, which are 86% of a
-//         drape frame's block.
+//         0..65535), within 5e-5 radians of the engine's direction: 4 bytes instead of 24, the bulk of a
+//         frame's block.
 // Written as frames complete to a temporary file, renamed into place when the last frame is in (atomic: a
 // failed run leaves no cache). Reading checks everything it reads (magic, version, the checksums, sizes
 // against the file, the table, every count against its block, finite numbers) and throws InputError naming
@@ -61,7 +61,7 @@ std::uint64_t positions_fingerprint(const Frame& frame);
 /// How a cone cache stores the directions of its cones' pieces (everything else is stored exactly).
 enum class ConeEncoding {
   Exact,    ///< version 3 (1): the engines' doubles (shading from the cache equals shading from fresh cones)
-  Compact,  ///< version 4 (2): 16-bit octahedral coordinates, within 5e-5 radians (3.5x smaller on the drape)
+  Compact,  ///< version 4 (2): 16-bit octahedral coordinates, within 5e-5 radians (about 3.5x smaller)
 };
 const char* cone_encoding_name(ConeEncoding encoding);  ///< "exact" or "compact"
 

@@ -1,6 +1,6 @@
 // path_trace: a Monte-Carlo path-traced reference of the cloth's radiance, per vertex and side, under the
 // same lights that pleat's cone shading uses (shading/lights.hpp), to show how close the Stewart–Langer
-// local model is (issue 4: side-by-side with an Embree path-traced reference).
+// local model is (`pleat compare`: side by side with an Embree path-traced reference).
 //
 // Model. Lambertian cloth of albedo ρ (grey, both sides), lights as in shade.hpp: B = (ρ/π) E_direct +
 // ρ · E_cos[L_in], the second term estimated by paths. The first bounce from vertex v (side s) uses the

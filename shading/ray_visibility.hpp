@@ -40,7 +40,7 @@
 // drape's front sides up to 0.005 too high, 0.001 on average).
 //
 // Cost: K rays per vertex and side; Embree streams of 64 rays (faster than rtcOccluded1 loops), TBB-parallel
-// over vertices; 1–6% of the samples are decided by the one-ring test without a ray. Rays per second:
+// over vertices; some samples are decided by the one-ring test without a ray. Rays per second:
 // docs/benchmarks.md, "Against Embree at matched error".
 #pragma once
 

@@ -1,12 +1,12 @@
 // render: PNG images of the shaded cloth, made by casting primary rays with Embree, so a user can look at
-// pleat's output without another program (issue 4, "--render DIR").
+// pleat's output without another program (`pleat shade --render DIR`).
 //
 // Each pixel averages 2×2 stratified samples (anti-aliasing). A sample that hits triangle t interpolates
 // the vertex colours of t barycentrically; the back colours are used when the ray meets the face from
 // behind (ray · N > 0, N = (p1−p0) × (p2−p0) in the input winding), so the inside of a sleeve shows its own
 // shading. Colours are given in sRGB, interpolated and averaged in linear light, and encoded back to 8-bit
 // sRGB. Unlit: the colours are the shading. Misses show a neutral vertical grey gradient.
-// Cost: width × height × 4 primary rays (≈0.1–0.3 s for 800×600 on one core), TBB-parallel over rows,
+// Cost: width × height × 4 primary rays, TBB-parallel over rows,
 // plus one BVH build. Files are written atomically (temporary sibling, then rename).
 #pragma once
 

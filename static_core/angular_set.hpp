@@ -5,6 +5,7 @@
 // merged: the ends are directions towards the same slice point computed twice, so they differ by rounding
 // only (this merges representations; it decides nothing about the slice's topology).
 // Cost: O(k log k) for k wedges.
+// Thread safety: plain values; an AngularSet is used by one thread at a time.
 #pragma once
 
 #include <cmath>

@@ -1,5 +1,7 @@
-// PLEAT_ASSERT: internal invariants. A violation is a bug: it throws pleat::InvariantError with file:line
-// in Debug builds and tests (PLEAT_CHECK_INVARIANTS), and compiles away in Release.
+// PLEAT_ASSERT: internal invariants. A violation is a bug: it throws pleat::InvariantError with file:line.
+// Checked in Debug builds, and in optimized ones built with PLEAT_CHECK_INVARIANTS (a CMake option, on by
+// default: the Release build and the tests check); compiled away only in an optimized build without it.
+// Cost: the condition's, where checked. Thread safety: as the condition's.
 #pragma once
 
 #include <stdexcept>

@@ -202,7 +202,7 @@ struct FrameAssembler::Impl {
     std::uint32_t cuts_begin, cuts_count;  ///< StoredCone's: the vertex's cuts in the plane (AimedOnFan)
   };
   /// What step 2 compares of an offer, beside its Ref in the CSR: the offers are read in CSR order, not
-  /// gathered from the planes' lists (that gather was 2% of the 30k roll's frame).
+  /// gathered from the planes' lists (a gather costs a pass over every plane's list).
   struct OfferKey {
     double distance;
     bool vertex_above;

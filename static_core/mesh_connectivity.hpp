@@ -27,6 +27,7 @@
 // Edge numbering: edges are sorted by (smaller endpoint, larger endpoint), as the slicer's scratch arrays
 // and the kinetic layer's keys expect them to be stable for a sequence. A face with a repeated corner (a, a,
 // b) has the edge (a, a); it is never cut by a plane and is no one's neighbour.
+// Thread safety: built by one thread; the const queries may then run on any number at once.
 #pragma once
 
 #include <array>

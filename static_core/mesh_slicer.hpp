@@ -7,6 +7,7 @@
 // the chains are always well formed. Slice edges are oriented so that the front side of the surface (the
 // side its face normals point to, in the input winding) is on their left.
 // Cost: O(#candidate faces) per plane.
+// Thread safety: reentrant; each thread its own SlicerScratch.
 #pragma once
 
 #include <cstdint>

@@ -20,7 +20,7 @@ void SliceTriangulation::build(const Slice& slice) {
   // triangulation, taken over by the CDT afterwards: CGAL's CDT insertion of a point also checks for and
   // splits constrained edges and flips with constraint tests, which a slice's points do not need before
   // its chains are added (a Delaunay triangulation of the points as before, the real sequences' output
-  // unchanged; the drape's frame 6-9% cheaper).
+  // unchanged; docs/benchmarks.md has the cost).
   std::vector<std::ptrdiff_t>& order = m_order;
   order.resize(n);
   std::iota(order.begin(), order.end(), 0);
@@ -29,7 +29,7 @@ void SliceTriangulation::build(const Slice& slice) {
   for (std::size_t i = 0; i < n; ++i) points[i] = cgal::to_point(slice.vertices[i].point);
   using Traits = CGAL::Spatial_sort_traits_adapter_2<cgal::Kernel, cgal::Point2*>;
   // Hilbert leaves of up to 16 points rather than CGAL's 4: a leaf's points lie close together in any order,
-  // and the sort makes fewer median splits (frames 1-3% cheaper; output unchanged).
+  // and the sort makes fewer median splits (output unchanged).
   CGAL::spatial_sort(order.begin(), order.end(), Traits(points.data()), std::ptrdiff_t(16));
   m_delaunay.clear();
   cgal::FaceHandle hint;

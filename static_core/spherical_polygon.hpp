@@ -4,6 +4,7 @@
 // its interior (seen from outside the sphere). Lambert's formula gives its projected solid angle about a
 // normal n: Omega_perp = 1/2 sum_i theta_i (n . Gamma_i), theta_i = angle(v_i, v_i+1),
 // Gamma_i = normalize(v_i x v_i+1). Octant: pi/4; hemisphere: pi. Everything here is O(#vertices).
+// Thread safety: pure functions; a HemisphereClipper is used by one thread at a time.
 #pragma once
 
 #include <cstddef>

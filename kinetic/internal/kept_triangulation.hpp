@@ -1,13 +1,11 @@
 // A slice's constrained triangulation as a kinetic slice keeps it between frames: its combinatorics only, in
-// flat arrays of indices (docs/method.md §11.5; the kinetic issue's "compact per-slice storage: indices, not
-// pointers; no per-node heap objects").
+// flat arrays of indices, not pointers; no per-node heap objects (docs/method.md §11.5).
 //
 // Each frame a kinetic slice restores its kept triangulation into the thread's CGAL triangulation, carries
 // it to the next frame there (certificates, edits, CGAL's removals and insertions), grows the cones on it,
-// and keeps the result again. A CGAL triangulation kept per slice takes about 176 bytes per slice vertex (72
-// per face, 32 per vertex); the flat form about 50 (the kinetic engine's peak at 300k vertices: 1.79x the
-// static engine's before, 1.40x after). Restoring and keeping cost what working in the thread's warm
-// triangulation saves (bench/results/kinetic_micro.md). Restoring creates the faces and vertices with CGAL's
+// and keeps the result again. The flat form takes about a third of the memory of a CGAL triangulation kept
+// per slice; restoring and keeping cost what working in the thread's warm triangulation saves
+// (bench/results/kinetic_micro.md, docs/benchmarks.md). Restoring creates the faces and vertices with CGAL's
 // own data-structure operations, as CGAL's file input does: no geometric predicate, no point location.
 // Internal header (CGAL types): kinetic only.
 #pragma once

@@ -48,9 +48,9 @@ glm::dvec2 chain_edge_angles(const Slice& slice, Index x);
 
 /// Whether a vertex's fan is sharp enough for fan_cone: one of its triangles turns from the vertex's
 /// area-weighted normal by more than acos(kSharpFan) (a ridge or a crease, where the nearest cut's local
-/// range misses much of the vertex's own). Elsewhere the nearest cut's cone is kept as the vertex's: within
-/// 1% of assembling every fan's cone on the bundled cloth, at a fraction of the cost (docs/benchmarks.md,
-/// "The cone of the fan").
+/// range misses much of the vertex's own). Elsewhere the nearest cut's cone is kept as the vertex's: nearly
+/// as accurate as assembling every fan's cone, at a fraction of the cost (docs/benchmarks.md, "The cone of
+/// the fan").
 inline constexpr double kSharpFan = 0.7;
 /// Per vertex, 1 where its cone in a plane is to be assembled from its whole fan (fan_cone) into `whole`:
 /// where the fan is sharp (see kSharpFan) about its unit normal (`normals`: the engines'

@@ -1,30 +1,14 @@
-// Funnel shortest-path trees in a triangulated simple region (Guibas, Hershberger, Leven, Sharir, Tarjan
-// 1987; Stewart 1999 §2.3.1), stored as parent pointers over corners; and the same funnels grown along the
-// sleeves of a region with holes (see_window_through_sleeves, at the end).
-//
-// From a root corner (a window endpoint), the tree is grown across the region's dual tree. Entering a
-// triangle (L, R, x) through the diagonal (L, R) with funnel cusp a, the parent of x is the point of the
-// funnel's L-chain or R-chain where x's tangent touches it, or the cusp. Every turn is an exact orientation
-// predicate; a vertex collinear with a funnel edge is taken as touched (the parent is the last vertex on the
-// path), which makes the tree unique.
-//
-// The funnel is kept as one array, funnel[lo..hi] = (L = l_k, ..., l_1, a, r_1, ..., r_m = R), and searched
-// by bisection. Why that is exact. The funnel (the two chains and LR) is a simple polygon whose only convex
-// corners are a, L and R, its chain vertices being reflex or flat (a flat one: a collinear vertex taken as
-// touched). Walked once round, it turns by 360°, so with θ_i the direction of l_{i-1} -> l_i (increasing with
-// i), θ_k - θ_1 plus the turn at L stays under 180°: the direction of L -> R is less than θ_1 + 180°. Let t
-// be the largest i with x left of or on the line l_{i-1} l_i (the walk's answer). From l_t, x lies in
-// directions [θ_t, θ_{t+1}), the test failing at t + 1 (t = k: in [θ_k, direction of L -> R + 180°), x being
-// beyond LR); both ends lie within [θ_i, θ_i + 180°) for every i ≤ t, and so do the chain edges from l_{i-1}
-// to l_t. Hence x - l_{i-1} is left of or on the line at i too: the test holds exactly for i = 1..t, whether
-// t > 0 is decided at i = 1, and t by bisection. Mirrored on the R-chain. When the cusp is L or R (one chain
-// empty) that chain is skipped. The split funnels, (l_k..l_t, x) and (x, l_t..r_m) for a tangent on the
-// L-chain, are the array's two sub-ranges with x written at one end; the writes are undone when the
-// depth-first walk backtracks. A range moves outwards by at most one place per triangle it crosses, at most
-// the region's corners - 2. Cost: O(log funnel size) predicates per triangle, against the walk along a chain
-// from its outer end (O(funnel depth), the paper's, kept as the oracle in tests/oracles), whose depth grew
-// with the slices' length (3.4 tests per triangle on the 3k curtain, 15.5 at 300k). Precondition: the region
-// has no holes.
+// Funnel shortest-path trees in a triangulated simple region, stored as parent pointers over corners; and the
+// same funnels grown along the sleeves of a region with holes (see_window_through_sleeves, at the end).
+// Paper: Guibas, Hershberger, Leven, Sharir, Tarjan 1987; Stewart 1999 §2.3.1. Method: docs/method.md §5 (the
+// funnel as one array searched by bisection, and why that is exact), §6 (sleeves).
+// From a root corner (a window endpoint) the tree is grown across the region's dual tree; the parent of a new
+// corner x is where x's tangent touches the funnel's chains, or the cusp. Every turn is an exact orientation
+// predicate; a vertex collinear with a funnel edge counts as touched, which makes the tree unique.
+// Preconditions: grow_shortest_path_tree's region has no holes.
+// Cost: O(log funnel size) predicates per triangle crossed (the paper's walk along a chain, O(funnel depth),
+// is the oracle in tests/oracles).
+// Thread safety: reentrant; each thread its own FunnelScratch.
 #pragma once
 
 #include <cstdint>
@@ -110,9 +94,8 @@ struct SleeveSight {
 /// never crosses more triangles than the region has (a straight line crosses each at most once), which bounds
 /// the walk in any case. Every decision is an exact orientation test. Cost: about the sleeve triangles
 /// through which the window can be seen, O(log funnel) tests each, not the corners times what each corner
-/// sees: on the 30k roll's frame 12, 184 thousand sleeve triangles against the 16.8 million triangles the
-/// triangular expansion this replaced (one per corner) crossed; on the layered plies 70 thousand against 1.75
-/// million. Tests: slice_cones_test against the brute-force angular sweep.
+/// sees (docs/benchmarks.md compares it with the triangular expansion it replaced). Tests: slice_cones_test
+/// against the brute-force angular sweep.
 void see_window_through_sleeves(const SliceTriangulation& slice, const SliceWindow& window,
                                 std::size_t region_faces, SleeveScratch& scratch,
                                 std::vector<SleeveSight>& sights);

@@ -16,6 +16,7 @@
 // Cost: O(w n + f) per region without holes (w windows, n corners, f funnel walks); with holes, per window
 // the sleeve triangles through which it can be seen, O(log n) tests each (output-sensitive: a sleeve ends
 // where no point of its last edge sees the window).
+// Thread safety: reentrant; each thread its own scratch.
 #pragma once
 
 #include <cstdint>

@@ -10,6 +10,7 @@
 // isolated point, or a chain loop inside it).
 // Internal header (CGAL types): used by static_core and kinetic only.
 // Cost: O(n log n) expected for n slice vertices.
+// Thread safety: a SliceTriangulation is used by one thread at a time.
 #pragma once
 
 #include <cstdint>
