@@ -28,8 +28,8 @@
 //     vertex the ring triangles are projected along n(v) and the one whose plane is nearest to ω among those
 //     whose sector contains its projection tells the side — exact only where the fan is a height field over
 //     the plane ⊥ n. (Before 2026-11-28 that projection was the rule everywhere; on sharp ridges, where the
-//     fan folds over in projection, it blocked directions the vertex sees: docs/benchmarks.md, "Open fans,
-//     rings of sky, and an exact reference".)
+//     fan folds over in projection, it blocked directions the vertex sees: docs/benchmarks_archive.md, "Open
+//     fans, rings of sky, and an exact reference".)
 // Without step 3, the hemisphere about the vertex normal at a crease would see "through" the adjacent
 // faces, and a V-fold's bottom would get A = 1 instead of sin α.
 //
@@ -41,7 +41,7 @@
 //
 // Cost: K rays per vertex and side; Embree streams of 64 rays (faster than rtcOccluded1 loops), TBB-parallel
 // over vertices; some samples are decided by the one-ring test without a ray. Rays per second:
-// docs/benchmarks.md, "Against Embree at matched error".
+// docs/benchmarks_archive.md, "Against Embree at matched error".
 #pragma once
 
 #include <array>

@@ -94,12 +94,12 @@ bool near_ends(const glm::dvec3& d, const SpatialWedge& w) {
 /// circle (same_region), in units of the circles' spacing pi / n for a vertex cut by n orientations: a point
 /// farther than that is nearer another orientation's circle, which would have seen the region. Unlimited,
 /// separate openings were joined the more often the more orientations there were (the value was chosen by
-/// measurement: docs/benchmarks.md, "Linking arcs only near their circle").
+/// measurement: docs/benchmarks_archive.md, "Linking arcs only near their circle").
 constexpr double kLinkHeightInSpacings = 1.5;
 /// Farther, up to this many spacings, a point links only where those other circles did see the region: every
 /// one that the great arc down from the point to the circle crosses holds the crossing in a visible arc (the
-/// real cloth's pieces were under-linked; measured: docs/benchmarks.md, "Linking farther where no circle saw
-/// the gap blocked").
+/// real cloth's pieces were under-linked; measured: docs/benchmarks_archive.md, "Linking farther where no
+/// circle saw the gap blocked").
 constexpr double kSeenLinkHeightInSpacings = 2.5;
 
 /// A vertex side's lifted wedges, by cone (cone c's are wedges[cone_begin[c] .. cone_begin[c + 1])): what
@@ -452,8 +452,8 @@ namespace {
 constexpr double kMinGap = 1e-3;
 /// The share of the visible arcs' length that the gaps the pieces hold must reach before the nearest-circle
 /// rule rebuilds a cone. Rebuilding wherever a gap is held widens a small obstacle's single blocked sample to
-/// its whole cell; a tenth keeps the rings of sky and leaves those (measured: docs/benchmarks.md, "Open
-/// fans, rings of sky, and an exact reference").
+/// its whole cell; a tenth keeps the rings of sky and leaves those (measured: docs/benchmarks_archive.md,
+/// "Open fans, rings of sky, and an exact reference").
 constexpr double kHeldShare = 0.1;
 
 /// Whether the first `count` pieces hold gaps between consecutive visible arcs of the planes' great circles

@@ -11,7 +11,8 @@
 // plane, the one-ring's own occlusion, exactly. Every end keeps its reach, which aim_wedges then measures
 // from the nearest cut (its apex): the cuts lie within an edge of each other, and turning the other cuts'
 // ends towards their horizon points as seen from the nearest, or dropping their reaches, measured slightly
-// worse (docs/benchmarks.md, "The cone of the fan"). Internal header: static_core and kinetic only.
+// worse (docs/benchmarks_archive.md, "Where the error is, per vertex, and the cone of the fan"). Internal
+// header: static_core and kinetic only.
 #pragma once
 
 #include <glm/vec2.hpp>
@@ -49,15 +50,14 @@ glm::dvec2 chain_edge_angles(const Slice& slice, Index x);
 /// Whether a vertex's fan is sharp enough for fan_cone: one of its triangles turns from the vertex's
 /// area-weighted normal by more than acos(kSharpFan) (a ridge or a crease, where the nearest cut's local
 /// range misses much of the vertex's own). Elsewhere the nearest cut's cone is kept as the vertex's: nearly
-/// as accurate as assembling every fan's cone, at a fraction of the cost (docs/benchmarks.md, "The cone of
-/// the fan").
+/// as accurate as assembling every fan's cone, at a fraction of the cost (docs/benchmarks_archive.md, "Where
+/// the error is, per vertex, and the cone of the fan").
 inline constexpr double kSharpFan = 0.7;
 /// Per vertex, 1 where its cone in a plane is to be assembled from its whole fan (fan_cone) into `whole`:
 /// where the fan is sharp (see kSharpFan) about its unit normal (`normals`: the engines'
 /// area_weighted_normals), and where it is open (on the mesh's boundary: the vertex sees round the edge,
-/// which a cut inside the chain, its range on one side of it, does not; docs/benchmarks.md, "Open fans, rings
-/// of sky, and an exact reference").
-/// O(triangles + vertices), once per frame.
+/// which a cut inside the chain, its range on one side of it, does not; docs/benchmarks_archive.md, "Open
+/// fans, rings of sky, and an exact reference"). O(triangles + vertices), once per frame.
 void mark_whole_fans(const MeshTopology& topology, const MeshConnectivity& connectivity, const Frame& frame,
                      std::span<const glm::dvec3> normals, std::vector<std::uint8_t>& whole);
 
