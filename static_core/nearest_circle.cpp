@@ -4,8 +4,8 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
+#include "static_core/cone_assembly.hpp"
 #include "static_core/cone_rules.hpp"
-#include "static_core/planar_cone.hpp"
 
 namespace pleat {
 namespace {
