@@ -238,24 +238,21 @@ int run(int argc, char** argv) {
   bool quick = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
     if (arg == "--out")
-      out_dir = next();
+      out_dir = next_value(argc, argv, i);
     else if (arg == "--sequences")
-      sequences = split(next());
+      sequences = split(next_value(argc, argv, i));
     else if (arg == "--reference-rays")
-      reference_rays = std::stoi(next());
+      reference_rays = std::stoi(next_value(argc, argv, i));
     else if (arg == "--orientations") {
       oracle_orientations.clear();
-      for (const auto& s : split(next())) oracle_orientations.push_back(std::stoi(s));
+      for (const auto& s : split(next_value(argc, argv, i))) oracle_orientations.push_back(std::stoi(s));
     } else if (arg == "--settings") {
       settings.clear();
-      for (const auto& item : split(next())) settings.push_back(parse_setting(item, "--settings"));
+      for (const auto& item : split(next_value(argc, argv, i)))
+        settings.push_back(parse_setting(item, "--settings"));
     } else if (arg == "--oracle-sample")
-      oracle_sample = Index(std::stoi(next()));
+      oracle_sample = Index(std::stoi(next_value(argc, argv, i)));
     else if (arg == "--quick")
       quick = true;
     else

@@ -213,20 +213,16 @@ int run(int argc, char** argv) {
   int count = 12;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
     if (arg == "--out")
-      out = next();
+      out = next_value(argc, argv, i);
     else if (arg == "--data")
-      data = next();
+      data = next_value(argc, argv, i);
     else if (arg == "--sequences")
-      sequences = split(next());
+      sequences = split(next_value(argc, argv, i));
     else if (arg == "--cases")
-      cases = split(next());
+      cases = split(next_value(argc, argv, i));
     else if (arg == "--frames")
-      count = std::stoi(next());
+      count = std::stoi(next_value(argc, argv, i));
     else if (arg == "--quick")
       sequences = {"drape"}, count = 3;
     else

@@ -150,19 +150,15 @@ int run(int argc, char** argv) {
   bool quick = false, in_scene = true;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
     if (arg == "--out")
-      out_dir = next();
+      out_dir = next_value(argc, argv, i);
     else if (arg == "--sequences")
-      names = split(next());
+      names = split(next_value(argc, argv, i));
     else if (arg == "--sizes") {
       sizes.clear();
-      for (const auto& n : split(next())) sizes.push_back(Index(std::stoul(n)));
+      for (const auto& n : split(next_value(argc, argv, i))) sizes.push_back(Index(std::stoul(n)));
     } else if (arg == "--frames")
-      frames = std::stoi(next());
+      frames = std::stoi(next_value(argc, argv, i));
     else if (arg == "--quick")
       quick = true;
     else if (arg == "--cloth-alone")
